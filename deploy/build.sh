@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Configures and builds one build tree. Usage: deploy/build.sh [release|sanitize]
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+KIND=${1:-release}
+JOBS=${JOBS:-$(nproc)}
+case "$KIND" in
+  release)  DIR="$ROOT/build"; FLAGS=(-DCMAKE_BUILD_TYPE=Release) ;;
+  sanitize) DIR="$ROOT/build-sanitize"; FLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DODONATA_SANITIZE=ON -DODONATA_BUILD_BENCHMARKS=OFF) ;;
+  *) echo "build.sh: unknown build kind '$KIND' (release|sanitize)" >&2; exit 2 ;;
+esac
+cmake -S "$ROOT" -B "$DIR" "${FLAGS[@]}" >/dev/null
+cmake --build "$DIR" -j "$JOBS"
