@@ -1,0 +1,107 @@
+#include "io/csv_table.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace odonata::io {
+namespace {
+
+std::string Trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> SplitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(Trim(cell));
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+CsvTable CsvTable::Read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CsvError(path + ": cannot open file (" + std::strerror(errno) + ")");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return Parse(ss.str(), path);
+}
+
+CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name) {
+  CsvTable t;
+  t.source_ = source_name;
+  std::istringstream in(text);
+  std::string line;
+  std::size_t line_no = 0;
+  bool have_header = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string trimmed = Trim(line);
+    if (trimmed.empty() || trimmed.front() == '#') continue;
+    auto cells = SplitCells(trimmed);
+    if (!have_header) {
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        if (cells[c].empty()) {
+          throw CsvError(source_name + ":" + std::to_string(line_no) + ": column " +
+                         std::to_string(c + 1) + " of the header has no name");
+        }
+        for (std::size_t p = 0; p < c; ++p) {
+          if (cells[p] == cells[c]) {
+            throw CsvError(source_name + ":" + std::to_string(line_no) + ": column name '" +
+                           cells[c] + "' appears twice in the header");
+          }
+        }
+      }
+      t.names_ = cells;
+      t.columns_.assign(cells.size(), {});
+      have_header = true;
+      continue;
+    }
+    if (cells.size() != t.names_.size()) {
+      throw CsvError(source_name + ":" + std::to_string(line_no) + ": expected " +
+                     std::to_string(t.names_.size()) + " cells, found " +
+                     std::to_string(cells.size()));
+    }
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::string where = source_name + ":" + std::to_string(line_no) + ": column " +
+                                std::to_string(c + 1) + " ('" + t.names_[c] + "')";
+      const std::string& cell = cells[c];
+      if (cell.empty()) throw CsvError(where + ": empty cell");
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (end == cell.c_str() || *end != '\0') {
+        throw CsvError(where + ": '" + cell + "' is not a number");
+      }
+      if (!std::isfinite(v)) throw CsvError(where + ": '" + cell + "' is not finite");
+      t.columns_[c].push_back(v);
+    }
+  }
+  if (!have_header) throw CsvError(source_name + ": no header row (the file is empty)");
+  return t;
+}
+
+bool CsvTable::HasColumn(const std::string& name) const {
+  for (const auto& n : names_)
+    if (n == name) return true;
+  return false;
+}
+
+const std::vector<double>& CsvTable::Column(const std::string& name) const {
+  for (std::size_t c = 0; c < names_.size(); ++c)
+    if (names_[c] == name) return columns_[c];
+  std::string have;
+  for (const auto& n : names_) have += (have.empty() ? "" : ", ") + n;
+  throw CsvError(source_ + ": no column named '" + name + "' (columns: " + have + ")");
+}
+
+}  // namespace odonata::io

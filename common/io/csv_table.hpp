@@ -1,0 +1,40 @@
+#pragma once
+// A numeric CSV table: a header row of column names, then one sample per row.
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace odonata::io {
+
+/// Raised for any malformed input; the message names the file, line and column.
+class CsvError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Column-major numeric table read from CSV. Every cell must be a finite number: NaN and Inf are
+/// rejected at read time so no model is ever trained on them.
+class CsvTable {
+ public:
+  /// Reads `path`. Blank lines and lines starting with '#' are skipped.
+  /// @throws CsvError naming the file, line and column of the first problem.
+  static CsvTable Read(const std::string& path);
+  /// Parses CSV text; `source_name` is used in error messages.
+  static CsvTable Parse(const std::string& text, const std::string& source_name);
+
+  const std::vector<std::string>& names() const { return names_; }
+  std::size_t rows() const { return columns_.empty() ? 0 : columns_.front().size(); }
+  bool HasColumn(const std::string& name) const;
+  /// @throws CsvError if the column does not exist, listing the ones that do.
+  const std::vector<double>& Column(const std::string& name) const;
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+  std::vector<std::string> names_;
+  std::vector<std::vector<double>> columns_;
+};
+
+}  // namespace odonata::io
