@@ -1,0 +1,69 @@
+#pragma once
+// The THEN part of the rules, as a strategy behind one rule base (identifier.md §1 and §7).
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+
+namespace odonata::fuzzy {
+
+/// Which consequent a model uses. Chosen by enum, not by string, except at the CLI/JSON edge.
+enum class ConsequentKind {
+  kSingleton,  ///< the paper's Mamdani singletons b_j, centre-average defuzzification; readable.
+  kLinear,     ///< first-order Takagi–Sugeno y_j = a_j0 + a_jᵀx; accurate.
+};
+
+const char* ToString(ConsequentKind kind);
+/// @throws std::invalid_argument for anything but "singleton" or "linear".
+ConsequentKind ConsequentKindFromString(const std::string& name);
+
+/// Rule consequents. All values are in the model's scaled units. The model output is
+/// ŷ = Σ_j φ_j y_j(x), so every strategy only has to say what y_j(x) is and how it learns.
+class Consequent {
+ public:
+  virtual ~Consequent() = default;
+  virtual ConsequentKind kind() const = 0;
+  virtual std::unique_ptr<Consequent> Clone() const = 0;
+
+  /// Writes y_j(x) for the first `rules` rules into `out` (sized by the caller).
+  virtual void RuleOutputs(const Eigen::Ref<const Eigen::VectorXd>& x, int rules,
+                           Eigen::ArrayXd* out) const = 0;
+
+  /// Initialises consequent `rule` (== current count) for a rule created at x whose target is y.
+  /// `phi_existing` holds the normalised weights of the rules that existed before it.
+  virtual void AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
+                       const Eigen::Ref<const Eigen::ArrayXd>& phi_existing) = 0;
+
+  /// One online learning step given the weights φ, the output error e = ŷ − y and target y.
+  virtual void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
+                      const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) = 0;
+
+  /// ∂J/∂(consequent parameters) for J = ½e², flattened as Parameters() orders them.
+  virtual Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                   const Eigen::Ref<const Eigen::ArrayXd>& phi,
+                                   double error) const = 0;
+  /// All trainable consequent parameters of the active rules, flattened (for checks and I/O).
+  virtual Eigen::VectorXd Parameters() const = 0;
+  virtual void SetParameters(const Eigen::Ref<const Eigen::VectorXd>& p) = 0;
+
+  /// Number of regressors per rule in the global least-squares problem (1 or N + 1), and the
+  /// regressor itself; the model builds Φ from these to solve all consequents at once (ANFIS).
+  virtual int LeastSquaresWidth() const = 0;
+  virtual void LeastSquaresRow(const Eigen::Ref<const Eigen::VectorXd>& x,
+                               Eigen::Ref<Eigen::VectorXd> z) const = 0;
+  /// Sets the consequents from a global least-squares solution (rule-major blocks).
+  virtual void SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) = 0;
+
+  virtual int rules() const = 0;
+  virtual nlohmann::json ToJson() const = 0;
+};
+
+/// Creates an empty consequent for `inputs` regressors with room for `capacity` rules.
+std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity);
+/// Rebuilds a consequent saved by ToJson().
+/// @throws std::runtime_error on malformed content.
+std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json& j, int inputs, int capacity);
+
+}  // namespace odonata::fuzzy

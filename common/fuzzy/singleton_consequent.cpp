@@ -1,0 +1,63 @@
+#include "fuzzy/singleton_consequent.hpp"
+
+#include <cassert>
+
+#include <nlohmann/json.hpp>
+
+namespace odonata::fuzzy {
+
+SingletonConsequent::SingletonConsequent(int capacity, double rate, double regulariser)
+    : rate_(rate), regulariser_(regulariser), centres_(Eigen::ArrayXd::Zero(capacity)) {}
+
+std::unique_ptr<Consequent> SingletonConsequent::Clone() const {
+  return std::make_unique<SingletonConsequent>(*this);
+}
+
+void SingletonConsequent::RuleOutputs(const Eigen::Ref<const Eigen::VectorXd>&, int rules,
+                                      Eigen::ArrayXd* out) const {
+  *out = centres_.head(rules);
+}
+
+void SingletonConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>&, double target,
+                                  const Eigen::Ref<const Eigen::ArrayXd>&) {
+  assert(rules_ < centres_.size());
+  centres_(rules_++) = target;
+}
+
+void SingletonConsequent::Update(const Eigen::Ref<const Eigen::VectorXd>&,
+                                 const Eigen::Ref<const Eigen::ArrayXd>& phi, double error,
+                                 double) {
+  const double step = rate_ * error / (regulariser_ + phi.square().sum());
+  centres_.head(rules_) -= step * phi;
+}
+
+Eigen::VectorXd SingletonConsequent::Gradient(const Eigen::Ref<const Eigen::VectorXd>&,
+                                              const Eigen::Ref<const Eigen::ArrayXd>& phi,
+                                              double error) const {
+  return (error * phi).matrix();
+}
+
+void SingletonConsequent::SetParameters(const Eigen::Ref<const Eigen::VectorXd>& p) {
+  assert(p.size() == rules_);
+  centres_.head(rules_) = p.array();
+}
+
+void SingletonConsequent::LeastSquaresRow(const Eigen::Ref<const Eigen::VectorXd>&,
+                                          Eigen::Ref<Eigen::VectorXd> z) const {
+  z(0) = 1.0;
+}
+
+void SingletonConsequent::SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) {
+  SetParameters(theta);
+}
+
+nlohmann::json SingletonConsequent::ToJson() const {
+  nlohmann::json j;
+  j["kind"] = ToString(kind());
+  j["rate"] = rate_;
+  j["regulariser"] = regulariser_;
+  j["centres"] = std::vector<double>(centres_.data(), centres_.data() + rules_);
+  return j;
+}
+
+}  // namespace odonata::fuzzy

@@ -1,0 +1,23 @@
+#pragma once
+// Accuracy measures of a model output against the measured output (identifier.md §5).
+
+#include <Eigen/Core>
+
+namespace odonata::metrics {
+
+/// Accuracy of ŷ against y over one window. FIT is what the paper calls "accuracy".
+struct Accuracy {
+  double fit_percent = 0.0;  ///< 100 (1 − ‖y − ŷ‖₂ / ‖y − ȳ‖₂), MATLAB compare's NRMSE fit.
+  double vaf_percent = 0.0;  ///< 100 (1 − var(y − ŷ) / var(y)).
+  double rmse = 0.0;         ///< sqrt(mean((y − ŷ)²)), in the output's unit.
+  double ndei = 0.0;         ///< RMSE / std(y) = 1 − FIT/100.
+  long samples = 0;
+};
+
+/// Scores `predicted` against `measured`.
+/// @pre equal sizes, at least one sample. A constant measured signal gives FIT = VAF = −inf
+/// unless the prediction is exact (then 100), which is the honest answer.
+Accuracy Score(const Eigen::Ref<const Eigen::VectorXd>& measured,
+               const Eigen::Ref<const Eigen::VectorXd>& predicted);
+
+}  // namespace odonata::metrics

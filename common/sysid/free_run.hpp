@@ -1,0 +1,26 @@
+#pragma once
+// Parallel (free-run) simulation: the model fed its own past predictions (identifier.md §4).
+
+#include <functional>
+
+#include <Eigen/Core>
+
+#include "sysid/regressor_spec.hpp"
+
+namespace odonata::sysid {
+
+/// Maps a raw regressor to the raw predicted outputs (one per output signal).
+using Predictor = std::function<Eigen::VectorXd(const Eigen::VectorXd& regressor)>;
+
+/// One-step-ahead predictions from measured past outputs: rows t = first_target() … T − 1.
+Eigen::MatrixXd PredictOneStep(const RegressorSpec& spec, const Series& series,
+                               const Predictor& predict);
+
+/// Free-run simulation: the first first_target() samples are measured, every later output lag
+/// is the model's own prediction; inputs are always measured. Same rows as PredictOneStep.
+/// A non-finite prediction is held at the last finite value so one diverging model cannot
+/// poison the report with NaN; `diverged` (optional) tells the caller it happened.
+Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
+                                const Predictor& predict, bool* diverged = nullptr);
+
+}  // namespace odonata::sysid

@@ -1,0 +1,76 @@
+#pragma once
+// A NARX entropy fuzzy model in raw units: regressor spec + scaling + one fuzzy model per output.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+
+#include "fuzzy/fuzzy_model.hpp"
+#include "sysid/regressor_spec.hpp"
+#include "sysid/scaling.hpp"
+
+namespace odonata::sysid {
+
+/// Reports (epoch, sample, samples per epoch) during training; may be empty.
+using ProgressCallback = std::function<void(int epoch, long sample, long total)>;
+
+struct TrainOptions {
+  /// Passes over the data: the first grows rules, later ones only tune.
+  int epochs = 1;
+  /// After each pass, solve every consequent by global least squares with the antecedents
+  /// fixed (ANFIS's hybrid rule). Offline only: the online identifier cannot revisit the past.
+  bool refine_least_squares = true;
+  double ridge = 1e-6;
+  ProgressCallback progress;
+};
+
+/// One or several outputs identified over one shared regressor.
+class NarxModel {
+ public:
+  /// `base.inputs` is overwritten with spec.size().
+  /// @throws std::invalid_argument if the spec has problems.
+  NarxModel(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base);
+
+  /// Scaling from the training series (regressor ranges, output mean and std), as used offline.
+  void FitScaling(const Series& train);
+  /// Scaling declared up front (online use, where the data is not known in advance).
+  void SetScaling(const Scaling& scaling);
+
+  /// Offline training: FitScaling, then `epochs` online passes (+ least squares if asked).
+  void Train(const Series& train, const TrainOptions& options);
+
+  /// One online step on a raw regressor and the raw targets (one per output).
+  std::vector<fuzzy::LearnResult> Learn(const Eigen::VectorXd& regressor,
+                                        const Eigen::VectorXd& targets,
+                                        fuzzy::LearnMode mode = fuzzy::LearnMode::kGrowAndTune);
+  /// Raw predicted outputs for a raw regressor.
+  Eigen::VectorXd Predict(const Eigen::VectorXd& regressor) const;
+
+  const RegressorSpec& spec() const { return spec_; }
+  const Scaling& scaling() const { return scaling_; }
+  const fuzzy::FuzzyModel& model(int output) const {
+    return models_.at(static_cast<std::size_t>(output));
+  }
+  fuzzy::FuzzyModel& mutable_model(int output) {
+    return models_.at(static_cast<std::size_t>(output));
+  }
+  int outputs() const { return static_cast<int>(models_.size()); }
+  int total_rules() const;
+
+  nlohmann::json ToJson() const;
+  /// @throws std::runtime_error naming what is wrong.
+  static NarxModel FromJson(const nlohmann::json& j);
+  void Save(const std::string& path) const;
+  /// @throws std::runtime_error naming the file and the problem.
+  static NarxModel Load(const std::string& path);
+
+ private:
+  RegressorSpec spec_;
+  Scaling scaling_;
+  std::vector<fuzzy::FuzzyModel> models_;
+};
+
+}  // namespace odonata::sysid

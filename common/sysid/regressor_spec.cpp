@@ -1,0 +1,76 @@
+#include "sysid/regressor_spec.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace odonata::sysid {
+namespace {
+std::string Lag(const std::string& name, int offset) {
+  if (offset == 0) return name + "(k)";
+  return name + "(k" + (offset > 0 ? "+" : "-") + std::to_string(std::abs(offset)) + ")";
+}
+}  // namespace
+
+int RegressorSpec::size() const {
+  return static_cast<int>(outputs.size()) * output_lags +
+         static_cast<int>(inputs.size()) * input_lags;
+}
+
+int RegressorSpec::first_target() const { return std::max(output_lags, delay + input_lags - 1); }
+
+std::vector<std::string> RegressorSpec::RegressorNames() const {
+  // Name lags relative to k, where the target is k+1 for d = 1 and k for d = 0.
+  std::vector<std::string> names;
+  const int target = delay == 1 ? 1 : 0;
+  for (const auto& o : outputs)
+    for (int l = 1; l <= output_lags; ++l) names.push_back(Lag(o, target - l));
+  for (const auto& u : inputs)
+    for (int l = 0; l < input_lags; ++l) names.push_back(Lag(u, target - delay - l));
+  return names;
+}
+
+std::string RegressorSpec::TargetName(int output) const {
+  return Lag(outputs.at(static_cast<std::size_t>(output)), delay == 1 ? 1 : 0);
+}
+
+std::string RegressorSpec::Problems() const {
+  std::string p;
+  auto add = [&p](const std::string& s) { p += (p.empty() ? "" : "; ") + s; };
+  if (outputs.empty()) add("no output signal");
+  if (output_lags < 0) add("output lags must be ≥ 0");
+  if (input_lags < 0) add("input lags must be ≥ 0");
+  if (delay != 0 && delay != 1) add("delay must be 0 or 1");
+  if (input_lags > 0 && inputs.empty()) add("input lags given but no input signal");
+  if (size() == 0) add("the regressor is empty (no output lags and no input lags)");
+  return p;
+}
+
+void RegressorSpec::Fill(Eigen::Index t, const Eigen::Ref<const Eigen::MatrixXd>& y,
+                         const Eigen::Ref<const Eigen::MatrixXd>& u,
+                         Eigen::Ref<Eigen::VectorXd> x) const {
+  Eigen::Index c = 0;
+  for (Eigen::Index o = 0; o < y.cols(); ++o)
+    for (int l = 1; l <= output_lags; ++l) x(c++) = y(t - l, o);
+  for (Eigen::Index i = 0; i < u.cols(); ++i)
+    for (int l = 0; l < input_lags; ++l) x(c++) = u(t - delay - l, i);
+}
+
+RegressionData BuildRegression(const RegressorSpec& spec, const Series& series) {
+  const Eigen::Index t0 = spec.first_target();
+  const Eigen::Index rows = series.samples() - t0;
+  if (rows < 1) {
+    throw std::invalid_argument("too few samples (" + std::to_string(series.samples()) +
+                                ") for the lags: need more than " + std::to_string(t0));
+  }
+  RegressionData d;
+  d.x.resize(rows, spec.size());
+  d.y = series.outputs.bottomRows(rows);
+  Eigen::VectorXd x(spec.size());
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    spec.Fill(t0 + r, series.outputs, series.inputs, x);
+    d.x.row(r) = x.transpose();
+  }
+  return d;
+}
+
+}  // namespace odonata::sysid

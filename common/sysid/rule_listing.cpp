@@ -1,0 +1,69 @@
+#include "sysid/rule_listing.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "fuzzy/linear_consequent.hpp"
+#include "fuzzy/singleton_consequent.hpp"
+
+namespace odonata::sysid {
+namespace {
+std::string Number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+}  // namespace
+
+std::string LinguisticLabel(double c) {
+  if (c < -1.0 - 1e-9) return "below range";
+  if (c > 1.0 + 1e-9) return "above range";
+  if (c < -0.6) return "very low";
+  if (c < -0.2) return "low";
+  if (c <= 0.2) return "medium";
+  if (c <= 0.6) return "high";
+  return "very high";
+}
+
+std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
+  const auto& fm = model.model(output);
+  const auto& rb = fm.rule_base();
+  const auto& sc = model.scaling();
+  const auto names = model.spec().RegressorNames();
+  const std::string target = model.spec().TargetName(output);
+  const int n = fm.inputs();
+  std::vector<std::string> lines;
+  for (int j = 0; j < rb.rules(); ++j) {
+    std::string s = "IF ";
+    for (int i = 0; i < n; ++i) {
+      const double c = rb.centre(j, i);
+      const double raw = sc.regressor_mid(i) + sc.regressor_half(i) * c;
+      const double width = sc.regressor_half(i) * rb.sigma(j, i);
+      if (i) s += " AND ";
+      s += names[static_cast<std::size_t>(i)] + " is " + LinguisticLabel(c) + " (≈" + Number(raw) +
+           " ±" + Number(width) + ")";
+    }
+    const double ys = sc.output_std(output);
+    if (fm.consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
+      const auto& cons = static_cast<const fuzzy::SingletonConsequent&>(fm.consequent());
+      s += " THEN " + target + " is ≈" + Number(sc.UnscaleOutput(output, cons.centre(j)));
+    } else {
+      // y = mean + std (a0 + Σ a_i (r_i − mid_i)/half_i): expand to raw coefficients.
+      const auto& cons = static_cast<const fuzzy::LinearConsequent&>(fm.consequent());
+      const Eigen::VectorXd th = cons.coefficients(j);
+      double constant = sc.output_mean(output) + ys * th(0);
+      std::string terms;
+      for (int i = 0; i < n; ++i) {
+        const double k = ys * th(i + 1) / sc.regressor_half(i);
+        constant -= k * sc.regressor_mid(i);
+        terms += (k < 0 ? " - " : " + ") + Number(std::abs(k)) + "·" +
+                 names[static_cast<std::size_t>(i)];
+      }
+      s += " THEN " + target + " ≈ " + Number(constant) + terms;
+    }
+    lines.push_back(s);
+  }
+  return lines;
+}
+
+}  // namespace odonata::sysid

@@ -1,0 +1,30 @@
+#pragma once
+// Affine scaling kept inside the model (identifier.md §4): regressors to [−1, 1], outputs
+// standardised, so learning rates and widths mean the same for every experiment.
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+
+namespace odonata::sysid {
+
+struct Scaling {
+  Eigen::VectorXd regressor_mid;   ///< (max + min) / 2 per regressor, raw units
+  Eigen::VectorXd regressor_half;  ///< (max − min) / 2, or 1 for a constant regressor
+  Eigen::VectorXd output_mean;     ///< per output, raw units
+  Eigen::VectorXd output_std;      ///< per output, or 1 for a constant output
+
+  /// Ranges from training data (regressors rows × N, targets rows × outputs).
+  static Scaling FromData(const Eigen::Ref<const Eigen::MatrixXd>& x,
+                          const Eigen::Ref<const Eigen::MatrixXd>& y);
+
+  Eigen::VectorXd ScaleRegressor(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+    return ((x - regressor_mid).array() / regressor_half.array()).matrix();
+  }
+  double ScaleOutput(int o, double y) const { return (y - output_mean(o)) / output_std(o); }
+  double UnscaleOutput(int o, double ys) const { return output_mean(o) + output_std(o) * ys; }
+
+  nlohmann::json ToJson() const;
+  static Scaling FromJson(const nlohmann::json& j);
+};
+
+}  // namespace odonata::sysid

@@ -1,0 +1,39 @@
+#pragma once
+// odonata-fit's work, separate from argument parsing so tests can run it in-process.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fuzzy/fuzzy_model.hpp"
+#include "sysid/entropy_sweep.hpp"
+#include "sysid/narx_model.hpp"
+
+namespace odonata::fit {
+
+struct FitJobOptions {
+  std::string train_csv;            ///< empty only with load_model
+  std::string validate_csv;         ///< optional
+  std::string output;               ///< column to identify
+  std::vector<std::string> inputs;  ///< input columns
+  sysid::RegressorSpec spec;        ///< lags and delay (names filled from output/inputs)
+  fuzzy::FuzzyModelConfig model;    ///< entropy, cap, rates, consequent
+  sysid::TrainOptions train;
+  unsigned long seed = 0;  ///< shuffles nothing today; recorded for reproducibility
+  std::string save_model;  ///< optional path
+  std::string load_model;  ///< optional: evaluate this model instead of training
+  bool sweep = false;
+  sysid::SweepOptions sweep_options;
+  bool progress = false;  ///< draw a progress bar on stderr
+};
+
+/// Runs the job and returns the report (the --json document).
+/// @throws std::runtime_error (or io::CsvError) with a message naming file, line and column.
+nlohmann::json RunFitJob(const FitJobOptions& options);
+
+/// The readable table printed without --json.
+std::string FormatReport(const nlohmann::json& report, bool with_rules);
+
+}  // namespace odonata::fit
