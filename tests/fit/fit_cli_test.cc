@@ -1,0 +1,161 @@
+// odonata-fit run as a real process: its JSON contract and every bad-input case of issue 2.
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+struct ProcessResult {
+  int status = -1;
+  std::string out;  // stdout and stderr together
+};
+
+ProcessResult Exec(const std::string& args, bool merge_stderr = true) {
+  const std::string cmd =
+      std::string(ODONATA_FIT_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+  ProcessResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return r;
+}
+
+std::string Dir() { return ::testing::TempDir(); }
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string path = Dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string Example(const std::string& f) {
+  return std::string(ODONATA_EXAMPLES_DIR) + "/narendra/" + f;
+}
+
+TEST(FitCli, HelpDescribesTheContract) {
+  const ProcessResult r = Exec("--help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* flag :
+       {"--train", "--validate", "--output", "--input", "--ny", "--nu", "--delay",
+        "--entropy-threshold", "--max-rules", "--epochs", "--learning-rate", "--consequent",
+        "--seed", "--save-model", "--rules", "--json", "--sweep"}) {
+    EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
+  }
+}
+
+TEST(FitCli, JsonReportHasTheContractFields) {
+  const ProcessResult r = Exec("--train " + Example("train.csv") + " --validate " +
+                                   Example("validate.csv") + " --output y --input u --json",
+                               false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["rules"].get<int>(), 0);
+  EXPECT_DOUBLE_EQ(j["entropy_threshold"].get<double>(), 0.05);
+  for (const char* data : {"train", "validate"}) {
+    for (const char* mode : {"one_step", "free_run"}) {
+      for (const char* m : {"fit", "vaf", "rmse"})
+        EXPECT_TRUE(j[data][mode][m].is_number()) << data << mode << m;
+    }
+  }
+  for (const char* b : {"arx", "persistence"}) {
+    EXPECT_TRUE(j["baselines"][b]["validate"]["one_step"]["fit"].is_number()) << b;
+    EXPECT_TRUE(j["baselines"][b]["validate"]["free_run"]["fit"].is_number()) << b;
+  }
+}
+
+TEST(FitCli, StaticRegressionHasNoFreeRun) {
+  const ProcessResult r = Exec(
+      "--train " + Example("train.csv") + " --output y --input u --ny 0 --delay 0 --json", false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["train"].contains("one_step"));
+  EXPECT_FALSE(j["train"].contains("free_run"));
+}
+
+TEST(FitCli, SaveThenLoadReproducesTheValidationScores) {
+  const std::string model = Dir() + "/cli-model.json";
+  const std::string common = " --validate " + Example("validate.csv") + " --json";
+  const ProcessResult a =
+      Exec("--train " + Example("train.csv") +
+               " --output y --input u --consequent linear --save-model " + model + common,
+           false);
+  ASSERT_EQ(a.status, 0) << a.out;
+  const ProcessResult b = Exec("--load-model " + model + common, false);
+  ASSERT_EQ(b.status, 0) << b.out;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(ja["validate"], jb["validate"]);
+  EXPECT_EQ(ja["rules"], jb["rules"]);
+}
+
+TEST(FitCli, SameSeedAndDataGiveTheSameModelFile) {
+  const std::string m1 = Dir() + "/det1.json", m2 = Dir() + "/det2.json";
+  const std::string args =
+      "--train " + Example("train.csv") + " --output y --input u --epochs 2 --seed 5 --save-model ";
+  ASSERT_EQ(Exec(args + m1).status, 0);
+  ASSERT_EQ(Exec(args + m2).status, 0);
+  std::ifstream f1(m1), f2(m2);
+  const std::string s1((std::istreambuf_iterator<char>(f1)), {}),
+      s2((std::istreambuf_iterator<char>(f2)), {});
+  EXPECT_FALSE(s1.empty());
+  EXPECT_EQ(s1, s2);
+}
+
+TEST(FitCli, SweepAndRulesAreReadable) {
+  const ProcessResult r =
+      Exec("--train " + Example("train.csv") + " --validate " + Example("validate.csv") +
+           " --output y --input u --sweep --sweep-thresholds 0.01,0.05,0.2 --rules");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("entropy sweep"), std::string::npos);
+  EXPECT_NE(r.out.find("1. IF y(k) is "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("THEN y(k+1) is ≈"), std::string::npos);
+  EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
+}
+
+void ExpectError(const std::string& args, const std::string& fragment) {
+  const ProcessResult r = Exec(args);
+  EXPECT_NE(r.status, 0) << args;
+  EXPECT_LT(r.status, 128) << "crashed: " << r.out;
+  EXPECT_NE(r.out.find(fragment), std::string::npos)
+      << "expected '" << fragment << "' in: " << r.out;
+}
+
+TEST(FitCli, BadInputGivesAClearErrorNamingFileLineAndColumn) {
+  const std::string ok = "k,u,y\n0,1,2\n1,2,3\n2,3,4\n3,4,5\n4,5,6\n";
+  ExpectError("--train " + Dir() + "/missing.csv --output y --input u", "missing.csv");
+  const std::string good = Write("good.csv", ok);
+  ExpectError("--train " + good + " --output nope --input u", "no column named 'nope'");
+  ExpectError("--train " + good + " --output y --input nope", "no column named 'nope'");
+  ExpectError("--train " + Write("text.csv", "k,u,y\n0,1,2\n1,abc,3\n") + " --output y --input u",
+              "text.csv:3: column 2 ('u'): 'abc' is not a number");
+  ExpectError("--train " + Write("nan.csv", "k,u,y\n0,1,2\n1,2,nan\n") + " --output y --input u",
+              "nan.csv:3: column 3 ('y'): 'nan' is not finite");
+  ExpectError("--train " + Write("inf.csv", "k,u,y\n0,inf,2\n") + " --output y --input u",
+              "inf.csv:2: column 2 ('u'): 'inf' is not finite");
+  ExpectError("--train " + Write("ragged.csv", "k,u,y\n0,1\n") + " --output y --input u",
+              "ragged.csv:2: expected 3 cells, found 2");
+  ExpectError("--train " + Write("empty.csv", "") + " --output y --input u",
+              "empty.csv: no header");
+  ExpectError(
+      "--train " + Write("short.csv", "k,u,y\n0,1,2\n1,2,3\n") + " --output y --input u --ny 3",
+      "short.csv: 2 data rows");
+  ExpectError("--load-model " + Write("model.json", "{ broken") + " --validate " + good,
+              "model.json: not valid JSON");
+  ExpectError("--load-model " + Write("foreign.json", "{\"a\":1}") + " --validate " + good,
+              "not an odonata model");
+  ExpectError("--train " + good + " --output y --input u --consequent cubic", "cubic");
+  ExpectError("--train " + good + " --output y --input u --sweep", "--sweep needs --validate");
+  ExpectError("--output y --input u", "--train is required");
+}
+
+}  // namespace

@@ -1,0 +1,119 @@
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "narendra_series.hpp"
+#include "sysid/free_run.hpp"
+#include "sysid/narx_model.hpp"
+
+namespace odonata::sysid {
+namespace {
+
+using testing::NarendraSpec;
+using testing::NarendraTrain;
+using testing::NarendraValidate;
+
+NarxModel TrainedModel(fuzzy::ConsequentKind kind) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = kind;
+  NarxModel m(NarendraSpec(), cfg);
+  TrainOptions o;
+  o.epochs = 2;
+  m.Train(NarendraTrain(1500), o);
+  return m;
+}
+
+std::string TempPath(const std::string& name) { return ::testing::TempDir() + "/" + name; }
+
+TEST(NarxModel, SameDataSameModelBitForBit) {
+  for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
+    EXPECT_EQ(TrainedModel(kind).ToJson().dump(), TrainedModel(kind).ToJson().dump());
+  }
+}
+
+TEST(NarxModel, SaveThenLoadGivesIdenticalPredictions) {
+  for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
+    const NarxModel a = TrainedModel(kind);
+    const std::string path = TempPath("model.json");
+    a.Save(path);
+    const NarxModel b = NarxModel::Load(path);
+    const Series v = NarendraValidate();
+    const auto pa =
+        PredictOneStep(a.spec(), v, [&](const Eigen::VectorXd& x) { return a.Predict(x); });
+    const auto pb =
+        PredictOneStep(b.spec(), v, [&](const Eigen::VectorXd& x) { return b.Predict(x); });
+    EXPECT_EQ(pa, pb);  // exact equality
+    EXPECT_EQ(a.ToJson().dump(), b.ToJson().dump());
+  }
+}
+
+TEST(NarxModel, LoadNamesTheFileAndTheProblem) {
+  auto expect_error = [](const std::string& path, const std::string& fragment) {
+    try {
+      NarxModel::Load(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const std::runtime_error& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(path), std::string::npos) << msg;
+      EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+    }
+  };
+  expect_error(TempPath("does-not-exist.json"), "cannot open");
+  const std::string garbage = TempPath("garbage.json");
+  std::ofstream(garbage) << "{ not json";
+  expect_error(garbage, "not valid JSON");
+  const std::string foreign = TempPath("foreign.json");
+  std::ofstream(foreign) << R"({"hello": 1})";
+  expect_error(foreign, "not an odonata model");
+  nlohmann::json j = TrainedModel(fuzzy::ConsequentKind::kSingleton).ToJson();
+  j["models"][0]["inputs"] = 5;
+  const std::string wrong = TempPath("wrong.json");
+  std::ofstream(wrong) << j.dump();
+  expect_error(wrong, "");
+}
+
+TEST(NarxModel, SeveralOutputsShareOneRegressor) {
+  // Two outputs of one plant: y1 follows Narendra, y2 = 0.5 y1(k) + u(k).
+  Series s = NarendraTrain(2000);
+  s.outputs.conservativeResize(Eigen::NoChange, 2);
+  s.outputs(0, 1) = 0;
+  for (Eigen::Index t = 1; t < s.samples(); ++t)
+    s.outputs(t, 1) = 0.5 * s.outputs(t - 1, 0) + s.inputs(t - 1, 0);
+  RegressorSpec spec{1, 1, 1, {"y1", "y2"}, {"u"}};
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  NarxModel m(spec, cfg);
+  m.Train(s, TrainOptions{});
+  EXPECT_EQ(m.outputs(), 2);
+  EXPECT_EQ(m.spec().size(), 3);  // y1(k), y2(k), u(k)
+  Eigen::VectorXd x(3);
+  x << 0.4, 0.1, 0.3;
+  const Eigen::VectorXd y = m.Predict(x);
+  EXPECT_NEAR(y(1), 0.5 * 0.4 + 0.3, 0.05);  // a linear map the linear consequents learn
+}
+
+TEST(FreeRun, UsesOwnPredictionsAndMeasuredInitialConditions) {
+  Series s;
+  s.inputs = Eigen::MatrixXd::Ones(6, 1);
+  s.outputs = Eigen::MatrixXd::Constant(6, 1, 50.0);  // measured values the free run must ignore
+  s.outputs(0, 0) = 1.0;
+  RegressorSpec spec{1, 1, 1, {"y"}, {"u"}};
+  const Predictor twice = [](const Eigen::VectorXd& x) {
+    return Eigen::VectorXd::Constant(1, 2 * x(0) + x(1));
+  };
+  const Eigen::MatrixXd sim = SimulateFreeRun(spec, s, twice);
+  ASSERT_EQ(sim.rows(), 5);
+  EXPECT_EQ(sim(0, 0), 3.0);
+  EXPECT_EQ(sim(1, 0), 7.0);
+  EXPECT_EQ(sim(4, 0), 63.0);
+  const Predictor nan = [](const Eigen::VectorXd&) { return Eigen::VectorXd::Constant(1, NAN); };
+  bool diverged = false;
+  const Eigen::MatrixXd held = SimulateFreeRun(spec, s, nan, &diverged);
+  EXPECT_TRUE(diverged);
+  EXPECT_TRUE(held.allFinite());
+}
+
+}  // namespace
+}  // namespace odonata::sysid
