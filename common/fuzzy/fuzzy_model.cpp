@@ -1,5 +1,6 @@
 #include "fuzzy/fuzzy_model.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <stdexcept>
@@ -15,13 +16,16 @@ FuzzyModel::FuzzyModel(const FuzzyModelConfig& config)
       consequent_(MakeConsequent(config.consequent, config.inputs, config.entropy.max_rules)),
       generator_(config.entropy) {
   assert(config.inputs >= 1 && config.entropy.max_rules >= 1);
+  AllocateScratch();
 }
 
 FuzzyModel::FuzzyModel(const FuzzyModel& other)
     : config_(other.config_),
       rules_(other.rules_),
       consequent_(other.consequent_->Clone()),
-      generator_(other.generator_) {}
+      generator_(other.generator_) {
+  AllocateScratch();
+}
 
 FuzzyModel& FuzzyModel::operator=(const FuzzyModel& other) {
   if (this != &other) {
@@ -29,8 +33,19 @@ FuzzyModel& FuzzyModel::operator=(const FuzzyModel& other) {
     rules_ = other.rules_;
     consequent_ = other.consequent_->Clone();
     generator_ = other.generator_;
+    AllocateScratch();
   }
   return *this;
+}
+
+void FuzzyModel::AllocateScratch() {
+  const int cap = config_.entropy.max_rules;
+  gradient_factor_.resize(cap);
+  diff_.resize(cap);
+  scaled_diff_.resize(cap);
+  scratch_.weighted_distance.resize(0);
+  scratch_.normalized.resize(0);
+  rule_outputs_.resize(0);
 }
 
 void FuzzyModel::set_entropy_threshold(double h) {
@@ -76,31 +91,33 @@ LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double
   if (mode == LearnMode::kFrozen) return result;
 
   // Premise step, from the pre-update parameters: g_j = e (y_j − ŷ) φ_j is the common factor
-  // of ∂J/∂c, ∂J/∂σ and ∂J/∂s (identifier.md §2).
+  // of ∂J/∂c, ∂J/∂σ and ∂J/∂s (identifier.md §2). Scratch arrays are members sized to the
+  // capacity, so this loop never allocates.
   const auto& rates = config_.rates;
   const double lo = -rates.max_step;
   const double hi = rates.max_step;
-  const Eigen::ArrayXd g = e * (rule_outputs_ - yhat) * phi;
-  auto& centres = rules_.mutable_centres();
-  auto& sigmas = rules_.mutable_sigmas();
+  auto g = gradient_factor_.head(r);
+  g = e * (rule_outputs_ - yhat) * phi;
   const double sigma_min = config_.entropy.sigma_min;
+  auto diff = diff_.head(r);
+  auto gd = scaled_diff_.head(r);
   for (int i = 0; i < config_.inputs; ++i) {
-    const Eigen::ArrayXd diff = x(i) - centres.col(i).head(r);
-    const auto inv = rules_.inverse_variances_of_input(i);
-    const Eigen::ArrayXd gd = g * diff * inv;
-    if (rates.centre > 0.0) centres.col(i).head(r) -= (rates.centre * gd).min(hi).max(lo);
-    if (rates.sigma > 0.0) {
-      const Eigen::ArrayXd dsigma = gd * diff * sigmas.col(i).head(r) * inv;
-      sigmas.col(i).head(r) =
-          (sigmas.col(i).head(r) - (rates.sigma * dsigma).min(hi).max(lo)).max(sigma_min);
-    }
+    auto c = rules_.mutable_centres().col(i).head(r);
+    auto sg = rules_.mutable_sigmas().col(i).head(r);
+    auto inv = rules_.mutable_inverse_variances().col(i).head(r);
+    diff = x(i) - c;
+    gd = g * diff * inv;  // ∂J/∂c_ji
+    c -= (rates.centre * gd).min(hi).max(lo);
+    // ∂J/∂σ_ji = ∂J/∂c_ji · (x_i − c_ji) σ_ji / (σ_ji² + ε)
+    sg = (sg - (rates.sigma * gd * diff * sg * inv).min(hi).max(lo)).max(sigma_min);
+    inv = 1.0 / (sg.square() + kEpsilon);
   }
   if (rates.output_width > 0.0) {
     auto& s = rules_.mutable_output_widths();
     const Eigen::ArrayXd ds = -g * 2.0 * s.head(r) * rules_.inverse_output_weights();
     s.head(r) = (s.head(r) - (rates.output_width * ds).min(hi).max(lo)).max(0.05);
+    rules_.RefreshCaches();
   }
-  rules_.RefreshCaches();
   if (mode != LearnMode::kTunePremises) consequent_->Update(x, phi, e, y);
   return result;
 }

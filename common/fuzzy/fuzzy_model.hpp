@@ -101,8 +101,14 @@ class FuzzyModel {
   GaussianRuleBase rules_;
   std::unique_ptr<Consequent> consequent_;
   EntropyRuleGenerator generator_;
+  void AllocateScratch();
+
+  // Scratch space, sized once, so Predict() and Learn() never allocate.
   mutable Inference scratch_;
   mutable Eigen::ArrayXd rule_outputs_;
+  Eigen::ArrayXd gradient_factor_;  // g_j
+  Eigen::ArrayXd diff_;             // x_i − c_ji for one input
+  Eigen::ArrayXd scaled_diff_;      // g_j (x_i − c_ji) / (σ_ji² + ε)
 };
 
 }  // namespace odonata::fuzzy

@@ -58,6 +58,8 @@ class GaussianRuleBase {
   Eigen::ArrayXXd& mutable_centres() { return centres_; }
   Eigen::ArrayXXd& mutable_sigmas() { return sigmas_; }
   Eigen::ArrayXd& mutable_output_widths() { return output_widths_; }
+  /// The cached 1/(σ² + ε): whoever edits σ in place must keep it in step (or RefreshCaches()).
+  Eigen::ArrayXXd& mutable_inverse_variances() { return inverse_variances_; }
   /// Recomputes the cached 1/(σ²+ε) and 1/(s²+ε) after in-place edits.
   void RefreshCaches();
 
