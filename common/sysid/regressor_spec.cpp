@@ -1,6 +1,7 @@
 #include "sysid/regressor_spec.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <stdexcept>
 
 namespace odonata::sysid {
@@ -48,14 +49,27 @@ std::string RegressorSpec::Problems() const {
 void RegressorSpec::Fill(Eigen::Index t, const Eigen::Ref<const Eigen::MatrixXd>& y,
                          const Eigen::Ref<const Eigen::MatrixXd>& u,
                          Eigen::Ref<Eigen::VectorXd> x) const {
+  // Counts come from the spec, never from the matrices: a series with extra columns must not
+  // write past the end of x.
+  assert(y.cols() >= static_cast<Eigen::Index>(outputs.size()));
+  assert(u.cols() >= static_cast<Eigen::Index>(inputs.size()));
+  assert(x.size() == size());
   Eigen::Index c = 0;
-  for (Eigen::Index o = 0; o < y.cols(); ++o)
-    for (int l = 1; l <= output_lags; ++l) x(c++) = y(t - l, o);
-  for (Eigen::Index i = 0; i < u.cols(); ++i)
-    for (int l = 0; l < input_lags; ++l) x(c++) = u(t - delay - l, i);
+  for (std::size_t o = 0; o < outputs.size(); ++o)
+    for (int l = 1; l <= output_lags; ++l) x(c++) = y(t - l, static_cast<Eigen::Index>(o));
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    for (int l = 0; l < input_lags; ++l) x(c++) = u(t - delay - l, static_cast<Eigen::Index>(i));
 }
 
 RegressionData BuildRegression(const RegressorSpec& spec, const Series& series) {
+  if (series.outputs.cols() != static_cast<Eigen::Index>(spec.outputs.size()) ||
+      series.inputs.cols() != static_cast<Eigen::Index>(spec.inputs.size())) {
+    throw std::invalid_argument("series has " + std::to_string(series.outputs.cols()) +
+                                " outputs and " + std::to_string(series.inputs.cols()) +
+                                " inputs, the regressor expects " +
+                                std::to_string(spec.outputs.size()) + " and " +
+                                std::to_string(spec.inputs.size()));
+  }
   const Eigen::Index t0 = spec.first_target();
   const Eigen::Index rows = series.samples() - t0;
   if (rows < 1) {

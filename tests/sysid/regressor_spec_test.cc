@@ -36,11 +36,12 @@ TEST(RegressorSpec, Equation7WithDelayOne) {
 }
 
 TEST(RegressorSpec, DelayZeroIsStaticRegressionWithoutOutputLags) {
-  RegressorSpec spec{0, 1, 0, {"y"}, {"a"}};
+  RegressorSpec spec{0, 1, 0, {"y"}, {"a", "b"}};
   EXPECT_EQ(spec.first_target(), 0);
   const RegressionData d = BuildRegression(spec, Ramp(5));
   ASSERT_EQ(d.x.rows(), 5);
   EXPECT_EQ(d.x(2, 0), 202);  // same row's input
+  EXPECT_EQ(d.x(2, 1), 302);
   EXPECT_EQ(d.y(2, 0), 102);
   EXPECT_EQ(spec.RegressorNames().front(), "a(k)");
   EXPECT_EQ(spec.TargetName(0), "y(k)");
@@ -53,6 +54,11 @@ TEST(RegressorSpec, ReportsEveryProblemAtOnce) {
   EXPECT_NE(p.find("delay"), std::string::npos);
   EXPECT_NE(p.find("output lags"), std::string::npos);
   EXPECT_NE(p.find("no input"), std::string::npos);
+}
+
+TEST(RegressorSpec, SeriesThatDoesNotMatchTheSpecIsAnError) {
+  RegressorSpec spec{1, 1, 1, {"y"}, {"a"}};  // Ramp has two inputs
+  EXPECT_THROW(BuildRegression(spec, Ramp(5)), std::invalid_argument);
 }
 
 TEST(RegressorSpec, TooShortSeriesIsAnError) {
