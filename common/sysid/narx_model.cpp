@@ -40,7 +40,7 @@ void NarxModel::SetScaling(const Scaling& scaling) {
 
 void NarxModel::Train(const Series& train, const TrainOptions& options) {
   const RegressionData d = BuildRegression(spec_, train);
-  scaling_ = Scaling::FromData(d.x, d.y);
+  if (options.fit_scaling) scaling_ = Scaling::FromData(d.x, d.y);
   const Eigen::Index rows = d.x.rows();
   Eigen::MatrixXd xs(rows, d.x.cols());
   Eigen::MatrixXd ys(rows, d.y.cols());

@@ -24,6 +24,9 @@ struct TrainOptions {
   /// fixed (ANFIS's hybrid rule). Offline only: the online identifier cannot revisit the past.
   bool refine_least_squares = true;
   double ridge = 1e-6;
+  /// Derive the scaling from the training data (offline default). False keeps the scaling set
+  /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
+  bool fit_scaling = true;
   ProgressCallback progress;
 };
 
@@ -39,7 +42,8 @@ class NarxModel {
   /// Scaling declared up front (online use, where the data is not known in advance).
   void SetScaling(const Scaling& scaling);
 
-  /// Offline training: FitScaling, then `epochs` online passes (+ least squares if asked).
+  /// Offline training: FitScaling (unless options.fit_scaling is false), then `epochs` online
+  /// passes (+ least squares if asked).
   void Train(const Series& train, const TrainOptions& options);
 
   /// One online step on a raw regressor and the raw targets (one per output).

@@ -64,11 +64,10 @@ void RegressorSpec::Fill(Eigen::Index t, const Eigen::Ref<const Eigen::MatrixXd>
 RegressionData BuildRegression(const RegressorSpec& spec, const Series& series) {
   if (series.outputs.cols() != static_cast<Eigen::Index>(spec.outputs.size()) ||
       series.inputs.cols() != static_cast<Eigen::Index>(spec.inputs.size())) {
-    throw std::invalid_argument("series has " + std::to_string(series.outputs.cols()) +
-                                " outputs and " + std::to_string(series.inputs.cols()) +
-                                " inputs, the regressor expects " +
-                                std::to_string(spec.outputs.size()) + " and " +
-                                std::to_string(spec.inputs.size()));
+    throw std::invalid_argument(
+        "series has " + std::to_string(series.outputs.cols()) + " outputs and " +
+        std::to_string(series.inputs.cols()) + " inputs, the regressor expects " +
+        std::to_string(spec.outputs.size()) + " and " + std::to_string(spec.inputs.size()));
   }
   const Eigen::Index t0 = spec.first_target();
   const Eigen::Index rows = series.samples() - t0;

@@ -11,6 +11,9 @@
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
 #include "sysid/rule_listing.hpp"
+#include "sysid/signal_ranges.hpp"
+
+#include <fstream>
 
 namespace odonata::fit {
 namespace {
@@ -134,9 +137,26 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                        {"chosen_index", sweep.chosen}};
     cfg.entropy.threshold = sweep.points[sweep.chosen].threshold;
   }
+  if (!o.save_ranges.empty() && train) {
+    std::ofstream out(o.save_ranges);
+    out << sysid::RangesToJson(sysid::RangesFromSeries(spec, *train)).dump(1) << "\n";
+    if (!out) throw std::runtime_error(o.save_ranges + ": cannot write");
+  }
   if (!model) {
     model.emplace(spec, cfg);
     sysid::TrainOptions topt = o.train;
+    if (!o.ranges.empty()) {
+      std::ifstream in(o.ranges);
+      if (!in) throw std::runtime_error(o.ranges + ": cannot open ranges file");
+      nlohmann::json j;
+      try {
+        in >> j;
+        model->SetScaling(sysid::ScalingFromRanges(spec, sysid::RangesFromJson(j)));
+      } catch (const std::exception& e) {
+        throw std::runtime_error(o.ranges + ": " + e.what());
+      }
+      topt.fit_scaling = false;
+    }
     topt.progress = [&bar, &topt](int epoch, long sample, long total) {
       bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(topt.epochs),
                  (epoch + double(sample) / double(total)) / topt.epochs);

@@ -26,7 +26,9 @@ struct FitJobOptions {
   std::string load_model;  ///< optional: evaluate this model instead of training
   bool sweep = false;
   sysid::SweepOptions sweep_options;
-  bool progress = false;  ///< draw a progress bar on stderr
+  bool progress = false;    ///< draw a progress bar on stderr
+  std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
+  std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
 };
 
 /// Runs the job and returns the report (the --json document).

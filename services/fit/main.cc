@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
   app.add_option("--save-model", o.save_model, "write the model as JSON");
   app.add_option("--load-model", o.load_model, "evaluate a saved model instead of training")
       ->check(CLI::ExistingFile);
+  app.add_option("--ranges", o.ranges,
+                 "JSON {signal: [min, max]}: fixes the scaling instead of deriving it from the "
+                 "training data (what the online identifier uses)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--save-ranges", o.save_ranges, "write the training data's signal ranges as JSON");
   app.add_flag("--rules", rules, "list the rules as sentences");
   app.add_flag("--json", json, "print one JSON object on stdout");
   app.add_flag("--sweep", o.sweep,

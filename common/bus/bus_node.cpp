@@ -1,0 +1,146 @@
+#include "bus/bus_node.hpp"
+
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <stdexcept>
+
+#include <boost/asio/post.hpp>
+
+#include "odonata/heartbeat_t.hpp"
+
+namespace odonata::bus {
+
+int64_t NowUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+BusNode::BusNode(const BusOptions& options)
+    : options_(options),
+      lcm_(std::make_unique<lcm::LCM>(options.lcm_url)),
+      lcm_fd_(io_),
+      signals_(io_, SIGINT, SIGTERM) {
+  if (options_.instance.empty()) options_.instance = options_.service;
+  if (!lcm_->good()) {
+    throw std::runtime_error(
+        "cannot open LCM at '" +
+        (options.lcm_url.empty() ? std::string("the default URL") : options.lcm_url) +
+        "' (is there a multicast route? see README, 'Networking')");
+  }
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  host_ = host;
+  lcm_fd_.assign(lcm_->getFileno());
+  signals_.async_wait([this](const boost::system::error_code& ec, int) {
+    if (!ec) Stop(0);
+  });
+  WaitForLcm();
+  if (options_.heartbeat_period_s > 0) {
+    Every(std::chrono::microseconds(static_cast<int64_t>(options_.heartbeat_period_s * 1e6)),
+          [this] { PublishHeartbeat(); });
+  }
+}
+
+BusNode::~BusNode() {
+  // LCM owns the descriptor: Asio must not close it.
+  lcm_fd_.release();
+}
+
+void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string&, RawHandler* h) {
+  h->fn(rbuf);
+}
+
+void BusNode::WaitForLcm() {
+  lcm_fd_.async_wait(boost::asio::posix::stream_descriptor::wait_read,
+                     [this](const boost::system::error_code& ec) {
+                       if (ec || stopping_) return;
+                       // Drain what is queued, but yield to timers after a bounded burst.
+                       for (int i = 0; i < 256 && lcm_->handleTimeout(0) > 0; ++i) {
+                       }
+                       WaitForLcm();
+                     });
+}
+
+void BusNode::ArmTimer(std::shared_ptr<boost::asio::steady_timer> timer,
+                       std::chrono::microseconds period, std::function<void()> fn) {
+  timer->expires_at(timer->expiry() + period);
+  timer->async_wait([this, timer, period, fn](const boost::system::error_code& ec) {
+    if (ec || stopping_) return;
+    fn();
+    ArmTimer(timer, period, fn);
+  });
+}
+
+void BusNode::Every(std::chrono::microseconds period, std::function<void()> fn) {
+  auto timer = std::make_shared<boost::asio::steady_timer>(io_);
+  timer->expires_at(std::chrono::steady_clock::now());
+  timers_.push_back(timer);
+  ArmTimer(timer, period, std::move(fn));
+}
+
+void BusNode::After(std::chrono::microseconds delay, std::function<void()> fn) {
+  auto timer = std::make_shared<boost::asio::steady_timer>(io_, delay);
+  timers_.push_back(timer);
+  timer->async_wait([this, fn = std::move(fn)](const boost::system::error_code& ec) {
+    if (!ec && !stopping_) fn();
+  });
+}
+
+int BusNode::Run() {
+  PublishHeartbeat();
+  io_.run();
+  return exit_code_;
+}
+
+void BusNode::Stop(int exit_code) {
+  if (stopping_) return;
+  exit_code_ = exit_code;
+  SetState("stopping");
+  if (on_shutdown_) {
+    try {
+      on_shutdown_();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "[%s] shutdown: %s\n", options_.service.c_str(), e.what());
+      if (exit_code_ == 0) exit_code_ = 1;
+    }
+  }
+  stopping_ = true;
+  boost::system::error_code ignored;
+  signals_.cancel(ignored);
+  lcm_fd_.cancel(ignored);
+  for (auto& t : timers_) t->cancel();
+  io_.stop();
+}
+
+void BusNode::SetState(const std::string& state) {
+  if (state == state_) return;
+  state_ = state;
+  PublishHeartbeat();
+}
+
+void BusNode::PublishHeartbeat() {
+  odonata::heartbeat_t hb;
+  hb.utime = NowUtime();
+  hb.seq = heartbeat_seq_++;
+  hb.service = options_.service;
+  hb.instance = options_.instance;
+  hb.host = host_;
+  hb.pid = static_cast<int32_t>(getpid());
+  hb.state = state_;
+  hb.messages_in = stats_.messages_in;
+  hb.messages_out = stats_.messages_out;
+  hb.decode_errors = stats_.decode_errors;
+  hb.dropped = stats_.dropped;
+  hb.gaps = stats_.gaps;
+  hb.last_error = stats_.last_error;
+  lcm_->publish(options_.channels.heartbeat, &hb);
+}
+
+void BusNode::Report(const std::string& kind, const std::string& message) {
+  stats_.Report(options_.instance, kind, message);
+}
+
+}  // namespace odonata::bus

@@ -1,0 +1,142 @@
+#pragma once
+// One process's LCM endpoint inside one Boost.Asio event loop: LCM's file descriptor, timers,
+// SIGINT/SIGTERM, typed subscriptions that count undecodable messages, and the heartbeat.
+
+#include <chrono>
+#include <functional>
+#include <list>
+#include <memory>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include "bus/channel_config.hpp"
+#include "bus/service_stats.hpp"
+
+namespace odonata::bus {
+
+/// Microseconds since the UNIX epoch, LCM's utime.
+int64_t NowUtime();
+
+struct BusOptions {
+  std::string lcm_url;   ///< empty ⇒ LCM_DEFAULT_URL or udpm ttl=0
+  std::string service;   ///< e.g. odonata-identifier
+  std::string instance;  ///< unique name of this copy (defaults to service)
+  ChannelConfig channels;
+  double heartbeat_period_s = 1.0;
+};
+
+class BusNode {
+ public:
+  /// @throws std::runtime_error when LCM cannot be opened (bad URL, no multicast route).
+  explicit BusNode(const BusOptions& options);
+  ~BusNode();
+  BusNode(const BusNode&) = delete;
+  BusNode& operator=(const BusNode&) = delete;
+
+  /// Subscribes to `channel` (exact name). The handler receives only messages that decode;
+  /// the rest are counted as decode errors and reported once per channel. Exceptions thrown
+  /// by the handler are caught, counted as dropped and reported, so bad input never kills the
+  /// process.
+  template <class Msg>
+  void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+
+  /// Encodes and publishes; counts messages_out. Returns false (and reports) on failure.
+  template <class Msg>
+  bool Publish(const std::string& channel, const Msg& msg);
+
+  /// Calls fn every `period` until the loop stops (first call after one period).
+  void Every(std::chrono::microseconds period, std::function<void()> fn);
+  /// Calls fn once after `delay`.
+  void After(std::chrono::microseconds delay, std::function<void()> fn);
+  /// Called on SIGINT/SIGTERM (and Stop()) before the loop ends: flush files here.
+  void OnShutdown(std::function<void()> fn) { on_shutdown_ = std::move(fn); }
+
+  /// Runs the loop until Stop() or a signal. Returns the process exit code.
+  int Run();
+  void Stop(int exit_code = 0);
+
+  /// Sets the heartbeat state, publishing a heartbeat at once when it changes.
+  void SetState(const std::string& state);
+  void PublishHeartbeat();
+  /// Records a problem (counts nothing by itself; callers bump the right counter).
+  void Report(const std::string& kind, const std::string& message);
+
+  ServiceStats& stats() { return stats_; }
+  const BusOptions& options() const { return options_; }
+  const ChannelConfig& channels() const { return options_.channels; }
+  boost::asio::io_context& io() { return io_; }
+  lcm::LCM& lcm() { return *lcm_; }
+
+ private:
+  struct RawHandler {
+    BusNode* node;
+    std::string channel;
+    std::function<void(const lcm::ReceiveBuffer*)> fn;
+  };
+  static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel, RawHandler* h);
+  void WaitForLcm();
+  void ArmTimer(std::shared_ptr<boost::asio::steady_timer> timer, std::chrono::microseconds period,
+                std::function<void()> fn);
+
+  BusOptions options_;
+  boost::asio::io_context io_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  boost::asio::posix::stream_descriptor lcm_fd_;
+  boost::asio::signal_set signals_;
+  std::list<RawHandler> handlers_;  // stable addresses: LCM keeps raw pointers to them
+  std::list<std::shared_ptr<boost::asio::steady_timer>> timers_;
+  std::function<void()> on_shutdown_;
+  ServiceStats stats_;
+  std::string state_ = "starting";
+  std::string host_;
+  int64_t heartbeat_seq_ = 0;
+  int exit_code_ = 0;
+  bool stopping_ = false;
+};
+
+template <class Msg>
+void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
+  handlers_.push_back(RawHandler{this, channel, nullptr});
+  RawHandler& h = handlers_.back();
+  h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf) {
+    ++stats_.messages_in;
+    Msg msg;
+    int decoded = -1;
+    try {
+      decoded = msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size));
+    } catch (const std::exception& e) {  // a corrupt length field can ask for absurd sizes
+      decoded = -1;
+    }
+    if (decoded < 0) {
+      ++stats_.decode_errors;
+      Report("undecodable message on " + channel,
+             std::to_string(rbuf->data_size) + " bytes that are not a valid " + Msg::getTypeName() +
+                 " (wrong type, truncated or corrupt)");
+      return;
+    }
+    try {
+      handler(msg);
+    } catch (const std::exception& e) {
+      ++stats_.dropped;
+      Report("rejected message on " + channel, e.what());
+    }
+  };
+  lcm_->subscribeFunction(channel, &BusNode::Trampoline, &h);
+}
+
+template <class Msg>
+bool BusNode::Publish(const std::string& channel, const Msg& msg) {
+  if (lcm_->publish(channel, &msg) != 0) {
+    Report("publish failed on " + channel, "LCM could not send the message");
+    return false;
+  }
+  ++stats_.messages_out;
+  return true;
+}
+
+}  // namespace odonata::bus

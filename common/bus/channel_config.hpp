@@ -1,0 +1,27 @@
+#pragma once
+// Channel names: UPPER_SNAKE defaults, each overridable, with an optional suffix so two
+// systems can share one bus (e.g. DIMAV_STATE_B).
+
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace odonata::bus {
+
+struct ChannelConfig {
+  std::string command = "DIMAV_COMMAND";
+  std::string state = "DIMAV_STATE";
+  std::string prediction = "ODONATA_PREDICTION";
+  std::string model = "ODONATA_MODEL";
+  std::string accuracy = "ODONATA_ACCURACY";
+  std::string heartbeat = "ODONATA_HEARTBEAT";
+  std::string control = "ODONATA_CONTROL";
+
+  /// Appends `_SUFFIX` to every name (no-op for an empty suffix).
+  void ApplySuffix(const std::string& suffix);
+  /// Overrides names from a JSON object {"command": "...", ...}; unknown keys are an error.
+  /// @throws std::runtime_error naming the unknown key.
+  void Override(const nlohmann::json& j);
+};
+
+}  // namespace odonata::bus

@@ -1,0 +1,27 @@
+#pragma once
+// Counters every service reports in its heartbeat, and a log that prints each kind of problem
+// once (a flood of corrupt messages must not become a flood of log lines).
+
+#include <cstdint>
+#include <set>
+#include <string>
+
+namespace odonata::bus {
+
+struct ServiceStats {
+  int64_t messages_in = 0;
+  int64_t messages_out = 0;
+  int64_t decode_errors = 0;  ///< undecodable: wrong fingerprint, truncated, garbage
+  int64_t dropped = 0;        ///< decoded but rejected: NaN/Inf, out of range, duplicate, stale
+  int64_t gaps = 0;           ///< sequence numbers skipped by a publisher
+  std::string last_error;
+
+  /// Records a problem: sets last_error, and prints "[service] kind: message" to stderr the first
+  /// time this kind is seen (later ones are only counted).
+  void Report(const std::string& service, const std::string& kind, const std::string& message);
+
+ private:
+  std::set<std::string> reported_kinds_;
+};
+
+}  // namespace odonata::bus

@@ -1,0 +1,111 @@
+#include "sysid/online_identifier.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace odonata::sysid {
+
+OnlineIdentifier::OnlineIdentifier(NarxModel model) : model_(std::move(model)) {}
+
+void OnlineIdentifier::RestartHistory() {
+  history_.clear();
+  free_history_.clear();
+  have_last_ = false;
+}
+
+void OnlineIdentifier::ReplaceModel(NarxModel model) {
+  model_ = std::move(model);
+  RestartHistory();
+}
+
+void OnlineIdentifier::SetEntropyThreshold(double h) {
+  for (int o = 0; o < model_.outputs(); ++o) model_.mutable_model(o).set_entropy_threshold(h);
+}
+
+std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* result) {
+  const RegressorSpec& spec = model_.spec();
+  auto set = [result](PushResult r) {
+    if (result) *result = r;
+  };
+  if (s.outputs.size() != static_cast<Eigen::Index>(spec.outputs.size()) ||
+      s.inputs.size() != static_cast<Eigen::Index>(spec.inputs.size()) || !s.outputs.allFinite() ||
+      !s.inputs.allFinite()) {
+    set(PushResult::kRejected);
+    return std::nullopt;
+  }
+  if (have_last_ && s.index <= last_index_) {
+    set(PushResult::kDuplicate);
+    return std::nullopt;
+  }
+  set(PushResult::kAccepted);
+  if (have_last_ && s.index != last_index_ + 1) {
+    gaps_ += s.index - last_index_ - 1;
+    history_.clear();
+    free_history_.clear();
+    set(PushResult::kGap);
+  }
+  have_last_ = true;
+  last_index_ = s.index;
+
+  const auto t0 = static_cast<std::size_t>(spec.first_target());
+  history_.push_back(s);
+  // The free run starts from measured outputs; once running, each entry is replaced by the
+  // model's own simulation of that sample.
+  free_history_.push_back(s.outputs);
+  while (history_.size() > t0 + 1) {
+    history_.pop_front();
+    free_history_.pop_front();
+  }
+  if (history_.size() < t0 + 1) return std::nullopt;
+
+  const auto n = static_cast<Eigen::Index>(history_.size());
+  const auto no = static_cast<Eigen::Index>(spec.outputs.size());
+  Eigen::MatrixXd y(n, no), f(n, no), u(n, static_cast<Eigen::Index>(spec.inputs.size()));
+  for (Eigen::Index r = 0; r < n; ++r) {
+    const auto i = static_cast<std::size_t>(r);
+    y.row(r) = history_[i].outputs.transpose();
+    f.row(r) = free_history_[i].transpose();
+    u.row(r) = history_[i].inputs.transpose();
+  }
+
+  SampleReport rep;
+  rep.index = s.index;
+  rep.measured = s.outputs;
+  const Eigen::Index t = n - 1;
+  Eigen::VectorXd x(spec.size());
+  spec.Fill(t, f, u, x);
+  rep.free_run = model_.Predict(x);
+  for (Eigen::Index o = 0; o < no; ++o) {
+    // A diverging free run holds its last value rather than poisoning everything with NaN.
+    if (!std::isfinite(rep.free_run(o))) rep.free_run(o) = t > 0 ? f(t - 1, o) : y(t, o);
+  }
+  free_history_.back() = rep.free_run;
+
+  spec.Fill(t, y, u, x);
+  rep.predicted = model_.Predict(x);
+  rep.rules.resize(no);
+  rep.max_entropy.resize(no);
+  const auto results = model_.Learn(
+      x, s.outputs, learning_ ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kFrozen);
+  for (Eigen::Index o = 0; o < no; ++o) {
+    rep.max_entropy(o) = results[static_cast<std::size_t>(o)].max_entropy;
+    rep.rules(o) = model_.model(static_cast<int>(o)).rules();
+  }
+  rep.learned = learning_;
+  if (learning_) ++samples_learned_;
+
+  rep.next = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
+  if (spec.delay == 1) {
+    // x(k+1) needs y(k) … and u(k) …: all known now. Shift by appending a dummy row.
+    Eigen::MatrixXd y1(n + 1, no), u1(n + 1, u.cols());
+    y1.topRows(n) = y;
+    y1.row(n).setZero();
+    u1.topRows(n) = u;
+    u1.row(n).setZero();
+    spec.Fill(n, y1, u1, x);
+    rep.next = model_.Predict(x);
+  }
+  return rep;
+}
+
+}  // namespace odonata::sysid

@@ -1,0 +1,72 @@
+#pragma once
+// The online identifier's core: consumes samples one by one, in order, exactly as the offline
+// trainer walks a CSV, so a lockstep run reproduces odonata-fit's model bit for bit. Knows
+// nothing of LCM; the service shell turns messages into samples.
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "sysid/narx_model.hpp"
+
+namespace odonata::sysid {
+
+/// One complete sample: outputs y(k) and the inputs u(k) applied from t_k on, raw units.
+struct Sample {
+  int64_t index = 0;  ///< k
+  Eigen::VectorXd outputs;
+  Eigen::VectorXd inputs;
+};
+
+/// What the identifier says about sample k.
+struct SampleReport {
+  int64_t index = 0;
+  Eigen::VectorXd measured;   ///< y(k)
+  Eigen::VectorXd predicted;  ///< ŷ(k | k−1), before learning from y(k)
+  Eigen::VectorXd free_run;   ///< the parallel model's own simulation of y(k)
+  Eigen::VectorXd next;       ///< ŷ(k+1 | k) after learning (NaN when delay = 0: u(k+1) unknown)
+  Eigen::VectorXi rules;
+  Eigen::VectorXd max_entropy;
+  bool learned = false;
+};
+
+enum class PushResult { kAccepted, kGap, kDuplicate, kRejected };
+
+class OnlineIdentifier {
+ public:
+  explicit OnlineIdentifier(NarxModel model);
+
+  /// Feeds sample k. A sample that does not follow the previous one (a gap) restarts the
+  /// history — regressors are never built across a gap; earlier or repeated samples and
+  /// non-finite values are rejected without touching the model.
+  /// @return the report once the history holds a full regressor.
+  std::optional<SampleReport> Push(const Sample& sample, PushResult* result = nullptr);
+
+  void Freeze() { learning_ = false; }
+  void Resume() { learning_ = true; }
+  bool learning() const { return learning_; }
+  /// Forgets the history (e.g. the plant was reset); the model is kept.
+  void RestartHistory();
+  /// Replaces the model (a saved model or a snapshot from the bus); the history restarts.
+  void ReplaceModel(NarxModel model);
+  void SetEntropyThreshold(double h);
+
+  const NarxModel& model() const { return model_; }
+  int64_t samples_learned() const { return samples_learned_; }
+  int64_t gaps() const { return gaps_; }
+  int64_t last_index() const { return last_index_; }
+
+ private:
+  NarxModel model_;
+  bool learning_ = true;
+  std::deque<Sample> history_;                // consecutive samples, newest last
+  std::deque<Eigen::VectorXd> free_history_;  // free-run outputs aligned with history_
+  int64_t last_index_ = -1;
+  bool have_last_ = false;
+  int64_t samples_learned_ = 0;
+  int64_t gaps_ = 0;
+};
+
+}  // namespace odonata::sysid
