@@ -1,0 +1,345 @@
+#include "experiments/experiment_preset.hpp"
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <stdexcept>
+
+#include "signals/chirp.hpp"
+#include "signals/gaussian_noise.hpp"
+#include "signals/taper.hpp"
+
+namespace odonata::experiments {
+namespace {
+
+using plant::CommandMatrix;
+using plant::kFlapFrequency;
+using plant::kStrokeAmplitude;
+using plant::kStrokePlaneAngle;
+using plant::kWingCount;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadPerDeg = kPi / 180.0;
+// Every free-flight experiment starts at hover trim this high: far enough that no preset reaches
+// the ground within its run, so the ground never shapes identification data.
+constexpr double kStartAltitudeM = 50.0;
+// Fade-in/out of zero-mean attitude excitations (s).
+constexpr double kRampS = 1.0;
+// The paper's noise power (section IV-B1), 1-ohm convention: variance 0.01, σ = 0.1 rad.
+constexpr double kNoisePowerW = 0.01;
+
+// Wing groups (0-based rows): 1 fore-left, 2 hind-left, 3 hind-right, 4 fore-right.
+constexpr int kLeft[2] = {0, 1};
+constexpr int kRight[2] = {2, 3};
+constexpr int kFront[2] = {0, 3};
+constexpr int kBack[2] = {1, 2};
+
+// Independent random stream per (seed, phase, purpose).
+std::mt19937_64 Stream(std::uint64_t seed, Phase phase, std::uint64_t purpose) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                    static_cast<std::uint32_t>(phase == Phase::kTrain ? 1 : 2),
+                    static_cast<std::uint32_t>(purpose)};
+  return std::mt19937_64(seq);
+}
+
+double RandomPhaseRad(std::uint64_t seed, Phase phase, std::uint64_t purpose) {
+  std::mt19937_64 rng = Stream(seed, phase, purpose);
+  return 2.0 * kPi * static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+std::uint64_t NoiseSeed(std::uint64_t seed, Phase phase) {
+  std::mt19937_64 rng = Stream(seed, phase, 99);
+  return rng();
+}
+
+double Clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
+
+// Builds a run where `fill(k, t_s, command, u)` writes sample k's command (starting from the trim
+// command) and its scalar excitation u. Commands are clamped; u is recomputed by `applied` from the
+// clamped command so the excitation column always matches what the wings did.
+struct Builder {
+  const plant::PlantConfig& config;
+  const plant::TrimResult& trim;
+  ExperimentRun run;
+
+  void Fill(std::size_t samples, double dt_s,
+            const std::function<void(double, CommandMatrix*)>& fill,
+            const std::function<double(const CommandMatrix&)>& applied,
+            const std::string& excitation_name) {
+    run.commands.reserve(samples);
+    std::vector<double> u;
+    u.reserve(samples);
+    for (std::size_t k = 0; k < samples; ++k) {
+      CommandMatrix c = trim.command;
+      fill(static_cast<double>(k) * dt_s, &c);
+      for (int w = 0; w < kWingCount; ++w) {
+        for (int i = 0; i < plant::kCommandsPerWing; ++i) {
+          c(w, i) = Clamp(c(w, i), config.limits.min(i), config.limits.max(i));
+        }
+      }
+      run.commands.push_back(c);
+      if (applied) u.push_back(applied(c));
+    }
+    if (applied) {
+      run.excitation_names.push_back(excitation_name);
+      run.excitation_values.push_back(std::move(u));
+    }
+  }
+};
+
+ExperimentPreset Actuator(const std::string& name, const std::string& output,
+                          std::vector<std::string> inputs, double h, const std::string& h_text,
+                          int mfs, const std::string& accuracy) {
+  ExperimentPreset p;
+  p.name = name;
+  p.output_column = output;
+  p.input_columns = std::move(inputs);
+  p.ny = 2;
+  p.nu = 2;
+  p.delay = 1;
+  p.entropy_threshold = h;
+  p.paper_entropy_text = h_text;
+  p.paper_mf_count = mfs;
+  p.paper_accuracy_text = accuracy;
+  p.train_duration_s = 30.0;
+  p.validate_duration_s = 30.0;
+  p.clamped_body = true;
+  p.start_altitude_m = kStartAltitudeM;
+  return p;
+}
+
+ExperimentPreset Attitude(const std::string& name, const std::string& output,
+                          const std::string& input, double h, const std::string& h_text, int mfs,
+                          const std::string& accuracy) {
+  ExperimentPreset p;
+  p.name = name;
+  p.output_column = output;
+  p.input_columns = {input};
+  p.ny = 3;
+  p.nu = 2;
+  p.delay = 1;
+  p.entropy_threshold = h;
+  p.paper_entropy_text = h_text;
+  p.paper_mf_count = mfs;
+  p.paper_accuracy_text = accuracy;
+  p.train_duration_s = 30.0;
+  p.validate_duration_s = 30.0;
+  p.clamped_body = false;
+  p.start_altitude_m = kStartAltitudeM;
+  p.attitude_hold = true;
+  return p;
+}
+
+std::vector<ExperimentPreset> MakePresets() {
+  std::vector<ExperimentPreset> v;
+  {
+    ExperimentPreset p = Actuator("actuator_fz", "fz1_n", {"w1_freq_hz", "w1_amp_rad"}, 0.007,
+                                  "0.178 -> 0.007", 18, "\"highly accurate\"");
+    p.description = "wing-beat mean vertical force of one wing on a test stand, varying f and phi0";
+    p.train_excitation =
+        "all wings: f = 6.0 + 0.5 chirp(0.02->0.5 Hz) Hz (5.5-6.5 Hz); phi0 = 50 deg + 30 deg "
+        "linear chirp(0.05->5 Hz)";
+    p.validate_excitation =
+        "all wings: f = 6.0 + 1.0 log-chirp(0.03->0.8 Hz) Hz (5-7 Hz); phi0 = 50 deg + 25 deg "
+        "log-chirp(0.1->8 Hz)";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p =
+        Actuator("actuator_fx", "fx1_n", {"w1_beta_rad", "w1_freq_hz", "w1_amp_rad"}, 0.002,
+                 "0.002", 8, "> 80 %");
+    p.description =
+        "wing-beat mean horizontal force of one wing on a test stand, varying beta, f and phi0";
+    p.train_excitation = "as actuator_fz training, plus beta = 10 deg chirp(0.02->1 Hz)";
+    p.validate_excitation = "as actuator_fz validation, plus beta = 8 deg log-chirp(0.03->2 Hz)";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p = Attitude("vertical_velocity", "vz_mps", "u_vertical_rad", 0.05, "0.05", 41,
+                                  "good (figure only)");
+    p.ny = 2;
+    p.train_duration_s = 40.0;
+    p.validate_duration_s = 40.0;
+    p.description = "body vertical velocity under the same phi0 on all four wings";
+    p.train_excitation =
+        "all wings: phi0 = phi0c + u, u = 0.25 rad linear chirp(0.05->5 Hz) + Gaussian noise "
+        "0.01 W; f = trim; attitude hold on";
+    p.validate_excitation =
+        "all wings: phi0 = phi0c + u, u = 0.21 rad log-chirp(0.05->6 Hz) + Gaussian noise 0.01 W "
+        "(other stream); f = trim; attitude hold on";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p =
+        Attitude("roll", "roll_rad", "u_roll_rad", 0.01, "0.01", 6, "92.5 % validation");
+    p.description = "roll under inverse phi0 chirps, left (1, 2) against right (3, 4)";
+    p.train_excitation =
+        "phi0 = trim +/- u (left +, right -), u = 3 deg linear chirp(0.1->3 Hz), 1 s fades; "
+        "attitude hold on";
+    p.validate_excitation =
+        "phi0 = trim +/- u (left +, right -), u = 5 deg log-chirp(0.15->4 Hz), 1 s fades; "
+        "attitude hold on";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p =
+        Attitude("pitch", "pitch_rad", "u_pitch_rad", 0.001, "0.001", 3, "\"reasonably good\"");
+    p.description = "pitch under front (1, 4) against back (2, 3) differences in amplitude";
+    p.train_excitation =
+        "front: phi0 = trim + u; back: phi0 = trim - u; u = 1 deg linear chirp(0.1->3 Hz), 1 s "
+        "fades; attitude hold on (no f differential: it drifts the fore/hind phase)";
+    p.validate_excitation =
+        "same mapping, u = 1.5 deg log-chirp(0.15->4 Hz), 1 s fades; attitude hold on";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p = Attitude("yaw", "yaw_rad", "u_yaw_rad", 0.25, "0.25", 34, "about 98 %");
+    p.description =
+        "yaw under opposite stroke-plane angles, left (1, 2) -u against right (3, 4) +u";
+    p.train_excitation =
+        "beta = -u left, +u right, u = 20 deg linear chirp(0.2->4 Hz), 1 s fades; attitude hold on";
+    p.validate_excitation =
+        "beta = -u left, +u right, u = 15 deg log-chirp(0.3->5 Hz), 1 s fades; attitude hold on";
+    v.push_back(p);
+  }
+  return v;
+}
+
+}  // namespace
+
+const std::vector<ExperimentPreset>& Presets() {
+  static const std::vector<ExperimentPreset> kPresets = MakePresets();
+  return kPresets;
+}
+
+const ExperimentPreset* FindPreset(const std::string& name) {
+  for (const ExperimentPreset& p : Presets()) {
+    if (p.name == name) return &p;
+  }
+  return nullptr;
+}
+
+std::string PresetNames() {
+  std::string names;
+  for (const ExperimentPreset& p : Presets()) names += (names.empty() ? "" : ", ") + p.name;
+  return names;
+}
+
+const char* PhaseName(Phase phase) { return phase == Phase::kTrain ? "train" : "validate"; }
+
+ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, std::uint64_t seed,
+                                 double duration_s, const plant::PlantConfig& config) {
+  const plant::TrimResult trim = plant::FindHoverTrim(config);
+  const double dt_s = 1.0 / config.integration.sample_rate_hz;
+  const double t_end_s = duration_s > 0.0 ? duration_s
+                                          : (phase == Phase::kTrain ? preset.train_duration_s
+                                                                    : preset.validate_duration_s);
+  const std::size_t samples = static_cast<std::size_t>(std::llround(t_end_s / dt_s));
+  const bool train = phase == Phase::kTrain;
+  const double a0 = trim.amp_rad;
+  const double phase0 = RandomPhaseRad(seed, phase, 1);
+  const double phase1 = RandomPhaseRad(seed, phase, 2);
+  const double phase2 = RandomPhaseRad(seed, phase, 3);
+
+  Builder b{config, trim, {}};
+  b.run.trim = trim;
+  b.run.sample_period_s = dt_s;
+  b.run.initial.prior_command = trim.command;
+  b.run.initial.clamped_body = preset.clamped_body;
+  b.run.attitude_hold = preset.attitude_hold;
+  b.run.hold_gains = DefaultAttitudeHoldGains();
+  b.run.initial.state.position_m = Eigen::Vector3d(0.0, 0.0, preset.start_altitude_m);
+
+  const auto fade = [&](double t) { return signals::TukeyEnvelope(t, t_end_s, kRampS); };
+
+  if (preset.name == "actuator_fz" || preset.name == "actuator_fx") {
+    const bool with_beta = preset.name == "actuator_fx";
+    // The slow frequency sweep and the faster amplitude sweep of the paper's Fig. 4 and 6.
+    const signals::LinearChirp f_train(0.02, 0.5, 0.5, t_end_s, phase0);
+    const signals::LogChirp f_val(0.03, 0.8, 1.0, t_end_s, phase0);
+    const signals::LinearChirp a_train(0.05, 5.0, 30.0 * kRadPerDeg, t_end_s, phase1);
+    const signals::LogChirp a_val(0.1, 8.0, 25.0 * kRadPerDeg, t_end_s, phase1);
+    const signals::LinearChirp beta_train(0.02, 1.0, 10.0 * kRadPerDeg, t_end_s, phase2);
+    const signals::LogChirp beta_val(0.03, 2.0, 8.0 * kRadPerDeg, t_end_s, phase2);
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const double f = 6.0 + (train ? f_train.Value(t) : f_val.Value(t));
+          const double a = 50.0 * kRadPerDeg + (train ? a_train.Value(t) : a_val.Value(t));
+          c->col(kFlapFrequency).setConstant(f);
+          c->col(kStrokeAmplitude).setConstant(a);
+          if (with_beta) {
+            c->col(kStrokePlaneAngle).setConstant(train ? beta_train.Value(t) : beta_val.Value(t));
+          }
+        },
+        nullptr, "");
+    return b.run;
+  }
+
+  if (preset.name == "vertical_velocity") {
+    const double amplitude_rad = train ? 0.25 : 0.21;
+    // Lift ∝ φ₀²: centring on φ₀c = √(φ₀² − E[u²]) keeps the mean lift at the weight.
+    const double mean_square = 0.5 * amplitude_rad * amplitude_rad + kNoisePowerW;
+    const double centre_rad = std::sqrt(a0 * a0 - mean_square);
+    const signals::LinearChirp c_train(0.05, 5.0, amplitude_rad, t_end_s, phase0);
+    const signals::LogChirp c_val(0.05, 6.0, amplitude_rad, t_end_s, phase0);
+    signals::GaussianNoise noise(kNoisePowerW, NoiseSeed(seed, phase));
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const double u = (train ? c_train.Value(t) : c_val.Value(t)) + noise.Next();
+          c->col(kStrokeAmplitude).setConstant(centre_rad + u);
+        },
+        [&](const CommandMatrix& c) { return c(0, kStrokeAmplitude) - a0; }, "u_vertical_rad");
+    return b.run;
+  }
+
+  if (preset.name == "roll" || preset.name == "pitch") {
+    // Bands stay well below the wing beat (≈ 5.4 Hz): a φ₀ modulation near f beats with the
+    // stroke's odd harmonics and rectifies into a steady moment the wing-beat-mean model cannot
+    // represent (it tumbled the vehicle in simulation).
+    const bool roll = preset.name == "roll";
+    const double amplitude_rad = (roll ? (train ? 3.0 : 5.0) : (train ? 1.0 : 1.5)) * kRadPerDeg;
+    const signals::LinearChirp c_train(0.1, 3.0, amplitude_rad, t_end_s, phase0);
+    const signals::LogChirp c_val(0.15, 4.0, amplitude_rad, t_end_s, phase0);
+    const int* plus = roll ? kLeft : kFront;
+    const int* minus = roll ? kRight : kBack;
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const double u = fade(t) * (train ? c_train.Value(t) : c_val.Value(t));
+          for (int i = 0; i < 2; ++i) {
+            (*c)(plus[i], kStrokeAmplitude) = a0 + u;
+            (*c)(minus[i], kStrokeAmplitude) = a0 - u;
+          }
+        },
+        [&](const CommandMatrix& c) {
+          return 0.5 * (c(plus[0], kStrokeAmplitude) - c(minus[0], kStrokeAmplitude));
+        },
+        roll ? "u_roll_rad" : "u_pitch_rad");
+    return b.run;
+  }
+
+  if (preset.name == "yaw") {
+    const double amplitude_rad = (train ? 20.0 : 15.0) * kRadPerDeg;
+    const signals::LinearChirp c_train(0.2, 4.0, amplitude_rad, t_end_s, phase0);
+    const signals::LogChirp c_val(0.3, 5.0, amplitude_rad, t_end_s, phase0);
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const double u = fade(t) * (train ? c_train.Value(t) : c_val.Value(t));
+          for (int i = 0; i < 2; ++i) {
+            (*c)(kLeft[i], kStrokePlaneAngle) = -u;
+            (*c)(kRight[i], kStrokePlaneAngle) = u;
+          }
+        },
+        [&](const CommandMatrix& c) {
+          return 0.5 * (c(kRight[0], kStrokePlaneAngle) - c(kLeft[0], kStrokePlaneAngle));
+        },
+        "u_yaw_rad");
+    return b.run;
+  }
+  throw std::runtime_error("BuildExperimentRun: no excitation defined for preset " + preset.name);
+}
+
+}  // namespace odonata::experiments

@@ -1,0 +1,34 @@
+#include "signals/gaussian_noise.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace odonata::signals {
+
+GaussianNoise::GaussianNoise(double power_w, std::uint64_t seed)
+    : power_w_(power_w), stddev_(std::sqrt(power_w)), rng_(seed) {
+  if (!(power_w >= 0.0)) throw std::invalid_argument("GaussianNoise: power_w must be >= 0");
+}
+
+double GaussianNoise::Next() {
+  if (has_spare_) {
+    has_spare_ = false;
+    return stddev_ * spare_;
+  }
+  // u1 ∈ (0, 1] so log(u1) is finite; u2 ∈ [0, 1).
+  const double u1 = (static_cast<double>(rng_() >> 11) + 1.0) * 0x1.0p-53;
+  const double u2 = static_cast<double>(rng_() >> 11) * 0x1.0p-53;
+  const double radius = std::sqrt(-2.0 * std::log(u1));
+  const double angle = 6.28318530717958647692 * u2;
+  spare_ = radius * std::sin(angle);
+  has_spare_ = true;
+  return stddev_ * radius * std::cos(angle);
+}
+
+std::vector<double> GaussianNoise::Generate(std::size_t count) {
+  std::vector<double> out(count);
+  for (double& x : out) x = Next();
+  return out;
+}
+
+}  // namespace odonata::signals

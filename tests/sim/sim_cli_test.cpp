@@ -1,0 +1,164 @@
+// odonata-sim run as a real process: arguments, error exits, determinism and output layout.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/csv_table.hpp"
+#include "sim_runner.hpp"
+
+namespace {
+
+struct Result {
+  int exit_code{};
+  std::string out;
+  std::string err;
+};
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class SimCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/odonata_sim_test_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
+
+  Result Run(const std::string& args) const {
+    const std::string out = dir_ + "/stdout", err = dir_ + "/stderr";
+    const std::string cmd = std::string(ODONATA_SIM_EXE) + " " + args + " >" + out + " 2>" + err;
+    const int status = std::system(cmd.c_str());
+    return Result{WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+  }
+  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+  void Write(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name)) << text;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(SimCli, HelpAndListPresets) {
+  const Result help = Run("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("--preset"), std::string::npos);
+  EXPECT_NE(help.out.find("--commands"), std::string::npos);
+  const Result list = Run("--list-presets");
+  EXPECT_EQ(list.exit_code, 0);
+  for (const char* name :
+       {"actuator_fz", "actuator_fx", "vertical_velocity", "roll", "pitch", "yaw"}) {
+    EXPECT_NE(list.out.find(name), std::string::npos) << name;
+  }
+}
+
+TEST_F(SimCli, UnknownPresetIsAClearError) {
+  const Result r = Run("--preset rol --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown preset 'rol'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("roll"), std::string::npos) << r.err;  // lists the known ones
+}
+
+TEST_F(SimCli, BadArgumentsAreErrors) {
+  EXPECT_EQ(Run("--preset roll --phase test --output " + Path("x.csv")).exit_code, 2);
+  EXPECT_EQ(Run("--preset roll").exit_code, 2);              // no --output
+  EXPECT_EQ(Run("--output " + Path("x.csv")).exit_code, 2);  // no source
+  EXPECT_EQ(Run("--preset roll --duration -1 --output " + Path("x.csv")).exit_code, 2);
+  EXPECT_EQ(Run("--preset roll --output /nonexistent/dir/x.csv").exit_code, 2);
+}
+
+TEST_F(SimCli, BadConfigurationIsAClearError) {
+  Result r = Run("--preset roll --config " + Path("missing.json") + " --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("cannot open"), std::string::npos) << r.err;
+  Write("broken.json", "{ \"mass_kg\": ");
+  r = Run("--preset roll --config " + Path("broken.json") + " --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not valid JSON"), std::string::npos) << r.err;
+  std::string text = Slurp(std::string(ODONATA_PLANT_CONFIG_DIR) + "/dimav_40g.json");
+  text.replace(text.find("\"mass_kg\": 0.04"), 15, "\"mass_kg\": -0.04");
+  Write("negative.json", text);
+  r = Run("--preset roll --config " + Path("negative.json") + " --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("mass_kg"), std::string::npos) << r.err;
+}
+
+TEST_F(SimCli, BadCommandFileIsAClearError) {
+  Write("nocols.csv", "t_s,w1_freq_hz\n0,5\n0.01,5\n");
+  Result r = Run("--commands " + Path("nocols.csv") + " --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("w1_beta_rad"), std::string::npos) << r.err;
+  EXPECT_EQ(Run("--commands " + Path("none.csv") + " --output " + Path("x.csv")).exit_code, 2);
+}
+
+TEST_F(SimCli, SameSeedGivesTheSameCsvBitForBit) {
+  for (const char* preset : {"roll", "vertical_velocity", "actuator_fz"}) {
+    const std::string base = std::string("--preset ") + preset + " --phase validate --duration 3";
+    ASSERT_EQ(Run(base + " --seed 5 --output " + Path("a.csv")).exit_code, 0);
+    ASSERT_EQ(Run(base + " --seed 5 --output " + Path("b.csv")).exit_code, 0);
+    ASSERT_EQ(Run(base + " --seed 6 --output " + Path("c.csv")).exit_code, 0);
+    EXPECT_EQ(Slurp(Path("a.csv")), Slurp(Path("b.csv"))) << preset;
+    EXPECT_NE(Slurp(Path("a.csv")), Slurp(Path("c.csv"))) << preset;
+  }
+}
+
+TEST_F(SimCli, CsvHasTheDocumentedColumnsAndAnExcitationColumn) {
+  ASSERT_EQ(Run("--preset roll --duration 2 --output " + Path("roll.csv")).exit_code, 0);
+  const odonata::io::CsvTable t = odonata::io::CsvTable::Read(Path("roll.csv"));
+  EXPECT_EQ(t.rows(), 200u);
+  const std::vector<std::string> expected = odonata::sim::CsvHeader({"u_roll_rad"});
+  EXPECT_EQ(t.names(), expected);
+  EXPECT_EQ(t.names()[1], "w1_beta_rad");
+  EXPECT_EQ(t.names()[24], "w4_phase_rad");
+  EXPECT_EQ(t.Column("t_s")[1], 0.01);
+  EXPECT_EQ(t.Column("z_m")[0], 50.0);
+}
+
+// A CSV written by the simulator is itself a valid command file; replaying its commands without
+// the attitude hold (already inside the recorded commands) reproduces the run exactly.
+TEST_F(SimCli, CommandFileReplaysARecordedRun) {
+  ASSERT_EQ(Run("--preset yaw --duration 2 --output " + Path("yaw.csv")).exit_code, 0);
+  ASSERT_EQ(Run("--commands " + Path("yaw.csv") + " --output " + Path("replay.csv")).exit_code, 0);
+  const odonata::io::CsvTable a = odonata::io::CsvTable::Read(Path("yaw.csv"));
+  const odonata::io::CsvTable b = odonata::io::CsvTable::Read(Path("replay.csv"));
+  ASSERT_EQ(a.rows(), b.rows());
+  for (const char* col : {"yaw_rad", "roll_rad", "vz_mps", "fz1_n"}) {
+    EXPECT_EQ(a.Column(col), b.Column(col)) << col;
+  }
+}
+
+TEST_F(SimCli, NonUniformTimeInCommandFileIsRejected) {
+  ASSERT_EQ(Run("--preset yaw --duration 1 --output " + Path("yaw.csv")).exit_code, 0);
+  std::string text = Slurp(Path("yaw.csv"));
+  const std::size_t pos = text.find("\n0.02");
+  ASSERT_NE(pos, std::string::npos);
+  text.replace(pos, 5, "\n0.025");
+  Write("bad_t.csv", text);
+  const Result r = Run("--commands " + Path("bad_t.csv") + " --output " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("sample period"), std::string::npos) << r.err;
+}
+
+// Every preset, both phases, full length: no divergence, no NaN (exit code 0).
+TEST_F(SimCli, FullLengthPresetsRunWithoutDivergence) {
+  for (const char* preset :
+       {"actuator_fz", "actuator_fx", "vertical_velocity", "roll", "pitch", "yaw"}) {
+    for (const char* phase : {"train", "validate"}) {
+      const Result r = Run(std::string("--preset ") + preset + " --phase " + phase + " --output " +
+                           Path("full.csv"));
+      EXPECT_EQ(r.exit_code, 0) << preset << " " << phase << ": " << r.err;
+    }
+  }
+}
+
+}  // namespace
