@@ -1,0 +1,32 @@
+#pragma once
+// Named signals of the command and state messages. The names are odonata-sim's CSV columns, so
+// a signal is called the same in a config file, a CSV file and on the bus.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odonata/plant_state_t.hpp"
+#include "odonata/wing_command_t.hpp"
+
+namespace odonata::bus {
+
+/// "w1_beta_rad" … "w4_phase_rad" (24 names, odonata-sim's order).
+const std::vector<std::string>& CommandFieldNames();
+/// "vx_mps" … "z_m", "fx1_n" … "fz4_n" (odonata-sim's order).
+const std::vector<std::string>& StateFieldNames();
+
+/// The value of a named command field or excitation; nullopt when the name is unknown.
+std::optional<double> CommandField(const odonata::wing_command_t& msg, const std::string& name);
+/// The value of a named state field; nullopt when the name is unknown.
+std::optional<double> StateField(const odonata::plant_state_t& msg, const std::string& name);
+
+/// True when every numeric field is finite (NaN or Inf ⇒ the message is dropped).
+bool AllFinite(const odonata::wing_command_t& msg);
+bool AllFinite(const odonata::plant_state_t& msg);
+
+/// Problems of the variable-length arrays (count fields disagreeing with array sizes), empty
+/// when fine: encode() trusts the counts, so a bad message must never be republished.
+std::string CountProblems(const odonata::wing_command_t& msg);
+
+}  // namespace odonata::bus

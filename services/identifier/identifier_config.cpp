@@ -1,0 +1,71 @@
+#include "identifier_config.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace odonata::identifier {
+
+IdentifierConfig LoadIdentifierConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open configuration");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": not valid JSON: " + e.what());
+  }
+  IdentifierConfig c;
+  std::string problems;
+  auto problem = [&problems](const std::string& p) { problems += "\n  - " + p; };
+  try {
+    c.instance = j.value("instance", c.instance);
+    c.spec.outputs = j.value("outputs", std::vector<std::string>{});
+    c.spec.inputs = j.value("inputs", std::vector<std::string>{});
+    c.spec.output_lags = j.value("ny", 1);
+    c.spec.input_lags = j.value("nu", 1);
+    c.spec.delay = j.value("delay", 1);
+    const std::string p = c.spec.Problems();
+    if (!p.empty()) problem(p);
+    const std::string kind = j.value("consequent", std::string("singleton"));
+    if (kind != "singleton" && kind != "linear") problem("consequent must be singleton or linear");
+    else c.model.consequent = fuzzy::ConsequentKindFromString(kind);
+    c.model.entropy.threshold = j.value("entropy_threshold", c.model.entropy.threshold);
+    c.model.entropy.max_rules = j.value("max_rules", c.model.entropy.max_rules);
+    if (c.model.entropy.max_rules < 1) problem("max_rules must be at least 1");
+    if (c.model.entropy.threshold < 0) problem("entropy_threshold must be ≥ 0");
+    c.snapshot_period_s = j.value("snapshot_period_s", c.snapshot_period_s);
+    c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
+    if (j.contains("ranges")) c.ranges = sysid::RangesFromJson(j["ranges"]);
+    if (j.contains("channels")) c.channels.Override(j["channels"]);
+    try {
+      if (p.empty()) sysid::ScalingFromRanges(c.spec, c.ranges);
+    } catch (const std::exception& e) {
+      problem(std::string(e.what()) + " (add it to \"ranges\")");
+    }
+  } catch (const std::exception& e) {
+    problem(e.what());
+  }
+  if (!problems.empty()) throw std::runtime_error(path + ": invalid configuration:" + problems);
+  return c;
+}
+
+std::string ExampleIdentifierConfig() {
+  return R"({
+  "instance": "identifier",
+  "outputs": ["roll_rad"],
+  "inputs": ["u_roll_rad"],
+  "ny": 1, "nu": 1, "delay": 1,
+  "consequent": "singleton",
+  "entropy_threshold": 0.01,
+  "max_rules": 100,
+  "ranges": {"roll_rad": [-0.3, 0.3], "u_roll_rad": [-0.27, 0.27]},
+  "snapshot_period_s": 1.0,
+  "resume_wait_s": 1.0,
+  "channels": {"command": "DIMAV_COMMAND", "state": "DIMAV_STATE"}
+}
+)";
+}
+
+}  // namespace odonata::identifier

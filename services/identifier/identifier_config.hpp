@@ -1,0 +1,30 @@
+#pragma once
+// odonata-identifier's configuration file (JSON).
+
+#include <string>
+
+#include "bus/channel_config.hpp"
+#include "fuzzy/fuzzy_model.hpp"
+#include "sysid/regressor_spec.hpp"
+#include "sysid/signal_ranges.hpp"
+
+namespace odonata::identifier {
+
+struct IdentifierConfig {
+  std::string instance = "identifier";
+  sysid::RegressorSpec spec;            ///< outputs, inputs (signal names), ny, nu, delay
+  fuzzy::FuzzyModelConfig model;        ///< consequent, entropy threshold, cap
+  sysid::SignalRanges ranges;           ///< declared ranges: the model's fixed scaling
+  double snapshot_period_s = 1.0;       ///< model snapshot publication period (0: on request only)
+  double resume_wait_s = 1.0;           ///< wait this long for a snapshot to resume from
+  bus::ChannelConfig channels;
+};
+
+/// Reads and checks the file, reporting every problem at once.
+/// @throws std::runtime_error naming the file and each problem.
+IdentifierConfig LoadIdentifierConfig(const std::string& path);
+
+/// The example configuration printed by --print-config.
+std::string ExampleIdentifierConfig();
+
+}  // namespace odonata::identifier

@@ -1,0 +1,58 @@
+#pragma once
+// odonata-identifier's process shell: turns command and state messages into samples for the
+// OnlineIdentifier core and publishes what it says. All learning lives in the core.
+//
+// Inputs:  DIMAV_COMMAND (wing_command_t), DIMAV_STATE (plant_state_t),
+//          ODONATA_CONTROL (control_t), ODONATA_MODEL (model_snapshot_t, only to resume)
+// Outputs: ODONATA_PREDICTION (prediction_t, one per sample), ODONATA_MODEL (periodic and on
+//          request), ODONATA_HEARTBEAT (via BusNode)
+
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "bus/bus_node.hpp"
+#include "identifier_config.hpp"
+#include "odonata/control_t.hpp"
+#include "odonata/model_snapshot_t.hpp"
+#include "odonata/plant_state_t.hpp"
+#include "odonata/wing_command_t.hpp"
+#include "sysid/online_identifier.hpp"
+
+namespace odonata::identifier {
+
+class IdentifierNode {
+ public:
+  /// @param initial a saved model to start from; without one the node first asks the bus for
+  ///        the last snapshot of its instance (for resume_wait_s), then starts empty.
+  IdentifierNode(bus::BusNode& bus, IdentifierConfig config, std::optional<sysid::NarxModel> initial,
+                 std::string save_model_path);
+
+  const sysid::OnlineIdentifier& core() const { return core_; }
+
+ private:
+  void OnCommand(const odonata::wing_command_t& msg);
+  void OnState(const odonata::plant_state_t& msg);
+  void OnControl(const odonata::control_t& msg);
+  void OnSnapshot(const odonata::model_snapshot_t& msg);
+  void StartLearning(const std::string& how);
+  void Process();
+  void FormSample(const odonata::plant_state_t& state, const odonata::wing_command_t& command);
+  void PublishSnapshot();
+  void SaveModel(const std::string& path);
+  sysid::NarxModel EmptyModel() const;
+
+  bus::BusNode& bus_;
+  IdentifierConfig config_;
+  std::string save_model_path_;
+  sysid::OnlineIdentifier core_;
+  bool started_ = false;  // false while waiting for a snapshot to resume from
+  std::map<int64_t, odonata::wing_command_t> commands_;  // by seq, bounded
+  std::optional<odonata::plant_state_t> previous_state_;
+  std::deque<odonata::plant_state_t> pending_states_;  // waiting for their command
+  int64_t prediction_seq_ = 0;
+  int64_t snapshot_seq_ = 0;
+};
+
+}  // namespace odonata::identifier

@@ -1,0 +1,53 @@
+// odonata-identifier: learns an entropy fuzzy model online from the plant's command and state
+// messages and publishes its predictions and model snapshots.
+
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "identifier_node.hpp"
+
+int main(int argc, char** argv) {
+  std::string config_path, model_path, save_path, lcm_url, instance, suffix;
+  bool print_config = false;
+  double resume_wait_s = -1;
+  CLI::App app{
+      "Online entropy fuzzy identifier. Pairs DIMAV_COMMAND and DIMAV_STATE by sequence number, "
+      "learns from every sample, publishes ODONATA_PREDICTION per sample and ODONATA_MODEL "
+      "snapshots; obeys ODONATA_CONTROL (freeze, resume, reset, set H, save, snapshot)."};
+  app.add_option("--config", config_path, "configuration file (JSON; see --print-config)");
+  app.add_option("--model", model_path, "start from this saved model instead of the bus snapshot")
+      ->check(CLI::ExistingFile);
+  app.add_option("--save-model", save_path, "write the model here on exit and on SAVE_MODEL");
+  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
+  app.add_option("--instance", instance, "instance name (overrides the configuration)");
+  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
+  app.add_flag("--print-config", print_config, "print an example configuration and exit");
+  CLI11_PARSE(app, argc, argv);
+  if (print_config) {
+    std::cout << odonata::identifier::ExampleIdentifierConfig();
+    return 0;
+  }
+  try {
+    if (config_path.empty()) throw std::runtime_error("--config is required (see --print-config)");
+    auto config = odonata::identifier::LoadIdentifierConfig(config_path);
+    if (!instance.empty()) config.instance = instance;
+    if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
+    config.channels.ApplySuffix(suffix);
+    std::optional<odonata::sysid::NarxModel> initial;
+    if (!model_path.empty()) initial = odonata::sysid::NarxModel::Load(model_path);
+    odonata::bus::BusOptions opts;
+    opts.lcm_url = lcm_url;
+    opts.service = "odonata-identifier";
+    opts.instance = config.instance;
+    opts.channels = config.channels;
+    odonata::bus::BusNode bus(opts);
+    odonata::identifier::IdentifierNode node(bus, config, initial, save_path);
+    return bus.Run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-identifier: error: %s\n", e.what());
+    return 1;
+  }
+}
