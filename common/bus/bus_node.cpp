@@ -49,8 +49,27 @@ BusNode::~BusNode() {
   lcm_fd_.release();
 }
 
-void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string&, RawHandler* h) {
-  h->fn(rbuf);
+void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                         RawHandler* h) {
+  h->fn(rbuf, channel);
+}
+
+void BusNode::SubscribeRaw(
+    const std::string& regex,
+    std::function<void(const lcm::ReceiveBuffer&, const std::string&)> handler) {
+  handlers_.push_back(RawHandler{this, regex, nullptr});
+  RawHandler& h = handlers_.back();
+  h.fn = [this, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
+                                              const std::string& channel) {
+    ++stats_.messages_in;
+    try {
+      handler(*rbuf, channel);
+    } catch (const std::exception& e) {
+      ++stats_.dropped;
+      Report("failed to handle a message on " + channel, e.what());
+    }
+  };
+  lcm_->subscribeFunction(regex, &BusNode::Trampoline, &h);
 }
 
 void BusNode::WaitForLcm() {

@@ -45,6 +45,11 @@ class BusNode {
   template <class Msg>
   void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
 
+  /// Subscribes to every channel matching `regex` without decoding (recorders): the handler
+  /// gets the raw buffer and the channel name. Counts messages_in.
+  void SubscribeRaw(const std::string& regex,
+                    std::function<void(const lcm::ReceiveBuffer&, const std::string&)> handler);
+
   /// Encodes and publishes; counts messages_out. Returns false (and reports) on failure.
   template <class Msg>
   bool Publish(const std::string& channel, const Msg& msg);
@@ -76,7 +81,7 @@ class BusNode {
   struct RawHandler {
     BusNode* node;
     std::string channel;
-    std::function<void(const lcm::ReceiveBuffer*)> fn;
+    std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn;
   };
   static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel, RawHandler* h);
   void WaitForLcm();
@@ -103,7 +108,8 @@ template <class Msg>
 void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
   handlers_.push_back(RawHandler{this, channel, nullptr});
   RawHandler& h = handlers_.back();
-  h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf) {
+  h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
+                                                       const std::string&) {
     ++stats_.messages_in;
     Msg msg;
     int decoded = -1;

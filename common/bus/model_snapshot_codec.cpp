@@ -76,8 +76,10 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   nlohmann::json j;
   j["format"] = "odonata-narx-fuzzy";
   j["version"] = 1;
-  j["regressor"] = {{"output_lags", m.output_lags}, {"input_lags", m.input_lags},
-                    {"delay", m.delay},             {"outputs", m.outputs},
+  j["regressor"] = {{"output_lags", m.output_lags},
+                    {"input_lags", m.input_lags},
+                    {"delay", m.delay},
+                    {"outputs", m.outputs},
                     {"inputs", m.inputs}};
   j["scaling"] = {{"regressor_mid", m.regressor_mid},
                   {"regressor_half", m.regressor_half},
@@ -87,10 +89,10 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   for (const auto& f : m.models) {
     nlohmann::json fm;
     fm["inputs"] = f.num_inputs;
-    fm["entropy"] = {{"threshold", f.entropy_threshold}, {"max_rules", f.max_rules},
-                     {"kappa", f.kappa},                 {"sigma_init", f.sigma_init},
-                     {"sigma_min", f.sigma_min},         {"sigma_max", f.sigma_max},
-                     {"measure", f.entropy_measure}};
+    fm["entropy"] = {
+        {"threshold", f.entropy_threshold}, {"max_rules", f.max_rules}, {"kappa", f.kappa},
+        {"sigma_init", f.sigma_init},       {"sigma_min", f.sigma_min}, {"sigma_max", f.sigma_max},
+        {"measure", f.entropy_measure}};
     fm["rates"] = {{"centre", f.rate_centre},
                    {"sigma", f.rate_sigma},
                    {"output_width", f.rate_output_width},
@@ -109,7 +111,8 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
       c["regulariser"] = f.nlms_regulariser;
       std::vector<double> b;
       for (const auto& row : f.coefficients) {
-        if (row.size() != 1) throw std::runtime_error("snapshot: singleton with several coefficients");
+        if (row.size() != 1)
+          throw std::runtime_error("snapshot: singleton with several coefficients");
         b.push_back(row[0]);
       }
       c["centres"] = b;

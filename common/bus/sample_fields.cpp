@@ -6,18 +6,24 @@ namespace odonata::bus {
 namespace {
 const char* const kSuffixes[6] = {"beta_rad",       "freq_hz",       "amp_rad",
                                   "pitch_mean_rad", "pitch_amp_rad", "phase_rad"};
-const char* const kStateNames[12] = {"vx_mps",  "vy_mps",   "vz_mps",    "p_radps",
-                                     "q_radps", "r_radps",  "roll_rad",  "pitch_rad",
-                                     "yaw_rad", "x_m",      "y_m",       "z_m"};
+const char* const kStateNames[12] = {"vx_mps",  "vy_mps",  "vz_mps",   "p_radps",
+                                     "q_radps", "r_radps", "roll_rad", "pitch_rad",
+                                     "yaw_rad", "x_m",     "y_m",      "z_m"};
 
 const double* CommandArray(const odonata::wing_command_t& m, int field) {
   switch (field) {
-    case 0: return m.beta_rad;
-    case 1: return m.freq_hz;
-    case 2: return m.amp_rad;
-    case 3: return m.pitch_mean_rad;
-    case 4: return m.pitch_amp_rad;
-    default: return m.phase_rad;
+    case 0:
+      return m.beta_rad;
+    case 1:
+      return m.freq_hz;
+    case 2:
+      return m.amp_rad;
+    case 3:
+      return m.pitch_mean_rad;
+    case 4:
+      return m.pitch_amp_rad;
+    default:
+      return m.phase_rad;
   }
 }
 
@@ -66,8 +72,8 @@ std::optional<double> StateField(const odonata::plant_state_t& m, const std::str
   const double* blocks[4] = {m.velocity_mps, m.rate_radps, m.attitude_rad, m.position_m};
   for (int i = 0; i < 12; ++i)
     if (name == kStateNames[i]) return blocks[i / 3][i % 3];
-  if (name.size() == 5 && name[0] == 'f' && (name[1] == 'x' || name[1] == 'z') &&
-      name[2] >= '1' && name[2] <= '4' && name.compare(3, 2, "_n") == 0) {
+  if (name.size() == 5 && name[0] == 'f' && (name[1] == 'x' || name[1] == 'z') && name[2] >= '1' &&
+      name[2] <= '4' && name.compare(3, 2, "_n") == 0) {
     const int wing = name[2] - '1';
     return name[1] == 'x' ? m.fx_n[wing] : m.fz_n[wing];
   }
@@ -78,7 +84,8 @@ std::optional<double> StateField(const odonata::plant_state_t& m, const std::str
 bool AllFinite(const odonata::wing_command_t& m) {
   for (int f = 0; f < 6; ++f)
     if (!Finite(CommandArray(m, f), 4)) return false;
-  return std::isfinite(m.t_s) && Finite(m.excitations.data(), static_cast<int>(m.excitations.size()));
+  return std::isfinite(m.t_s) &&
+         Finite(m.excitations.data(), static_cast<int>(m.excitations.size()));
 }
 
 bool AllFinite(const odonata::plant_state_t& m) {

@@ -29,8 +29,10 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path) {
     const std::string p = c.spec.Problems();
     if (!p.empty()) problem(p);
     const std::string kind = j.value("consequent", std::string("singleton"));
-    if (kind != "singleton" && kind != "linear") problem("consequent must be singleton or linear");
-    else c.model.consequent = fuzzy::ConsequentKindFromString(kind);
+    if (kind != "singleton" && kind != "linear")
+      problem("consequent must be singleton or linear");
+    else
+      c.model.consequent = fuzzy::ConsequentKindFromString(kind);
     c.model.entropy.threshold = j.value("entropy_threshold", c.model.entropy.threshold);
     c.model.entropy.max_rules = j.value("max_rules", c.model.entropy.max_rules);
     if (c.model.entropy.max_rules < 1) problem("max_rules must be at least 1");

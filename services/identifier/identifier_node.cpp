@@ -33,14 +33,18 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
     ask.target = config_.instance;
     ask.command = odonata::control_t::PUBLISH_SNAPSHOT;
     bus_.Publish(ch.control, ask);
-    bus_.After(std::chrono::microseconds(static_cast<int64_t>(config_.resume_wait_s * 1e6)), [this] {
-      if (!started_) StartLearning("with an empty model (no snapshot of '" + config_.instance + "' on the bus)");
-    });
+    bus_.After(std::chrono::microseconds(static_cast<int64_t>(config_.resume_wait_s * 1e6)),
+               [this] {
+                 if (!started_)
+                   StartLearning("with an empty model (no snapshot of '" + config_.instance +
+                                 "' on the bus)");
+               });
   }
   if (config_.snapshot_period_s > 0) {
-    bus_.Every(std::chrono::microseconds(static_cast<int64_t>(config_.snapshot_period_s * 1e6)), [this] {
-      if (started_) PublishSnapshot();
-    });
+    bus_.Every(std::chrono::microseconds(static_cast<int64_t>(config_.snapshot_period_s * 1e6)),
+               [this] {
+                 if (started_) PublishSnapshot();
+               });
   }
   bus_.OnShutdown([this] {
     if (started_) PublishSnapshot();  // the next instance resumes from exactly here
@@ -100,8 +104,9 @@ void IdentifierNode::Process() {
     if (!previous_state_ || s.seq != previous_state_->seq + 1) {
       if (previous_state_ && s.seq > previous_state_->seq + 1) {
         bus_.stats().gaps += s.seq - previous_state_->seq - 1;
-        bus_.Report("gap in states", "missing state seq " + std::to_string(previous_state_->seq + 1) +
-                                         " … " + std::to_string(s.seq - 1));
+        bus_.Report("gap in states", "missing state seq " +
+                                         std::to_string(previous_state_->seq + 1) + " … " +
+                                         std::to_string(s.seq - 1));
       }
       previous_state_ = s;
       pending_states_.pop_front();
@@ -143,7 +148,8 @@ void IdentifierNode::FormSample(const odonata::plant_state_t& state,
   }
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);
-  if (result == sysid::PushResult::kGap) bus_.stats().gaps = std::max(bus_.stats().gaps, core_.gaps());
+  if (result == sysid::PushResult::kGap)
+    bus_.stats().gaps = std::max(bus_.stats().gaps, core_.gaps());
   if (result == sysid::PushResult::kRejected || result == sysid::PushResult::kDuplicate) {
     ++bus_.stats().dropped;
     return;
@@ -183,7 +189,8 @@ void IdentifierNode::OnControl(const odonata::control_t& msg) {
       core_.ReplaceModel(EmptyModel());
       break;
     case odonata::control_t::SET_ENTROPY_THRESHOLD:
-      if (!(msg.value >= 0 && msg.value < 1)) throw std::invalid_argument("entropy threshold out of range");
+      if (!(msg.value >= 0 && msg.value < 1))
+        throw std::invalid_argument("entropy threshold out of range");
       core_.SetEntropyThreshold(msg.value);
       break;
     case odonata::control_t::SAVE_MODEL:

@@ -26,8 +26,8 @@ class IdentifierNode {
  public:
   /// @param initial a saved model to start from; without one the node first asks the bus for
   ///        the last snapshot of its instance (for resume_wait_s), then starts empty.
-  IdentifierNode(bus::BusNode& bus, IdentifierConfig config, std::optional<sysid::NarxModel> initial,
-                 std::string save_model_path);
+  IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
+                 std::optional<sysid::NarxModel> initial, std::string save_model_path);
 
   const sysid::OnlineIdentifier& core() const { return core_; }
 

@@ -32,3 +32,33 @@ TEST(Accuracy, ConstantMeasuredSignal) {
 
 }  // namespace
 }  // namespace odonata::metrics
+
+#include "metrics/running_accuracy.hpp"
+
+namespace odonata::metrics {
+namespace {
+
+TEST(RunningAccuracy, CumulativeAndWindowAgreeWithTheBatchScore) {
+  Eigen::VectorXd y(200), p(200);
+  for (int k = 0; k < 200; ++k) {
+    y(k) = std::sin(0.1 * k) + 3.0;
+    p(k) = y(k) + 0.05 * std::cos(0.37 * k) + 0.01;
+  }
+  CumulativeAccuracy total;
+  WindowAccuracy window(50);
+  for (int k = 0; k < 200; ++k) {
+    total.Add(y(k), p(k));
+    window.Add(y(k), p(k));
+  }
+  const Accuracy batch = Score(y, p);
+  EXPECT_NEAR(total.Get().fit_percent, batch.fit_percent, 1e-9);
+  EXPECT_NEAR(total.Get().vaf_percent, batch.vaf_percent, 1e-9);
+  EXPECT_NEAR(total.Get().rmse, batch.rmse, 1e-12);
+  const Accuracy last = Score(y.tail(50), p.tail(50));
+  EXPECT_TRUE(window.full());
+  EXPECT_NEAR(window.Get().fit_percent, last.fit_percent, 1e-12);
+  EXPECT_EQ(window.Get().samples, 50);
+}
+
+}  // namespace
+}  // namespace odonata::metrics

@@ -1,0 +1,25 @@
+#include "logger_node.hpp"
+
+#include <cstdio>
+
+namespace odonata::logger {
+
+LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
+    : bus_(bus), options_(options), writer_(options.prefix, options.split_bytes) {
+  bus_.SubscribeRaw(
+      options_.channels_regex, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+        writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(rbuf.data_size));
+      });
+  bus_.Every(std::chrono::microseconds(static_cast<int64_t>(options_.flush_period_s * 1e6)),
+             [this] { writer_.Flush(); });
+  bus_.OnShutdown([this] {
+    writer_.Close();
+    std::fprintf(stderr, "[%s] %lld events, %.1f kB in", bus_.options().instance.c_str(),
+                 static_cast<long long>(writer_.events()), writer_.bytes() / 1e3);
+    for (const auto& f : writer_.files()) std::fprintf(stderr, " %s", f.c_str());
+    std::fprintf(stderr, "\n");
+  });
+  bus_.SetState("running");
+}
+
+}  // namespace odonata::logger

@@ -1,0 +1,33 @@
+#pragma once
+// odonata-logger's recorder: every message on the chosen channels goes into a standard LCM
+// event log as it arrives, undecoded, so a corrupt message is kept as evidence too.
+//
+// Inputs: every channel matching the regex. Outputs: log files; ODONATA_HEARTBEAT.
+
+#include <string>
+
+#include "bus/bus_node.hpp"
+#include "bus/event_log_writer.hpp"
+
+namespace odonata::logger {
+
+struct RecordOptions {
+  std::string channels_regex = ".*";
+  std::string prefix;           ///< files are PREFIX.00000, PREFIX.00001, …
+  int64_t split_bytes = 0;      ///< rotate past this size (0: one file)
+  double flush_period_s = 0.5;  ///< at most this much is lost if the machine dies
+};
+
+class LoggerNode {
+ public:
+  /// @throws std::runtime_error if the first log file cannot be created.
+  LoggerNode(bus::BusNode& bus, const RecordOptions& options);
+  const bus::EventLogWriter& writer() const { return writer_; }
+
+ private:
+  bus::BusNode& bus_;
+  RecordOptions options_;
+  bus::EventLogWriter writer_;
+};
+
+}  // namespace odonata::logger

@@ -1,0 +1,51 @@
+// odonata-monitor: live accuracy of the online identifier, and the health of every service.
+
+#include <unistd.h>
+
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "monitor_node.hpp"
+
+int main(int argc, char** argv) {
+  odonata::monitor::MonitorOptions o;
+  std::string lcm_url, instance = "monitor", suffix;
+  CLI::App app{
+      "Scores ODONATA_PREDICTION over a sliding window and since start, publishes "
+      "ODONATA_ACCURACY, shows a live table, warns on low accuracy or silent services, "
+      "and keeps each identifier's last model snapshot for a restart."};
+  app.add_option("--window", o.window_samples, "sliding window, samples")->capture_default_str();
+  app.add_option("--publish-hz", o.publish_hz, "ODONATA_ACCURACY rate")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--print-period", o.print_period_s,
+                 "seconds between table prints when not on a terminal")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--warn-fit", o.warn_fit_percent, "warn below this window FIT %")
+      ->capture_default_str();
+  app.add_option("--heartbeat-timeout", o.heartbeat_timeout_s,
+                 "seconds of silence before a warning")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--summary-json", o.summary_json, "write the final accuracy here on exit");
+  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
+  app.add_option("--instance", instance, "instance name")->capture_default_str();
+  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    o.live_table = isatty(STDOUT_FILENO) == 1;
+    odonata::bus::BusOptions opts;
+    opts.lcm_url = lcm_url;
+    opts.service = "odonata-monitor";
+    opts.instance = instance;
+    opts.channels.ApplySuffix(suffix);
+    odonata::bus::BusNode bus(opts);
+    odonata::monitor::MonitorNode node(bus, o);
+    return bus.Run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-monitor: error: %s\n", e.what());
+    return 1;
+  }
+}

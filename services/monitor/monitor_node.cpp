@@ -1,0 +1,225 @@
+#include "monitor_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace odonata::monitor {
+namespace {
+std::chrono::microseconds Period(double seconds) {
+  return std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6));
+}
+nlohmann::json Json(const metrics::Accuracy& a) {
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  return {{"fit", num(a.fit_percent)},
+          {"vaf", num(a.vaf_percent)},
+          {"rmse", num(a.rmse)},
+          {"ndei", num(a.ndei)},
+          {"samples", a.samples}};
+}
+}  // namespace
+
+MonitorNode::MonitorNode(bus::BusNode& bus, MonitorOptions options)
+    : bus_(bus), options_(std::move(options)) {
+  const auto& ch = bus_.channels();
+  bus_.Subscribe<odonata::prediction_t>(ch.prediction, [this](const auto& m) { OnPrediction(m); });
+  bus_.Subscribe<odonata::heartbeat_t>(ch.heartbeat, [this](const auto& m) { OnHeartbeat(m); });
+  bus_.Subscribe<odonata::model_snapshot_t>(ch.model, [this](const auto& m) { OnSnapshot(m); });
+  bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
+  bus_.Every(Period(1.0 / options_.publish_hz), [this] { PublishAccuracy(); });
+  bus_.Every(Period(0.5), [this] { CheckPeers(); });
+  bus_.Every(Period(options_.live_table ? 0.5 : options_.print_period_s), [this] { Print(); });
+  bus_.OnShutdown([this] {
+    Print();
+    if (!options_.summary_json.empty()) {
+      std::ofstream out(options_.summary_json);
+      out << Summary().dump(1) << "\n";
+      if (!out) throw std::runtime_error(options_.summary_json + ": cannot write summary");
+    }
+  });
+  bus_.SetState("running");
+}
+
+void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
+  const auto n = static_cast<std::size_t>(m.num_outputs);
+  if (m.num_outputs < 0 || m.names.size() != n || m.measured.size() != n ||
+      m.predicted.size() != n || m.free_run.size() != n || m.rules.size() != n) {
+    throw std::invalid_argument("prediction arrays disagree with num_outputs");
+  }
+  if (last_sample_ >= 0 && m.sample > last_sample_ + 1) gaps_ += m.sample - last_sample_ - 1;
+  if (last_sample_ >= 0 && m.sample <= last_sample_ && m.sample != 0) {
+    throw std::invalid_argument("duplicate or out-of-order prediction for sample " +
+                                std::to_string(m.sample));
+  }
+  last_sample_ = m.sample;
+  for (std::size_t o = 0; o < n; ++o) {
+    if (!std::isfinite(m.measured[o]) || !std::isfinite(m.predicted[o]) ||
+        !std::isfinite(m.free_run[o])) {
+      throw std::invalid_argument("prediction with NaN or Inf for " + m.names[o]);
+    }
+    auto it = outputs_.find(m.names[o]);
+    if (it == outputs_.end()) {
+      it = outputs_.emplace(m.names[o], Output(options_.window_samples)).first;
+      order_.push_back(m.names[o]);
+    }
+    Output& out = it->second;
+    out.total_one_step.Add(m.measured[o], m.predicted[o]);
+    out.window_one_step.Add(m.measured[o], m.predicted[o]);
+    out.total_free_run.Add(m.measured[o], m.free_run[o]);
+    out.window_free_run.Add(m.measured[o], m.free_run[o]);
+    out.rules = m.rules[o];
+    if (out.window_one_step.full()) {
+      const double fit = out.window_one_step.Get().fit_percent;
+      if (fit < options_.warn_fit_percent && !out.warned) {
+        std::fprintf(
+            stderr, "[%s] WARNING: %s one-step FIT %.1f %% over the last %zu samples (< %.0f %%)\n",
+            bus_.options().instance.c_str(), m.names[o].c_str(), fit, options_.window_samples,
+            options_.warn_fit_percent);
+        out.warned = true;
+      } else if (fit >= options_.warn_fit_percent && out.warned) {
+        std::fprintf(stderr, "[%s] %s one-step FIT back to %.1f %%\n",
+                     bus_.options().instance.c_str(), m.names[o].c_str(), fit);
+        out.warned = false;
+      }
+    }
+  }
+}
+
+void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
+  Peer& p = peers_[m.instance];
+  if (p.silent) {
+    std::fprintf(stderr, "[%s] %s (%s) is back, state %s\n", bus_.options().instance.c_str(),
+                 m.instance.c_str(), m.service.c_str(), m.state.c_str());
+  }
+  p.service = m.service;
+  p.state = m.state;
+  p.last_seen = std::chrono::steady_clock::now();
+  p.silent = false;
+  p.decode_errors = m.decode_errors;
+  p.dropped = m.dropped;
+  p.gaps = m.gaps;
+}
+
+void MonitorNode::OnSnapshot(const odonata::model_snapshot_t& m) {
+  if (!m.instance.empty()) snapshots_[m.instance] = m;
+}
+
+void MonitorNode::OnControl(const odonata::control_t& m) {
+  if (m.command == odonata::control_t::PUBLISH_SNAPSHOT) {
+    // An identifier starting up asks for its last snapshot: answer from the cache.
+    const auto it = snapshots_.find(m.target);
+    if (it != snapshots_.end()) bus_.Publish(bus_.channels().model, it->second);
+    return;
+  }
+  if (!m.target.empty() && m.target != bus_.options().instance && m.target != "odonata-monitor")
+    return;
+  if (m.command == odonata::control_t::RESET) {
+    outputs_.clear();
+    order_.clear();
+    last_sample_ = -1;
+    gaps_ = 0;
+  } else if (m.command == odonata::control_t::SHUTDOWN) {
+    bus_.Stop(0);
+  }
+}
+
+void MonitorNode::CheckPeers() {
+  const auto now = std::chrono::steady_clock::now();
+  for (auto& [instance, p] : peers_) {
+    const double silent_s = std::chrono::duration<double>(now - p.last_seen).count();
+    if (!p.silent && p.state != "stopping" && silent_s > options_.heartbeat_timeout_s) {
+      std::fprintf(stderr, "[%s] WARNING: %s (%s) silent for %.1f s (last state %s)\n",
+                   bus_.options().instance.c_str(), instance.c_str(), p.service.c_str(), silent_s,
+                   p.state.c_str());
+      p.silent = true;
+    }
+  }
+}
+
+void MonitorNode::PublishAccuracy() {
+  if (order_.empty()) return;
+  odonata::accuracy_t a;
+  a.utime = bus::NowUtime();
+  a.seq = accuracy_seq_++;
+  a.last_sample = last_sample_;
+  a.gaps = gaps_;
+  a.num_outputs = static_cast<int32_t>(order_.size());
+  a.names = order_;
+  a.window_samples = 0;
+  a.total_samples = 0;
+  for (const auto& name : order_) {
+    const Output& o = outputs_.at(name);
+    const auto w = o.window_one_step.Get(), t = o.total_one_step.Get();
+    a.window_samples = static_cast<int32_t>(o.window_one_step.size());
+    a.total_samples = o.total_one_step.samples();
+    a.window_fit_one_step.push_back(w.fit_percent);
+    a.window_vaf_one_step.push_back(w.vaf_percent);
+    a.window_rmse_one_step.push_back(w.rmse);
+    a.total_fit_one_step.push_back(t.fit_percent);
+    a.total_vaf_one_step.push_back(t.vaf_percent);
+    a.total_rmse_one_step.push_back(t.rmse);
+    a.window_fit_free_run.push_back(o.window_free_run.Get().fit_percent);
+    a.total_fit_free_run.push_back(o.total_free_run.Get().fit_percent);
+    a.rules.push_back(o.rules);
+  }
+  bus_.Publish(bus_.channels().accuracy, a);
+}
+
+nlohmann::json MonitorNode::Summary() const {
+  nlohmann::json j;
+  j["last_sample"] = last_sample_;
+  j["gaps"] = gaps_;
+  for (const auto& name : order_) {
+    const Output& o = outputs_.at(name);
+    j["outputs"][name] = {{"rules", o.rules},
+                          {"one_step", Json(o.total_one_step.Get())},
+                          {"free_run", Json(o.total_free_run.Get())},
+                          {"window_one_step", Json(o.window_one_step.Get())}};
+  }
+  for (const auto& [instance, p] : peers_) {
+    j["services"][instance] = {{"service", p.service},
+                               {"state", p.state},
+                               {"decode_errors", p.decode_errors},
+                               {"dropped", p.dropped},
+                               {"gaps", p.gaps}};
+  }
+  return j;
+}
+
+void MonitorNode::Print() {
+  std::string text;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-16s %6s %10s %10s %10s %10s %9s\n", "output", "rules",
+                "FIT win %", "FIT all %", "free-run %", "RMSE", "samples");
+  text += line;
+  for (const auto& name : order_) {
+    const Output& o = outputs_.at(name);
+    const auto t = o.total_one_step.Get();
+    std::snprintf(line, sizeof line, "%-16s %6d %10.2f %10.2f %10.2f %10.4g %9ld\n", name.c_str(),
+                  o.rules, o.window_one_step.Get().fit_percent, t.fit_percent,
+                  o.total_free_run.Get().fit_percent, t.rmse, t.samples);
+    text += line;
+  }
+  for (const auto& [instance, p] : peers_) {
+    std::snprintf(line, sizeof line,
+                  "  %-22s %-10s decode errors %lld, dropped %lld, gaps %lld%s\n", instance.c_str(),
+                  p.state.c_str(), static_cast<long long>(p.decode_errors),
+                  static_cast<long long>(p.dropped), static_cast<long long>(p.gaps),
+                  p.silent ? "  SILENT" : "");
+    text += line;
+  }
+  if (options_.live_table) {
+    // Move up over the previous table and redraw it in place.
+    if (printed_lines_ > 0) std::printf("\033[%zuA\033[J", printed_lines_);
+    std::fputs(text.c_str(), stdout);
+    printed_lines_ = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  } else if (!order_.empty()) {
+    std::fputs(text.c_str(), stdout);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace odonata::monitor

@@ -1,0 +1,78 @@
+#pragma once
+// odonata-monitor: scores the identifier's predictions live, watches every service's
+// heartbeat, and keeps the last model snapshot of each identifier so a restarted one resumes.
+//
+// Inputs:  ODONATA_PREDICTION, ODONATA_HEARTBEAT, ODONATA_MODEL, ODONATA_CONTROL
+// Outputs: ODONATA_ACCURACY (accuracy_t), ODONATA_MODEL (cached snapshot, on request),
+//          the terminal table, an optional JSON summary on exit.
+
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bus/bus_node.hpp"
+#include "metrics/running_accuracy.hpp"
+#include "odonata/accuracy_t.hpp"
+#include "odonata/control_t.hpp"
+#include "odonata/heartbeat_t.hpp"
+#include "odonata/model_snapshot_t.hpp"
+#include "odonata/prediction_t.hpp"
+
+namespace odonata::monitor {
+
+struct MonitorOptions {
+  std::size_t window_samples = 500;  ///< sliding window (5 s at 100 Hz)
+  double publish_hz = 2.0;           ///< accuracy_t rate
+  double print_period_s = 5.0;       ///< terminal line period when stdout is not a terminal
+  double warn_fit_percent = 80.0;    ///< warn when the window's one-step FIT drops below
+  double heartbeat_timeout_s = 3.0;  ///< warn when a service is silent this long
+  std::string summary_json;          ///< write final accuracy here on exit (optional)
+  bool live_table = false;           ///< redraw a table (stdout is a terminal)
+};
+
+class MonitorNode {
+ public:
+  MonitorNode(bus::BusNode& bus, MonitorOptions options);
+
+  /// Final accuracy per output (what --summary-json writes).
+  nlohmann::json Summary() const;
+
+ private:
+  struct Output {
+    metrics::CumulativeAccuracy total_one_step, total_free_run;
+    metrics::WindowAccuracy window_one_step, window_free_run;
+    int rules = 0;
+    bool warned = false;
+    explicit Output(std::size_t w) : window_one_step(w), window_free_run(w) {}
+  };
+  struct Peer {
+    std::string service, state;
+    std::chrono::steady_clock::time_point last_seen;
+    bool silent = false;
+    int64_t decode_errors = 0, dropped = 0, gaps = 0;
+  };
+
+  void OnPrediction(const odonata::prediction_t& msg);
+  void OnHeartbeat(const odonata::heartbeat_t& msg);
+  void OnSnapshot(const odonata::model_snapshot_t& msg);
+  void OnControl(const odonata::control_t& msg);
+  void PublishAccuracy();
+  void CheckPeers();
+  void Print();
+
+  bus::BusNode& bus_;
+  MonitorOptions options_;
+  std::vector<std::string> order_;  // outputs in first-seen order
+  std::map<std::string, Output> outputs_;
+  std::map<std::string, Peer> peers_;                           // by instance
+  std::map<std::string, odonata::model_snapshot_t> snapshots_;  // last per identifier instance
+  int64_t last_sample_ = -1;
+  int64_t gaps_ = 0;
+  int64_t accuracy_seq_ = 0;
+  std::size_t printed_lines_ = 0;
+};
+
+}  // namespace odonata::monitor
