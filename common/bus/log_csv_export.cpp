@@ -5,9 +5,17 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+#include <nlohmann/json.hpp>
 #include "io/csv_writer.hpp"
 #include "odonata/plant_state_t.hpp"
+#include "odonata/prediction_t.hpp"
 #include "odonata/wing_command_t.hpp"
 
 namespace odonata::bus {
@@ -90,6 +98,82 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
   if (summary.rows == 0)
     throw std::runtime_error("no complete samples in the log (states and commands never matched)");
   return summary;
+}
+
+namespace {
+void ForEachEvent(const std::vector<std::string>& log_paths, const std::string& channel,
+                  const std::function<void(const lcm::LogEvent&)>& fn) {
+  for (const auto& path : log_paths) {
+    lcm::LogFile log(path, "r");
+    if (!log.good()) throw std::runtime_error(path + ": cannot open event log");
+    while (const lcm::LogEvent* ev = log.readNextEvent())
+      if (ev->channel == channel) fn(*ev);
+  }
+}
+}  // namespace
+
+long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std::string& channel,
+                            const std::string& csv_path) {
+  std::vector<odonata::prediction_t> all;
+  ForEachEvent(log_paths, channel, [&all](const lcm::LogEvent& ev) {
+    odonata::prediction_t p;
+    if (p.decode(ev.data, 0, ev.datalen) < 0 || p.num_outputs <= 0) return;
+    const auto n = static_cast<std::size_t>(p.num_outputs);
+    if (p.names.size() != n || p.measured.size() != n || p.predicted.size() != n ||
+        p.free_run.size() != n || p.next.size() != n || p.rules.size() != n ||
+        p.max_entropy.size() != n)
+      return;
+    if (!all.empty() && p.names != all.front().names) return;
+    all.push_back(std::move(p));
+  });
+  if (all.empty()) throw std::runtime_error("no predictions on " + channel + " in the log");
+  std::vector<std::string> header{"run", "sample", "learning"};
+  for (const auto& name : all.front().names)
+    for (const char* f :
+         {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy"})
+      header.push_back(name + f);
+  io::CsvWriter out(csv_path, header);
+  int run = 0;
+  int64_t last = -1;
+  long rows = 0;
+  for (const auto& p : all) {
+    if (p.sample <= last) ++run;
+    last = p.sample;
+    std::vector<double> row{double(run), double(p.sample), double(p.learning)};
+    for (std::size_t o = 0; o < p.names.size(); ++o) {
+      // NaN (no forecast with delay 0) is written as the last finite value would mislead; the
+      // CSV reader rejects NaN, so write the prediction itself instead.
+      const double next = std::isfinite(p.next[o]) ? p.next[o] : p.predicted[o];
+      for (double v : {p.measured[o], p.predicted[o], p.free_run[o], next, double(p.rules[o]),
+                       p.max_entropy[o]})
+        row.push_back(v);
+    }
+    out.WriteRow(row);
+    ++rows;
+  }
+  out.Close();
+  return rows;
+}
+
+long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
+                           const std::string& json_path) {
+  nlohmann::json arr = nlohmann::json::array();
+  ForEachEvent(log_paths, channel, [&arr](const lcm::LogEvent& ev) {
+    odonata::model_snapshot_t m;
+    if (m.decode(ev.data, 0, ev.datalen) < 0) return;
+    try {
+      arr.push_back({{"utime", m.utime},
+                     {"samples_learned", m.samples_learned},
+                     {"instance", m.instance},
+                     {"model", DecodeSnapshot(m).ToJson()}});
+    } catch (const std::exception&) {
+      // a snapshot that does not describe a valid model is skipped
+    }
+  });
+  std::ofstream out(json_path);
+  out << arr.dump() << "\n";
+  if (!out) throw std::runtime_error(json_path + ": cannot write");
+  return static_cast<long>(arr.size());
 }
 
 }  // namespace odonata::bus

@@ -26,4 +26,17 @@ struct ExportSummary {
 ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const std::string& csv_path,
                              const ExportOptions& options);
 
+/// Writes every prediction_t on `channel` as CSV: run, sample, learning, and per output
+/// NAME_measured, NAME_predicted, NAME_free_run, NAME_next, NAME_rules, NAME_max_entropy.
+/// A new run starts when the sample number goes back. Returns the rows written.
+/// @throws std::runtime_error on unreadable logs or when there is no prediction.
+long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std::string& channel,
+                            const std::string& csv_path);
+
+/// Writes every model_snapshot_t on `channel` as a JSON array of
+/// {"utime", "samples_learned", "instance", "model": <odonata-fit model JSON>}.
+/// Returns the snapshots written.
+long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
+                           const std::string& json_path);
+
 }  // namespace odonata::bus

@@ -38,6 +38,12 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path) {
     if (c.model.entropy.max_rules < 1) problem("max_rules must be at least 1");
     if (c.model.entropy.threshold < 0) problem("entropy_threshold must be ≥ 0");
     c.snapshot_period_s = j.value("snapshot_period_s", c.snapshot_period_s);
+    c.snapshot_every_samples = j.value("snapshot_every_samples", c.snapshot_every_samples);
+    c.model.entropy.kappa = j.value("kappa", c.model.entropy.kappa);
+    c.model.entropy.sigma_init = j.value("sigma_init", c.model.entropy.sigma_init);
+    c.model.entropy.sigma_min = j.value("sigma_min", c.model.entropy.sigma_min);
+    if (!(c.model.entropy.kappa > 0) || !(c.model.entropy.sigma_min > 0))
+      problem("kappa and sigma_min must be positive");
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
     if (j.contains("ranges")) c.ranges = sysid::RangesFromJson(j["ranges"]);
     if (j.contains("channels")) c.channels.Override(j["channels"]);
@@ -63,7 +69,9 @@ std::string ExampleIdentifierConfig() {
   "entropy_threshold": 0.01,
   "max_rules": 100,
   "ranges": {"roll_rad": [-0.3, 0.3], "u_roll_rad": [-0.27, 0.27]},
+  "kappa": 1.0, "sigma_min": 0.3,
   "snapshot_period_s": 1.0,
+  "snapshot_every_samples": 100,
   "resume_wait_s": 1.0,
   "channels": {"command": "DIMAV_COMMAND", "state": "DIMAV_STATE"}
 }

@@ -12,11 +12,12 @@ namespace odonata::identifier {
 
 struct IdentifierConfig {
   std::string instance = "identifier";
-  sysid::RegressorSpec spec;       ///< outputs, inputs (signal names), ny, nu, delay
-  fuzzy::FuzzyModelConfig model;   ///< consequent, entropy threshold, cap
-  sysid::SignalRanges ranges;      ///< declared ranges: the model's fixed scaling
-  double snapshot_period_s = 1.0;  ///< model snapshot publication period (0: on request only)
-  double resume_wait_s = 1.0;      ///< wait this long for a snapshot to resume from
+  sysid::RegressorSpec spec;           ///< outputs, inputs (signal names), ny, nu, delay
+  fuzzy::FuzzyModelConfig model;       ///< consequent, entropy threshold, cap
+  sysid::SignalRanges ranges;          ///< declared ranges: the model's fixed scaling
+  double snapshot_period_s = 1.0;      ///< model snapshot publication period (0: on request only)
+  int64_t snapshot_every_samples = 0;  ///< also publish one every N learned samples (0: off)
+  double resume_wait_s = 1.0;          ///< wait this long for a snapshot to resume from
   bus::ChannelConfig channels;
 };
 

@@ -171,6 +171,10 @@ void IdentifierNode::FormSample(const odonata::plant_state_t& state,
   }
   p.learning = report->learned ? 1 : 0;
   bus_.Publish(config_.channels.prediction, p);
+  if (config_.snapshot_every_samples > 0 && report->learned &&
+      core_.samples_learned() % config_.snapshot_every_samples == 0) {
+    PublishSnapshot();
+  }
 }
 
 void IdentifierNode::OnControl(const odonata::control_t& msg) {

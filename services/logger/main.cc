@@ -38,6 +38,12 @@ int main(int argc, char** argv) {
   exp->add_option("--output,-o", csv, "CSV file to write")->required();
   exp->add_option("--command-channel", ex.command_channel)->capture_default_str();
   exp->add_option("--state-channel", ex.state_channel)->capture_default_str();
+  std::string predictions_csv, snapshots_json;
+  exp->add_option("--predictions", predictions_csv, "also write ODONATA_PREDICTION as CSV here");
+  exp->add_option("--snapshots", snapshots_json, "also write ODONATA_MODEL snapshots as JSON here");
+  std::string prediction_channel = "ODONATA_PREDICTION", model_channel = "ODONATA_MODEL";
+  exp->add_option("--prediction-channel", prediction_channel)->capture_default_str();
+  exp->add_option("--model-channel", model_channel)->capture_default_str();
   exp->add_option("--run", ex.run, "run to export (a plant reset starts a new one); -1 = last")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -51,6 +57,17 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "; skipped %ld undecodable events and %ld incomplete samples",
                      s.undecodable, s.incomplete);
       std::fprintf(stderr, "\n");
+      if (!predictions_csv.empty()) {
+        const long n =
+            odonata::bus::ExportPredictionsToCsv(logs, prediction_channel, predictions_csv);
+        std::fprintf(stderr, "odonata-logger: %ld predictions written to %s\n", n,
+                     predictions_csv.c_str());
+      }
+      if (!snapshots_json.empty()) {
+        const long n = odonata::bus::ExportSnapshotsToJson(logs, model_channel, snapshots_json);
+        std::fprintf(stderr, "odonata-logger: %ld model snapshots written to %s\n", n,
+                     snapshots_json.c_str());
+      }
       return 0;
     }
     rec.split_bytes = static_cast<int64_t>(split_mb * 1e6);

@@ -8,6 +8,8 @@
 #include <exception>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "experiments/experiment_preset.hpp"
 #include "plant/plant_config.hpp"
 #include "sim_runner.hpp"
@@ -27,6 +29,31 @@ void ListPresets() {
   }
 }
 
+/// The presets as JSON, for scripts (deploy/odonata-run, the main job's report).
+void ListPresetsJson() {
+  nlohmann::json all = nlohmann::json::array();
+  for (const odonata::experiments::ExperimentPreset& p : odonata::experiments::Presets()) {
+    all.push_back({{"name", p.name},
+                   {"description", p.description},
+                   {"output", p.output_column},
+                   {"inputs", p.input_columns},
+                   {"ny", p.ny},
+                   {"nu", p.nu},
+                   {"delay", p.delay},
+                   {"entropy_threshold", p.entropy_threshold},
+                   {"paper_entropy", p.paper_entropy_text},
+                   {"paper_mfs", p.paper_mf_count},
+                   {"paper_accuracy", p.paper_accuracy_text},
+                   {"train_duration_s", p.train_duration_s},
+                   {"validate_duration_s", p.validate_duration_s},
+                   {"clamped_body", p.clamped_body},
+                   {"attitude_hold", p.attitude_hold},
+                   {"train_excitation", p.train_excitation},
+                   {"validate_excitation", p.validate_excitation}});
+  }
+  std::printf("%s\n", all.dump(1).c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -35,8 +62,9 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   double duration_s = 0.0;
   double altitude_m = 50.0;
-  bool list = false;
+  bool list = false, json = false;
   app.add_flag("--list-presets", list, "List the experiment presets and exit");
+  app.add_flag("--json", json, "With --list-presets: print them as JSON");
   auto* preset_opt =
       app.add_option("--preset", preset_name, "Experiment preset (see --list-presets)");
   app.add_option("--phase", phase_name, "train or validate (with --preset)")
@@ -56,6 +84,10 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (list) {
+    if (json) {
+      ListPresetsJson();
+      return 0;
+    }
     ListPresets();
     return 0;
   }

@@ -1,0 +1,50 @@
+// odonata-control: sends one operator command (control_t) to the running services.
+
+#include <cstdio>
+#include <map>
+
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include "bus/bus_node.hpp"
+#include "odonata/control_t.hpp"
+
+int main(int argc, char** argv) {
+  const std::map<std::string, int8_t> commands = {
+      {"reset", odonata::control_t::RESET},
+      {"freeze", odonata::control_t::FREEZE},
+      {"resume", odonata::control_t::RESUME},
+      {"set-entropy-threshold", odonata::control_t::SET_ENTROPY_THRESHOLD},
+      {"save-model", odonata::control_t::SAVE_MODEL},
+      {"publish-snapshot", odonata::control_t::PUBLISH_SNAPSHOT},
+      {"shutdown", odonata::control_t::SHUTDOWN}};
+  std::string command, target, path, lcm_url, channel = "ODONATA_CONTROL";
+  double value = 0;
+  CLI::App app{
+      "Sends a command to odonata services on ODONATA_CONTROL: reset, freeze, resume, "
+      "set-entropy-threshold VALUE, save-model [--path FILE], publish-snapshot, shutdown."};
+  app.add_option("command", command, "what to do")->required()->transform(CLI::IsMember(commands));
+  app.add_option("--target", target, "instance or service name (default: every service)");
+  app.add_option("--value", value, "the new entropy threshold (set-entropy-threshold)");
+  app.add_option("--path", path, "file (save-model) or preset (reset of the plant)");
+  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
+  app.add_option("--channel", channel, "control channel")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  lcm::LCM lcm(lcm_url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "odonata-control: error: cannot open LCM (is there a multicast route?)\n");
+    return 1;
+  }
+  odonata::control_t msg{};
+  msg.utime = odonata::bus::NowUtime();
+  msg.seq = 0;
+  msg.target = target;
+  msg.command = commands.at(command);
+  msg.value = value;
+  msg.path = path;
+  if (lcm.publish(channel, &msg) != 0) {
+    std::fprintf(stderr, "odonata-control: error: publish failed\n");
+    return 1;
+  }
+  return 0;
+}
