@@ -75,7 +75,16 @@ void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
   const std::string count = bus::CountProblems(msg);
   if (!count.empty()) throw std::invalid_argument("command: " + count);
-  commands_[msg.seq] = msg;
+  // A generator that restarted counts from 0 again: forget the old run's commands.
+  if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < commands_.rbegin()->first)
+    commands_.clear();
+  // The first command of a seq wins: a resend carries the same values, and a later message
+  // reusing the seq (a stale or forged one) must not change a sample after the fact.
+  if (!commands_.emplace(msg.seq, msg).second) {
+    if (msg.source == commands_.at(msg.seq).source) return;  // a lockstep resend: not a problem
+    throw std::invalid_argument("a second command with seq " + std::to_string(msg.seq) +
+                                " from '" + msg.source + "'");
+  }
   while (commands_.size() > kMaxCommands) commands_.erase(commands_.begin());
   Process();
 }
@@ -86,10 +95,13 @@ void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
                          : previous_state_        ? previous_state_->seq
                                                   : -1;
   if (newest >= 0 && msg.seq <= newest) {
-    if (msg.seq == 0 && msg.command_seq < 0) {  // the plant restarted its run
+    if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
       previous_state_.reset();
       pending_states_.clear();
+      commands_.clear();
       core_.RestartHistory();
+    } else if (msg.seq == newest) {
+      return;  // the plant re-published its latest state (lockstep resend, or waiting at 0)
     } else {
       throw std::invalid_argument("duplicate or out-of-order state seq " + std::to_string(msg.seq));
     }
