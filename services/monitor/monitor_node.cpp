@@ -49,10 +49,18 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
       m.predicted.size() != n || m.free_run.size() != n || m.rules.size() != n) {
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
   }
-  if (last_sample_ >= 0 && m.sample > last_sample_ + 1) gaps_ += m.sample - last_sample_ - 1;
-  if (last_sample_ >= 0 && m.sample <= last_sample_ && m.sample != 0) {
-    throw std::invalid_argument("duplicate or out-of-order prediction for sample " +
-                                std::to_string(m.sample));
+  if (last_sample_ >= 0 && m.sample == last_sample_) {
+    throw std::invalid_argument("duplicate prediction for sample " + std::to_string(m.sample));
+  }
+  if (last_sample_ >= 0 && m.sample < last_sample_) {
+    // The plant restarted (a new run, e.g. validation after training): score it on its own and
+    // keep the finished run in the summary.
+    finished_runs_.push_back(Summary());
+    outputs_.clear();
+    order_.clear();
+    gaps_ = 0;
+  } else if (last_sample_ >= 0 && m.sample > last_sample_ + 1) {
+    gaps_ += m.sample - last_sample_ - 1;
   }
   last_sample_ = m.sample;
   for (std::size_t o = 0; o < n; ++o) {
@@ -170,6 +178,7 @@ void MonitorNode::PublishAccuracy() {
 
 nlohmann::json MonitorNode::Summary() const {
   nlohmann::json j;
+  if (!finished_runs_.empty()) j["previous_runs"] = finished_runs_;
   j["last_sample"] = last_sample_;
   j["gaps"] = gaps_;
   for (const auto& name : order_) {

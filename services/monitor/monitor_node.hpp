@@ -73,6 +73,7 @@ class MonitorNode {
   int64_t gaps_ = 0;
   int64_t accuracy_seq_ = 0;
   std::size_t printed_lines_ = 0;
+  std::vector<nlohmann::json> finished_runs_;  // summaries of runs before a plant restart
 };
 
 }  // namespace odonata::monitor
