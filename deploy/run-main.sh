@@ -8,5 +8,5 @@ OUT=${1:-"$ROOT/results/$(date +%Y%m%d-%H%M%S)"}
 shift || true
 "$ROOT/deploy/setup.sh"
 "$ROOT/deploy/build.sh" release
-python3 "$ROOT/deploy/run-experiments" --out "$OUT" "$@"
+"$ROOT/deploy/run-experiments" --out "$OUT" "$@"
 echo "report: $OUT/index.html (summary: $OUT/summary.md, $OUT/summary.json)"
