@@ -15,6 +15,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bus/channel_config.hpp"
+#include "bus/safe_decode.hpp"
 #include "bus/service_stats.hpp"
 
 namespace odonata::bus {
@@ -112,13 +113,7 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
                                                        const std::string&) {
     ++stats_.messages_in;
     Msg msg;
-    int decoded = -1;
-    try {
-      decoded = msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size));
-    } catch (const std::exception& e) {  // a corrupt length field can ask for absurd sizes
-      decoded = -1;
-    }
-    if (decoded < 0) {
+    if (!SafeDecode(&msg, rbuf->data, rbuf->data_size)) {
       ++stats_.decode_errors;
       Report("undecodable message on " + channel,
              std::to_string(rbuf->data_size) + " bytes that are not a valid " + Msg::getTypeName() +

@@ -6,6 +6,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bus/model_snapshot_codec.hpp"
+#include "bus/safe_decode.hpp"
 #include "bus/sample_fields.hpp"
 
 #include <cmath>
@@ -38,7 +39,7 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     while (const lcm::LogEvent* ev = log.readNextEvent()) {
       if (ev->channel == options.state_channel) {
         odonata::plant_state_t s;
-        if (s.decode(ev->data, 0, ev->datalen) < 0 || !AllFinite(s)) {
+        if (!SafeDecode(&s, ev->data, ev->datalen) || !AllFinite(s)) {
           ++summary.undecodable;
           continue;
         }
@@ -50,7 +51,7 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
         runs.back().states.emplace(s.seq, s);
       } else if (ev->channel == options.command_channel) {
         odonata::wing_command_t c;
-        if (c.decode(ev->data, 0, ev->datalen) < 0 || !AllFinite(c) || !CountProblems(c).empty()) {
+        if (!SafeDecode(&c, ev->data, ev->datalen) || !AllFinite(c) || !CountProblems(c).empty()) {
           ++summary.undecodable;
           continue;
         }
@@ -117,7 +118,7 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
   std::vector<odonata::prediction_t> all;
   ForEachEvent(log_paths, channel, [&all](const lcm::LogEvent& ev) {
     odonata::prediction_t p;
-    if (p.decode(ev.data, 0, ev.datalen) < 0 || p.num_outputs <= 0) return;
+    if (!SafeDecode(&p, ev.data, ev.datalen) || p.num_outputs <= 0) return;
     const auto n = static_cast<std::size_t>(p.num_outputs);
     if (p.names.size() != n || p.measured.size() != n || p.predicted.size() != n ||
         p.free_run.size() != n || p.next.size() != n || p.rules.size() != n ||
@@ -160,7 +161,7 @@ long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std:
   nlohmann::json arr = nlohmann::json::array();
   ForEachEvent(log_paths, channel, [&arr](const lcm::LogEvent& ev) {
     odonata::model_snapshot_t m;
-    if (m.decode(ev.data, 0, ev.datalen) < 0) return;
+    if (!SafeDecode(&m, ev.data, ev.datalen)) return;
     try {
       arr.push_back({{"utime", m.utime},
                      {"samples_learned", m.samples_learned},

@@ -1,0 +1,116 @@
+// Publishes malformed traffic on the project's channels, for the bad-input integration test:
+// wrong fingerprints, truncated and random bytes, NaN/Inf fields, out-of-range commands,
+// stale (duplicate / out-of-order) sequence numbers, and absurd array counts.
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "odonata/control_t.hpp"
+#include "odonata/heartbeat_t.hpp"
+#include "odonata/plant_state_t.hpp"
+#include "odonata/prediction_t.hpp"
+#include "odonata/wing_command_t.hpp"
+
+namespace {
+
+template <class Msg>
+std::vector<uint8_t> Encode(const Msg& m) {
+  std::vector<uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  return buf;
+}
+
+odonata::wing_command_t Command(int64_t seq) {
+  odonata::wing_command_t c{};
+  c.seq = seq;
+  for (int w = 0; w < 4; ++w) {
+    c.freq_hz[w] = 5.4;
+    c.amp_rad[w] = 1.0;
+    c.pitch_mean_rad[w] = 1.57;
+    c.pitch_amp_rad[w] = 0.78;
+  }
+  c.num_excitations = 1;
+  c.excitation_names = {"u_roll_rad"};
+  c.excitations = {0.0};
+  c.source = "bad-input-test";
+  return c;
+}
+
+odonata::plant_state_t State(int64_t seq) {
+  odonata::plant_state_t s{};
+  s.seq = seq;
+  s.command_seq = seq - 1;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: bad_input_publisher LCM_URL ROUNDS [PERIOD_MS]\n");
+    return 2;
+  }
+  lcm::LCM lcm(argv[1]);
+  if (!lcm.good()) return 1;
+  const int rounds = std::atoi(argv[2]);
+  const int period_ms = argc > 3 ? std::atoi(argv[3]) : 5;
+  std::mt19937_64 rng(99);
+  const std::vector<std::string> channels = {"DIMAV_COMMAND", "DIMAV_STATE", "ODONATA_PREDICTION",
+                                             "ODONATA_CONTROL", "ODONATA_MODEL",
+                                             "ODONATA_HEARTBEAT"};
+  for (int r = 0; r < rounds; ++r) {
+    for (const auto& ch : channels) {
+      // A valid message of another type: wrong fingerprint for this channel.
+      odonata::heartbeat_t hb{};
+      hb.service = "bad";
+      auto wrong = Encode(hb);
+      if (ch != "ODONATA_HEARTBEAT") lcm.publish(ch, wrong.data(), static_cast<unsigned>(wrong.size()));
+      // Random bytes.
+      std::vector<uint8_t> noise(1 + rng() % 200);
+      for (auto& b : noise) b = static_cast<uint8_t>(rng());
+      lcm.publish(ch, noise.data(), static_cast<unsigned>(noise.size()));
+    }
+    // Truncated messages of the right type.
+    auto cmd = Encode(Command(1));
+    lcm.publish("DIMAV_COMMAND", cmd.data(), static_cast<unsigned>(cmd.size() / 2));
+    auto st = Encode(State(1));
+    lcm.publish("DIMAV_STATE", st.data(), static_cast<unsigned>(st.size() - 3));
+    // A correct fingerprint with an absurd array count.
+    auto big = Encode(Command(2));
+    const std::size_t count_at = 8 + 8 + 8 + 8 + 6 * 4 * 8;  // fingerprint, utime, seq, t_s, arrays
+    big[count_at] = 0x7f;
+    lcm.publish("DIMAV_COMMAND", big.data(), static_cast<unsigned>(big.size()));
+    // NaN and Inf fields; stale sequence numbers (already used: must not rewrite history).
+    odonata::plant_state_t nan_state = State(2);
+    nan_state.attitude_rad[0] = NAN;
+    lcm.publish("DIMAV_STATE", &nan_state);
+    odonata::wing_command_t inf_cmd = Command(3);
+    inf_cmd.freq_hz[0] = INFINITY;
+    lcm.publish("DIMAV_COMMAND", &inf_cmd);
+    // Well-formed but stale (a seq the run never reaches again) and far outside the limits.
+    odonata::wing_command_t wild = Command(-7);
+    wild.freq_hz[1] = 1e6;  // far outside the actuator limits
+    wild.amp_rad[2] = -50;
+    lcm.publish("DIMAV_COMMAND", &wild);
+    lcm.publish("DIMAV_STATE", &nan_state);
+    odonata::plant_state_t stale = State(-100);
+    lcm.publish("DIMAV_STATE", &stale);
+    odonata::prediction_t p{};
+    p.num_outputs = 2;  // arrays left empty: inconsistent counts
+    lcm.publish("ODONATA_PREDICTION", &p);
+    odonata::control_t bad_control{};
+    bad_control.command = 99;
+    bad_control.target = "nobody-in-particular";
+    lcm.publish("ODONATA_CONTROL", &bad_control);
+    usleep(static_cast<useconds_t>(period_ms * 1000));
+  }
+  return 0;
+}

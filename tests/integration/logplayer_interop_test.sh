@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# lcm-logger records a live run; lcm-logplayer replays it (standing in for plant and generator)
+# into a fresh identifier, which must end with the live model. odonata-logger's own log must
+# replay the same way. The replay runs slower than the lockstep recording (which went as fast as
+# the machine allows): a UDP receive buffer overflows otherwise, and a lost message is a gap.
+source "$(dirname "$0")/lib.sh"
+enter_netns "$@"
+OUT=$(mktemp -d)
+trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
+URL='udpm://239.255.76.67:7681?ttl=0'
+start lcmlogger lcm-logger --lcm-url="$URL" -c 'DIMAV_.*' -f "$OUT/lcm-logger.log"
+sleep 0.3
+timeout 120 "$SRC/deploy/odonata-run" --host --lcm-url "$URL" --preset pitch --phases train --duration 3 \
+  --out "$OUT/run" --build "$BUILD" >"$OUT/run.log" 2>&1 || { cat "$OUT/run.log"; fail "odonata-run failed"; }
+sleep 0.3
+stop_clean "$PID_lcmlogger" lcm-logger
+[[ -s $OUT/run/model.json ]] || fail "no live model"
+for log in "$OUT/lcm-logger.log" "$OUT/run/odonata.lcmlog.00000"; do
+  rm -f "$OUT/replayed.json"
+  start replay-ident "$IDENT" --config "$OUT/run/identifier.json" --lcm-url "$URL" --resume-wait 0 \
+    --instance replay --save-model "$OUT/replayed.json"
+  sleep 0.5
+  timeout 60 lcm-logplayer -s 0.2 -e 'DIMAV_.*' -l "$URL" "$log" >/dev/null 2>&1 || fail "lcm-logplayer failed on $log"
+  sleep 0.5
+  stop_clean "$PID_replay_ident" "replaying identifier"
+  same_model "$OUT/run/model.json" "$OUT/replayed.json" || fail "replaying $(basename "$log") gave another model"
+done
+pass "lcm-logger and odonata-logger logs replayed by lcm-logplayer reproduce the live model"

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# End to end through real processes over udpm: plant -> identifier -> monitor -> logger, in
+# lockstep; the identifier's model equals odonata-fit's on the logged samples, bit for bit.
+source "$(dirname "$0")/lib.sh"
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+timeout 120 "$SRC/deploy/odonata-run" --preset roll --duration 3 --out "$OUT/run" --build "$BUILD" \
+  >"$OUT/run.log" 2>&1 || { cat "$OUT/run.log"; fail "odonata-run failed"; }
+R=$OUT/run
+for f in model.json train.csv validate.csv predictions.csv snapshots.json monitor-summary.json odonata.lcmlog.00000; do
+  [[ -s $R/$f ]] || fail "missing $f"
+done
+rows=$(($(wc -l <"$R/predictions.csv") - 1))
+((rows >= 590)) || fail "only $rows predictions (expected 2 x 297)"
+fit=$(json_get "$R/monitor-summary.json" 'j["outputs"]["roll_rad"]["one_step"]["fit"]')
+"$PY" -c "import sys; sys.exit(0 if float('$fit') > 80 else 1)" || fail "validation FIT $fit"
+[[ $(json_get "$R/monitor-summary.json" 'len(j["previous_runs"])') == 1 ]] || fail "monitor did not score training and validation separately"
+offline_fit "$R/identifier.json" "$R/train.csv" "$OUT/offline.json"
+same_model "$R/model.json" "$OUT/offline.json" || fail "online (lockstep) and offline models differ"
+pass "lockstep pipeline: $rows predictions, validation FIT $fit %, online model == odonata-fit model"
