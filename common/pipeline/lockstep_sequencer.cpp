@@ -1,0 +1,95 @@
+#include "pipeline/lockstep_sequencer.hpp"
+
+#include <stdexcept>
+
+namespace odonata::pipeline {
+
+LockstepSequencer::LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends)
+    : command_count_(command_count), reset_plant_(reset_plant), max_resends_(max_resends) {
+  if (command_count < 1) throw std::invalid_argument("lockstep run without commands");
+  if (max_resends < 0) throw std::invalid_argument("max_resends must be >= 0");
+}
+
+SequencerAction LockstepSequencer::Start() {
+  phase_ = Phase::kAwaitingInitial;
+  current_ = 0;
+  resends_ = 0;
+  SequencerAction a;
+  if (reset_plant_) a.kind = SequencerAction::Kind::kSendReset;
+  return a;
+}
+
+SequencerAction LockstepSequencer::Fail(SequencerAction::Failure failure, std::string message) {
+  phase_ = Phase::kFailed;
+  SequencerAction a;
+  a.kind = SequencerAction::Kind::kFailed;
+  a.failure = failure;
+  a.message = std::move(message);
+  return a;
+}
+
+SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, bool diverged) {
+  SequencerAction a;
+  if (phase_ == Phase::kAwaitingInitial) {
+    if (seq != 0 || command_seq != -1) return a;  // an old run's state, or another generator's
+    phase_ = Phase::kAwaitingAnswer;
+    current_ = 0;
+    resends_ = 0;
+    a.kind = SequencerAction::Kind::kSendCommand;
+    a.seq = 0;
+    return a;
+  }
+  if (phase_ != Phase::kAwaitingAnswer) return a;
+  if (seq == 0 && command_seq == -1 && current_ > 0) {
+    // The plant published state 1 already, so this is not a late copy of state 0: the plant
+    // restarted (or someone reset it) and the rest of the run would start from scratch unseen.
+    return Fail(SequencerAction::Failure::kRestarted,
+                "the plant restarted (fresh state 0) while it was answering command " +
+                    std::to_string(current_));
+  }
+  if (seq != current_ + 1 || command_seq != current_) return a;  // duplicate or stale answer
+  if (diverged) {
+    return Fail(SequencerAction::Failure::kDiverged, "the plant diverged while applying command " +
+                                                         std::to_string(current_) +
+                                                         " (its divergence policy is stop)");
+  }
+  ++current_;
+  resends_ = 0;
+  if (current_ == command_count_) {
+    phase_ = Phase::kFinished;
+    a.kind = SequencerAction::Kind::kFinished;
+    return a;
+  }
+  a.kind = SequencerAction::Kind::kSendCommand;
+  a.seq = current_;
+  return a;
+}
+
+SequencerAction LockstepSequencer::OnTimeout() {
+  SequencerAction a;
+  if (phase_ != Phase::kAwaitingInitial && phase_ != Phase::kAwaitingAnswer) return a;
+  if (resends_ >= max_resends_) {
+    if (phase_ == Phase::kAwaitingInitial) {
+      return Fail(SequencerAction::Failure::kNoAnswer,
+                  reset_plant_ ? "no fresh state 0 after RESET"
+                               : "no fresh state 0 (seq 0, command_seq -1): start the plant anew "
+                                 "or let the generator reset it");
+    }
+    return Fail(SequencerAction::Failure::kNoAnswer,
+                "no answer (state " + std::to_string(current_ + 1) + ") to command " +
+                    std::to_string(current_));
+  }
+  ++resends_;
+  ++total_resends_;
+  a.resend = true;
+  if (phase_ == Phase::kAwaitingInitial) {
+    // Without a reset there is nothing to resend: waiting again is all there is to do.
+    if (reset_plant_) a.kind = SequencerAction::Kind::kSendReset;
+    return a;
+  }
+  a.kind = SequencerAction::Kind::kSendCommand;
+  a.seq = current_;
+  return a;
+}
+
+}  // namespace odonata::pipeline

@@ -1,0 +1,70 @@
+#pragma once
+// The signal generator's side of the lockstep protocol, without transport: which message to send
+// next given the states that arrive and the timeouts that expire.
+//
+//   [reset] → wait for state 0 (command_seq -1) → send command 0 → wait for state 1 answering
+//   command 0 → send command 1 → … → state N answering command N-1 ⇒ finished.
+// A timeout resends what is awaited (RESET, or command k); after max_resends consecutive resends
+// without progress the run fails.
+
+#include <cstdint>
+#include <string>
+
+namespace odonata::pipeline {
+
+/// What the caller must do next.
+struct SequencerAction {
+  enum class Kind {
+    kNone,         ///< nothing: keep waiting (and keep the timeout running)
+    kSendReset,    ///< send RESET to the plant, then wait (restart the timeout)
+    kSendCommand,  ///< send command `seq`, then wait (restart the timeout)
+    kFinished,     ///< every command has been answered
+    kFailed,       ///< give up: `message` says why
+  };
+  Kind kind{Kind::kNone};
+  /// kFailed: why.
+  enum class Failure { kNone, kNoAnswer, kRestarted, kDiverged };
+  int64_t seq{-1};                  ///< kSendCommand: the command to send
+  bool resend{};                    ///< kSendReset / kSendCommand: after a timeout
+  Failure failure{Failure::kNone};  ///< kFailed
+  std::string message;              ///< kFailed
+};
+
+/// Lockstep protocol state machine. Not thread-safe.
+class LockstepSequencer {
+ public:
+  enum class Phase { kIdle, kAwaitingInitial, kAwaitingAnswer, kFinished, kFailed };
+
+  /// @param command_count N ≥ 1 commands to send (seq 0 … N-1).
+  /// @param reset_plant start by sending RESET; otherwise wait for a fresh state 0 as it is.
+  /// @param max_resends consecutive timeouts allowed per awaited message (≥ 0).
+  /// @throws std::invalid_argument for command_count < 1 or max_resends < 0.
+  LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends);
+
+  /// First action: kSendReset, or kNone (wait for state 0).
+  SequencerAction Start();
+  /// A state arrived. `diverged` is its status (the plant stopped: the run cannot go on).
+  SequencerAction OnState(int64_t seq, int64_t command_seq, bool diverged);
+  /// The awaited state did not come in time.
+  SequencerAction OnTimeout();
+
+  Phase phase() const { return phase_; }
+  /// The command whose answer is awaited (or the next to send).
+  int64_t current() const { return current_; }
+  int64_t command_count() const { return command_count_; }
+  /// Resends in total (each is a lost message or a slow plant).
+  int64_t total_resends() const { return total_resends_; }
+
+ private:
+  SequencerAction Fail(SequencerAction::Failure failure, std::string message);
+
+  int64_t command_count_;
+  bool reset_plant_;
+  int max_resends_;
+  Phase phase_ = Phase::kIdle;
+  int64_t current_ = 0;
+  int resends_ = 0;  // consecutive, for the message awaited now
+  int64_t total_resends_ = 0;
+};
+
+}  // namespace odonata::pipeline

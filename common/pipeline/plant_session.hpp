@@ -1,0 +1,108 @@
+#pragma once
+// The vehicle as a service sees it: the plant with its onboard attitude hold, answering numbered
+// commands by the lockstep or real-time rules of the DIMAV_COMMAND / DIMAV_STATE protocol.
+//
+// Protocol: state seq k is y(k) at t_k, measured before command k is applied; command seq k is
+// applied over [t_k, t_k+1); the answer to command k is state seq k + 1 with command_seq k. The
+// initial state is seq 0 with command_seq -1.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "pipeline/vehicle_setup.hpp"
+#include "plant/dimav_plant.hpp"
+#include "plant/plant_config.hpp"
+
+namespace odonata::pipeline {
+
+/// What a published state says about the vehicle (plant_state_t.status).
+enum class SampleStatus {
+  kOk,        ///< flying (or on the test stand)
+  kOnGround,  ///< resting on the ground
+  kReset,     ///< diverged during the last sample and restarted from the initial condition:
+              ///< the state jumps although seq does not
+  kDiverged,  ///< diverged (policy "stop"): the last finite state is held from now on
+};
+
+/// One state to publish.
+struct PlantSample {
+  int64_t seq{};            ///< sample index k
+  int64_t command_seq{-1};  ///< the command this state answers, -1 for none (initial or trim)
+  plant::PlantOutput output{};
+  SampleStatus status{SampleStatus::kOk};
+};
+
+/// How a submitted command was handled.
+enum class CommandVerdict {
+  kStepped,   ///< lockstep: the expected next command; the plant stepped once
+  kGap,       ///< lockstep: a jump ahead, stepped anyway; `missing` commands were skipped
+  kRepeated,  ///< lockstep: the last command again; its state is re-sent, no step
+  kAccepted,  ///< real time: held until the next tick (may also report `missing`)
+  kStale,     ///< older than (real time: or equal to) the newest command: dropped
+  kRejected,  ///< not finite, outside the actuator limits, or a negative seq: dropped
+};
+
+/// Result of PlantSession::Submit().
+struct CommandOutcome {
+  CommandVerdict verdict{CommandVerdict::kRejected};
+  int64_t missing{};                   ///< sequence numbers skipped before this one
+  std::string problem;                 ///< why it was dropped (kStale, kRejected)
+  std::optional<PlantSample> publish;  ///< lockstep: the state that answers it
+};
+
+/// The plant, its onboard stabiliser and the sequence rules. Not thread-safe.
+///
+/// Per step it does exactly what odonata-sim does per sample: the attitude hold (when the set-up
+/// has it) acts on the output measured before the step, the result is clamped to the actuator
+/// limits and held for one sample. So a lockstep run gives the same outputs, bit for bit, as
+/// odonata-sim for the same commands and set-up.
+///
+/// Commands outside the actuator limits are rejected, not clamped: the identifier reads the
+/// command from the bus, so a command the plant silently changed would teach it a response to
+/// something the wings never did.
+class PlantSession {
+ public:
+  enum class Mode { kLockstep, kRealtime };
+
+  /// Starts at the set-up's initial condition (state 0).
+  /// @throws plant::PlantConfigError for an invalid configuration.
+  PlantSession(const plant::PlantConfig& config, Mode mode, VehicleSetup setup);
+
+  /// Restarts at `setup`'s initial condition: seq restarts at 0 and every command seq is
+  /// accepted again. Returns state 0.
+  const PlantSample& Reset(VehicleSetup setup);
+
+  /// Handles command `seq`.
+  /// Lockstep: seq == newest + 1 (or any seq ≥ 0 as the first command since the reset) steps
+  /// once and answers with state seq + 1; seq == newest re-sends that answer without stepping;
+  /// older is stale; a jump ahead steps and reports the gap.
+  /// Real time: a newer seq replaces the held command (applied at the next Tick()); the same or
+  /// an older seq is stale.
+  CommandOutcome Submit(int64_t seq, const plant::CommandMatrix& command);
+
+  /// Real time: advances one sample with the held command (the hover trim before any command)
+  /// and returns the next state. @pre mode() == Mode::kRealtime.
+  const PlantSample& Tick();
+
+  /// The most recent state (state 0 right after a reset).
+  const PlantSample& last() const { return last_; }
+  /// True once a command has been accepted since the last reset.
+  bool commanded() const { return newest_seq_.has_value(); }
+  Mode mode() const { return mode_; }
+  const VehicleSetup& setup() const { return setup_; }
+  const plant::DimavPlant& plant() const { return plant_; }
+
+ private:
+  void StepWith(const plant::CommandMatrix& command, int64_t command_seq);
+
+  Mode mode_;
+  VehicleSetup setup_;
+  plant::DimavPlant plant_;
+  PlantSample last_{};
+  std::optional<int64_t> newest_seq_;  // newest command accepted since the reset
+  plant::CommandMatrix held_command_{plant::CommandMatrix::Zero()};  // real time
+  int64_t held_seq_ = -1;                                            // real time
+};
+
+}  // namespace odonata::pipeline

@@ -1,0 +1,106 @@
+// odonata-signal: sends an experiment's commands to odonata-plant over DIMAV_COMMAND, in lockstep
+// (each command waits for the plant's answer, resending on timeout) or in real time (a clock).
+// Exit codes: 0 all commands sent (and answered, in lockstep), 1 no plant / runtime error,
+// 2 bad arguments or input, 3 the plant diverged.
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "experiments/experiment_preset.hpp"
+#include "pipeline/command_schedule.hpp"
+#include "plant/plant_config.hpp"
+#include "signal_node.hpp"
+
+int main(int argc, char** argv) {
+  std::string preset, phase = "train", commands_path, config_path, mode = "lockstep", lcm_url,
+                      instance, suffix;
+  std::uint64_t seed = 1;
+  double duration_s = 0.0;
+  odonata::signal_service::SignalOptions options;
+  CLI::App app{
+      "odonata-signal: sends a preset's (or a file's) wing commands to odonata-plant. Command k "
+      "carries the 24 wing commands, the preset's excitation(s), t_s and its source."};
+  auto* preset_opt = app.add_option("--preset", preset,
+                                    "experiment preset: " + odonata::experiments::PresetNames());
+  app.add_option("--phase", phase, "train or validate (with --preset)")
+      ->check(CLI::IsMember({"train", "validate"}));
+  app.add_option("--seed", seed, "random seed (with --preset), as odonata-sim's");
+  app.add_option("--duration", duration_s, "duration in s (default: the preset's or the file's)")
+      ->check(CLI::PositiveNumber);
+  auto* commands_opt =
+      app.add_option("--commands", commands_path,
+                     "command CSV: t_s, the 24 w{i}_* columns, optional u_* columns")
+          ->check(CLI::ExistingFile);
+  preset_opt->excludes(commands_opt);
+  app.add_option("--config", config_path,
+                 "plant configuration JSON the commands are built for (default: built-in 40 g)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mode", mode, "lockstep (wait for each answer) or realtime (a clock)")
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
+  app.add_option("--rate-hz", options.rate_hz, "realtime: commands per second")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--timeout-ms", options.timeout_ms, "lockstep: resend after this long")
+      ->check(CLI::Range(1, 600000));
+  app.add_option("--max-resends", options.max_resends,
+                 "consecutive resends before giving up on the plant")
+      ->check(CLI::Range(0, 1000000));
+  app.add_flag("--reset-plant,!--no-reset-plant", options.reset_plant,
+               "send RESET (with the preset) first and wait for a fresh state 0 (default on)");
+  app.add_option("--plant", options.plant, "plant instance to reset and wait for");
+  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
+  app.add_option("--instance", instance, "instance name (default odonata-signal)");
+  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (preset.empty() == commands_path.empty()) {
+    std::fprintf(stderr,
+                 "odonata-signal: give exactly one of --preset or --commands (see --help)\n");
+    return 2;
+  }
+  options.lockstep = mode == "lockstep";
+  options.progress = isatty(STDERR_FILENO) == 1;
+  odonata::pipeline::CommandSchedule schedule;
+  try {
+    const odonata::plant::PlantConfig config = config_path.empty()
+                                                   ? odonata::plant::DefaultPlantConfig()
+                                                   : odonata::plant::LoadPlantConfig(config_path);
+    if (!preset.empty()) {
+      const auto* p = odonata::experiments::FindPreset(preset);
+      if (!p) {
+        throw std::invalid_argument("unknown preset '" + preset +
+                                    "'; known presets: " + odonata::experiments::PresetNames());
+      }
+      schedule = odonata::pipeline::PresetSchedule(*p,
+                                                   phase == "train"
+                                                       ? odonata::experiments::Phase::kTrain
+                                                       : odonata::experiments::Phase::kValidate,
+                                                   seed, duration_s, config);
+    } else {
+      schedule = odonata::pipeline::FileSchedule(commands_path, config, duration_s);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-signal: error: %s\n", e.what());
+    return 2;
+  }
+  try {
+    odonata::bus::BusOptions opts;
+    opts.lcm_url = lcm_url;
+    opts.service = odonata::signal_service::kServiceName;
+    opts.instance = instance;
+    opts.channels.ApplySuffix(suffix);
+    odonata::bus::BusNode bus(opts);
+    odonata::signal_service::SignalNode node(bus, std::move(schedule), options);
+    return bus.Run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-signal: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,196 @@
+#include "signal_node.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace odonata::signal_service {
+namespace {
+// Terminal progress refresh period.
+constexpr std::chrono::milliseconds kProgressPeriodMs{100};
+}  // namespace
+
+odonata::wing_command_t ToCommandMessage(const pipeline::CommandSchedule& schedule, std::size_t k) {
+  const plant::CommandMatrix& c = schedule.commands[k];
+  odonata::wing_command_t m{};
+  m.utime = bus::NowUtime();
+  m.seq = static_cast<int64_t>(k);
+  m.t_s = schedule.TimeOf(k);
+  for (int w = 0; w < plant::kWingCount; ++w) {
+    m.beta_rad[w] = c(w, plant::kStrokePlaneAngle);
+    m.freq_hz[w] = c(w, plant::kFlapFrequency);
+    m.amp_rad[w] = c(w, plant::kStrokeAmplitude);
+    m.pitch_mean_rad[w] = c(w, plant::kPitchMean);
+    m.pitch_amp_rad[w] = c(w, plant::kPitchAmplitude);
+    m.phase_rad[w] = c(w, plant::kPitchPhase);
+  }
+  // encode() trusts the count: keep it equal to both vector sizes.
+  m.num_excitations = static_cast<int32_t>(schedule.excitation_names.size());
+  m.excitation_names = schedule.excitation_names;
+  for (const std::vector<double>& values : schedule.excitation_values) {
+    m.excitations.push_back(values[k]);
+  }
+  m.source = schedule.source;
+  return m;
+}
+
+SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, SignalOptions options)
+    : bus_(bus),
+      schedule_(std::move(schedule)),
+      options_(std::move(options)),
+      sequencer_(static_cast<int64_t>(schedule_.size()), options_.reset_plant,
+                 options_.max_resends),
+      timer_(bus.io()) {
+  if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
+    throw std::invalid_argument("rate_hz and timeout_ms must be positive");
+  }
+  const auto& ch = bus_.channels();
+  bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
+  bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
+  bus_.OnShutdown([this] {
+    if (options_.progress && !finished_) std::fputc('\n', stderr);  // end the progress line
+    finished_ = true;
+    timer_.cancel();
+  });
+  if (!options_.lockstep && !options_.reset_plant) {
+    StartRealtime();  // real time without a reset does not wait for the plant at all
+    return;
+  }
+  bus_.SetState("waiting");
+  const pipeline::SequencerAction first = sequencer_.Start();
+  Apply(first);
+  if (first.kind == pipeline::SequencerAction::Kind::kNone) ArmTimeout();
+}
+
+void SignalNode::OnState(const odonata::plant_state_t& msg) {
+  if (finished_ || realtime_started_) return;
+  Apply(sequencer_.OnState(msg.seq, msg.command_seq,
+                           msg.status == odonata::plant_state_t::STATUS_DIVERGED));
+}
+
+void SignalNode::OnControl(const odonata::control_t& msg) {
+  if (!msg.target.empty() && msg.target != bus_.options().instance && msg.target != kServiceName)
+    return;
+  if (msg.command == odonata::control_t::SHUTDOWN) bus_.Stop(0);
+}
+
+void SignalNode::Apply(const pipeline::SequencerAction& action) {
+  using Kind = pipeline::SequencerAction::Kind;
+  switch (action.kind) {
+    case Kind::kNone:
+      return;
+    case Kind::kSendReset:
+      SendReset();
+      ArmTimeout();
+      return;
+    case Kind::kSendCommand:
+      if (!options_.lockstep) {
+        StartRealtime();  // the plant is fresh: from here on the clock paces the run
+        return;
+      }
+      bus_.SetState("running");
+      SendCommand(action.seq);
+      ArmTimeout();
+      ShowProgress(action.seq, false);
+      return;
+    case Kind::kFinished:
+      ShowProgress(sequencer_.command_count(), true);
+      Finish(0, "");
+      return;
+    case Kind::kFailed: {
+      const bool diverged = action.failure == pipeline::SequencerAction::Failure::kDiverged;
+      std::string message =
+          action.message + " (plant '" + options_.plant + "' on " + bus_.channels().state + ")";
+      if (action.failure == pipeline::SequencerAction::Failure::kNoAnswer) {
+        message += " after " + std::to_string(options_.max_resends) + " resend(s) " +
+                   std::to_string(options_.timeout_ms) + " ms apart: is " + options_.plant +
+                   " running, on the same --lcm-url and --channel-suffix?";
+      }
+      Finish(diverged ? kExitDiverged : kExitNoPlant, message);
+      return;
+    }
+  }
+}
+
+void SignalNode::ArmTimeout() {
+  const uint64_t generation = ++timer_generation_;
+  timer_.expires_after(std::chrono::milliseconds(options_.timeout_ms));
+  timer_.async_wait([this, generation](const boost::system::error_code& ec) {
+    if (ec || finished_ || generation != timer_generation_) return;
+    const pipeline::SequencerAction action = sequencer_.OnTimeout();
+    Apply(action);
+    // Waiting again for a plant that was not reset: nothing was sent, but the clock restarts.
+    if (action.kind == pipeline::SequencerAction::Kind::kNone && !finished_) ArmTimeout();
+  });
+}
+
+void SignalNode::StartRealtime() {
+  realtime_started_ = true;
+  bus_.SetState("running");
+  ++timer_generation_;
+  timer_.expires_at(std::chrono::steady_clock::now());
+  RealtimeTick();
+}
+
+void SignalNode::RealtimeTick() {
+  if (finished_) return;
+  SendCommand(next_realtime_);
+  ShowProgress(next_realtime_, false);
+  if (++next_realtime_ == static_cast<int64_t>(schedule_.size())) {
+    ShowProgress(next_realtime_, true);
+    Finish(0, "");
+    return;
+  }
+  // Scheduled from the previous deadline, not from now: the rate does not drift with latency.
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / options_.rate_hz));
+  timer_.expires_at(timer_.expiry() + period);
+  const uint64_t generation = timer_generation_;
+  timer_.async_wait([this, generation](const boost::system::error_code& ec) {
+    if (!ec && generation == timer_generation_) RealtimeTick();
+  });
+}
+
+void SignalNode::SendCommand(int64_t k) {
+  bus_.Publish(bus_.channels().command, ToCommandMessage(schedule_, static_cast<std::size_t>(k)));
+  ++commands_sent_;
+}
+
+void SignalNode::SendReset() {
+  odonata::control_t c{};
+  c.utime = bus::NowUtime();
+  c.seq = control_seq_++;
+  c.target = options_.plant;
+  c.command = odonata::control_t::RESET;
+  c.path = schedule_.setup_name;  // the preset's initial condition ("" = the plant's own)
+  bus_.Publish(bus_.channels().control, c);
+}
+
+void SignalNode::ShowProgress(int64_t k, bool last) {
+  if (!options_.progress) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (!last && now - last_progress_ < kProgressPeriodMs) return;
+  last_progress_ = now;
+  std::fprintf(stderr, "\rsample %lld of %zu", static_cast<long long>(k), schedule_.size());
+  if (last) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+void SignalNode::Finish(int exit_code, const std::string& message) {
+  if (finished_) return;
+  finished_ = true;
+  ++timer_generation_;
+  timer_.cancel();
+  if (exit_code == 0) {
+    bus_.SetState("finished");
+    std::fprintf(stderr, "[%s] sent %zu commands (%s), %lld resend(s)\n",
+                 bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
+                 static_cast<long long>(sequencer_.total_resends()));
+  } else {
+    bus_.SetState("error");
+    bus_.stats().last_error = message;
+    std::fprintf(stderr, "odonata-signal: error: %s\n", message.c_str());
+  }
+  bus_.Stop(exit_code);
+}
+
+}  // namespace odonata::signal_service

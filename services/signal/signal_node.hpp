@@ -1,0 +1,84 @@
+#pragma once
+// odonata-signal's process shell: sends a CommandSchedule as DIMAV_COMMAND messages, paced by the
+// plant's answers (lockstep, via LockstepSequencer) or by a clock (real time).
+//
+// Inputs:  DIMAV_STATE (plant_state_t), ODONATA_CONTROL (control_t: SHUTDOWN)
+// Outputs: DIMAV_COMMAND (wing_command_t), ODONATA_CONTROL (RESET to the plant),
+//          ODONATA_HEARTBEAT (via BusNode)
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include <boost/asio/steady_timer.hpp>
+
+#include "bus/bus_node.hpp"
+#include "odonata/control_t.hpp"
+#include "odonata/plant_state_t.hpp"
+#include "odonata/wing_command_t.hpp"
+#include "pipeline/command_schedule.hpp"
+#include "pipeline/lockstep_sequencer.hpp"
+
+namespace odonata::signal_service {
+
+/// The service name, which control messages may address.
+inline constexpr const char* kServiceName = "odonata-signal";
+
+/// Exit code when the plant never answered (missing plant, lost link, restarted plant).
+inline constexpr int kExitNoPlant = 1;
+/// Exit code when the plant diverged (as odonata-sim's exit code for a stopped run).
+inline constexpr int kExitDiverged = 3;
+
+/// How the generator runs.
+struct SignalOptions {
+  bool lockstep = true;     ///< false: real time, one command per 1/rate_hz
+  double rate_hz = 100.0;   ///< real time: command rate
+  int timeout_ms = 200;     ///< lockstep: resend after this long without the awaited state
+  int max_resends = 10;     ///< consecutive resends before giving up
+  bool reset_plant = true;  ///< send RESET (with the preset name) and wait for state 0 first
+  std::string plant = "odonata-plant";  ///< plant instance to address and to name in errors
+  bool progress = false;                ///< show "sample k of N" on stderr (only for a terminal)
+};
+
+/// Builds command message k of `schedule` (utime = now).
+/// @pre k < schedule.size().
+odonata::wing_command_t ToCommandMessage(const pipeline::CommandSchedule& schedule, std::size_t k);
+
+class SignalNode {
+ public:
+  /// Subscribes and starts the run (sends RESET or the first command as the mode asks). When the
+  /// run ends the node stops the bus with exit code 0, kExitNoPlant or kExitDiverged.
+  /// @pre schedule.size() ≥ 1, options.rate_hz > 0, options.timeout_ms > 0.
+  SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, SignalOptions options);
+
+  /// Commands sent, resends included.
+  int64_t commands_sent() const { return commands_sent_; }
+  const pipeline::LockstepSequencer& sequencer() const { return sequencer_; }
+
+ private:
+  void OnState(const odonata::plant_state_t& msg);
+  void OnControl(const odonata::control_t& msg);
+  void Apply(const pipeline::SequencerAction& action);
+  void ArmTimeout();
+  void StartRealtime();
+  void RealtimeTick();
+  void SendCommand(int64_t k);
+  void SendReset();
+  void ShowProgress(int64_t k, bool last);
+  void Finish(int exit_code, const std::string& message);
+
+  bus::BusNode& bus_;
+  pipeline::CommandSchedule schedule_;
+  SignalOptions options_;
+  pipeline::LockstepSequencer sequencer_;
+  boost::asio::steady_timer timer_;  // lockstep timeout, or real-time pacing
+  uint64_t timer_generation_ = 0;    // a handler of a superseded wait does nothing
+  bool realtime_started_ = false;
+  int64_t next_realtime_ = 0;
+  int64_t commands_sent_ = 0;
+  int64_t control_seq_ = 0;
+  bool finished_ = false;
+  std::chrono::steady_clock::time_point last_progress_{};
+};
+
+}  // namespace odonata::signal_service

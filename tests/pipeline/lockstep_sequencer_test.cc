@@ -1,0 +1,85 @@
+// LockstepSequencer: the generator's side of the protocol, message by message.
+#include "pipeline/lockstep_sequencer.hpp"
+
+#include <gtest/gtest.h>
+
+namespace odonata::pipeline {
+namespace {
+
+using Kind = SequencerAction::Kind;
+
+TEST(LockstepSequencer, ResetThenOneCommandPerAnswer) {
+  LockstepSequencer s(3, true, 2);
+  EXPECT_EQ(s.Start().kind, Kind::kSendReset);
+  EXPECT_EQ(s.OnState(5, 4, false).kind, Kind::kNone);  // the old run's state
+  SequencerAction a = s.OnState(0, -1, false);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 0);
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);  // a late periodic state 0
+  a = s.OnState(1, 0, false);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 1);
+  EXPECT_EQ(s.OnState(1, 0, false).kind, Kind::kNone);  // duplicate answer
+  EXPECT_EQ(s.OnState(2, 0, false).kind, Kind::kNone);  // wrong command_seq
+  EXPECT_EQ(s.OnState(2, 1, false).seq, 2);
+  EXPECT_EQ(s.OnState(3, 2, false).kind, Kind::kFinished);
+  EXPECT_EQ(s.phase(), LockstepSequencer::Phase::kFinished);
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);
+}
+
+TEST(LockstepSequencer, TimeoutsResendThenFail) {
+  LockstepSequencer s(5, true, 2);
+  s.Start();
+  SequencerAction a = s.OnTimeout();
+  EXPECT_EQ(a.kind, Kind::kSendReset);
+  EXPECT_TRUE(a.resend);
+  s.OnState(0, -1, false);
+  s.OnState(1, 0, false);
+  a = s.OnTimeout();
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 1);
+  EXPECT_TRUE(a.resend);
+  EXPECT_EQ(s.OnTimeout().seq, 1);
+  a = s.OnTimeout();  // third consecutive timeout on command 1
+  EXPECT_EQ(a.kind, Kind::kFailed);
+  EXPECT_EQ(a.failure, SequencerAction::Failure::kNoAnswer);
+  EXPECT_NE(a.message.find("command 1"), std::string::npos) << a.message;
+  EXPECT_EQ(s.total_resends(), 3);
+}
+
+TEST(LockstepSequencer, ProgressClearsTheResendCount) {
+  LockstepSequencer s(10, false, 1);
+  EXPECT_EQ(s.Start().kind, Kind::kNone);  // no reset: just wait for state 0
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);
+  s.OnState(0, -1, false);
+  for (int64_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(s.OnTimeout().kind, Kind::kSendCommand);
+    EXPECT_EQ(s.OnState(k + 1, k, false).kind, Kind::kSendCommand);
+  }
+}
+
+TEST(LockstepSequencer, NoFreshPlantFails) {
+  LockstepSequencer s(10, false, 1);
+  s.Start();
+  s.OnTimeout();
+  const SequencerAction a = s.OnTimeout();
+  EXPECT_EQ(a.kind, Kind::kFailed);
+  EXPECT_NE(a.message.find("no fresh state 0"), std::string::npos) << a.message;
+}
+
+TEST(LockstepSequencer, DivergenceAndRestartFail) {
+  LockstepSequencer s(10, true, 3);
+  s.Start();
+  s.OnState(0, -1, false);
+  s.OnState(1, 0, false);
+  EXPECT_EQ(s.OnState(0, -1, false).failure, SequencerAction::Failure::kRestarted);
+
+  LockstepSequencer d(10, true, 3);
+  d.Start();
+  d.OnState(0, -1, false);
+  EXPECT_EQ(d.OnState(1, 0, true).failure, SequencerAction::Failure::kDiverged);
+  EXPECT_THROW(LockstepSequencer(0, true, 3), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace odonata::pipeline

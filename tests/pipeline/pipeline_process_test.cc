@@ -1,0 +1,282 @@
+// odonata-plant and odonata-signal as real processes over udpm, each case inside its own private
+// network namespace (unshare -n, multicast routed on its loopback only, nothing leaves the
+// machine) and on its own port. Each case runs under `timeout`, so none can hang ctest.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "bus/sample_fields.hpp"
+#include "io/csv_table.hpp"
+#include "odonata/heartbeat_t.hpp"
+#include "odonata/plant_state_t.hpp"
+#include "odonata/wing_command_t.hpp"
+
+namespace {
+
+const std::string kPlant = ODONATA_PLANT_EXE;
+const std::string kSignal = ODONATA_SIGNAL_EXE;
+const std::string kSim = ODONATA_SIM_EXE;
+const std::string kRecorder = ODONATA_RECORDER_EXE;
+
+std::string Url(int port) { return "'udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0'"; }
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int exit_code{};
+  std::string out;  // the script's stdout and stderr
+};
+
+// One log's messages, by channel, decoded.
+struct Recording {
+  std::map<int64_t, odonata::plant_state_t> states;     // last message of each seq
+  std::vector<odonata::plant_state_t> state_stream;     // every state, in order
+  std::map<int64_t, odonata::wing_command_t> commands;  // last message of each seq
+  std::vector<odonata::heartbeat_t> heartbeats;
+};
+
+class PipelineProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (geteuid() != 0) GTEST_SKIP() << "needs root for unshare -n";
+    char tmpl[] = "/tmp/odonata_pipeline_test_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override {
+    if (!dir_.empty()) std::system(("rm -rf '" + dir_ + "'").c_str());
+  }
+
+  // Runs `script` (sh) in a fresh network namespace with multicast on its loopback. The outer
+  // `timeout` bounds everything: on expiry it signals its whole process group, so the script's
+  // background processes go too. (Processes the script itself signals are not wrapped in their
+  // own `timeout`, which would report 128 + signal instead of the process's exit code.)
+  Result RunInNamespace(const std::string& script, int limit_s = 60) const {
+    const std::string path = dir_ + "/run.sh", out = dir_ + "/out.txt";
+    std::ofstream(path) << "cd '" << dir_ << "'\n" << script;
+    const std::string cmd = "timeout -k 2 " + std::to_string(limit_s) +
+                            " unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 "
+                            "dev lo && exec sh " +
+                            path + "' >" + out + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    return Result{WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out)};
+  }
+
+  Recording ReadLog(const std::string& name) const {
+    Recording r;
+    lcm::LogFile log(dir_ + "/" + name, "r");
+    EXPECT_TRUE(log.good()) << name;
+    if (!log.good()) return r;
+    while (const lcm::LogEvent* e = log.readNextEvent()) {
+      if (e->channel == "DIMAV_STATE") {
+        odonata::plant_state_t m;
+        if (m.decode(e->data, 0, static_cast<int>(e->datalen)) < 0) continue;
+        r.states[m.seq] = m;
+        r.state_stream.push_back(m);
+      } else if (e->channel == "DIMAV_COMMAND") {
+        odonata::wing_command_t m;
+        if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0) r.commands[m.seq] = m;
+      } else if (e->channel == "ODONATA_HEARTBEAT") {
+        odonata::heartbeat_t m;
+        if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0) r.heartbeats.push_back(m);
+      }
+    }
+    return r;
+  }
+
+  // Records every channel (pipeline_recorder, see there why not lcm-logger) while the plant runs
+  // and the signal generator drives it.
+  Result RecordRun(int port, const std::string& plant_args, const std::string& signal_args) const {
+    const std::string url = Url(port);
+    const std::string recorder_url =
+        "'udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304'";
+    return RunInNamespace(
+        kRecorder + " " + recorder_url + " run.lcm & R=$!\n" + kPlant + " --lcm-url " + url + " " +
+        plant_args + " & P=$!\n" +
+        // The recorder says when it is subscribed; a slow plant is the generator's business (it
+        // resends RESET until the plant answers).
+        "i=0; while [ ! -e run.lcm.ready ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i+1)); done\n" +
+        "timeout 30 " + kSignal + " --lcm-url " + url + " " + signal_args + "\n" +
+        "echo signal_rc=$?\n"
+        "sleep 0.1; kill -TERM $P; wait $P; echo plant_rc=$?\n"
+        "sleep 0.2; kill -TERM $R; wait $R\n");
+  }
+
+  // Starts `command` in the background, sends SIGTERM after 0.5 s and reports the exit code and
+  // how long the process took to exit.
+  Result TerminateAfterStart(const std::string& command) const {
+    return RunInNamespace(command +
+                          " & P=$!\n"
+                          "sleep 0.5\n"
+                          "t0=$(date +%s%N); kill -TERM $P; wait $P; rc=$?; t1=$(date +%s%N)\n"
+                          "echo rc=$rc ms=$(( (t1 - t0) / 1000000 ))\n");
+  }
+
+  std::string dir_;
+};
+
+// Compares every recorded state with odonata-sim's CSV row, bit for bit.
+void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, bool commands_too) {
+  const auto n = static_cast<int64_t>(sim.rows());
+  ASSERT_GT(n, 0);
+  ASSERT_EQ(rec.states.count(n), 1u) << "no answer to the last command";
+  EXPECT_EQ(rec.states.at(n).command_seq, n - 1);
+  for (int64_t k = 0; k < n; ++k) {
+    ASSERT_EQ(rec.states.count(k), 1u) << "state " << k << " missing";
+    const odonata::plant_state_t& s = rec.states.at(k);
+    ASSERT_EQ(s.command_seq, k - 1);
+    for (const std::string& name : odonata::bus::StateFieldNames()) {
+      const double got = *odonata::bus::StateField(s, name);
+      const double want = sim.Column(name)[static_cast<std::size_t>(k)];
+      ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+          << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
+    }
+    EXPECT_NEAR(s.t_s, sim.Column("t_s")[static_cast<std::size_t>(k)], 1e-9);
+    ASSERT_EQ(rec.commands.count(k), 1u) << "command " << k << " missing";
+    const odonata::wing_command_t& c = rec.commands.at(k);
+    EXPECT_EQ(c.t_s, sim.Column("t_s")[static_cast<std::size_t>(k)]);
+    for (std::size_t e = 0; e < c.excitation_names.size(); ++e) {
+      EXPECT_EQ(c.excitations[e], sim.Column(c.excitation_names[e])[static_cast<std::size_t>(k)]);
+    }
+    if (commands_too) {  // without the hold the CSV holds exactly the commands sent
+      for (const std::string& name : odonata::bus::CommandFieldNames()) {
+        ASSERT_EQ(*odonata::bus::CommandField(c, name),
+                  sim.Column(name)[static_cast<std::size_t>(k)])
+            << name << " at sample " << k;
+      }
+    }
+  }
+}
+
+TEST_F(PipelineProcess, HelpAndBadArguments) {
+  for (const std::string& exe : {kPlant, kSignal}) {
+    const Result help = RunInNamespace(exe + " --help");
+    EXPECT_EQ(help.exit_code, 0) << help.out;
+    EXPECT_NE(help.out.find("--lcm-url"), std::string::npos) << help.out;
+    EXPECT_NE(help.out.find("--mode"), std::string::npos) << help.out;
+  }
+  EXPECT_EQ(RunInNamespace(kPlant + " --mode fast").exit_code, 2);
+  const Result unknown = RunInNamespace(kPlant + " --preset rol");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.out.find("unknown preset 'rol'"), std::string::npos) << unknown.out;
+  EXPECT_EQ(RunInNamespace(kSignal).exit_code, 2);  // neither --preset nor --commands
+  EXPECT_EQ(RunInNamespace(kSignal + " --preset roll --phase test").exit_code, 2);
+}
+
+// The key property: the services in lockstep produce, sample for sample and bit for bit, what
+// odonata-sim writes for the same preset, phase, seed and duration. The plant starts on the test
+// stand of another preset, so the generator's RESET must switch it to the roll set-up.
+TEST_F(PipelineProcess, LockstepRollMatchesOdonataSimBitForBit) {
+  const Result run =
+      RecordRun(7681, "--preset actuator_fz", "--preset roll --phase train --seed 5 --duration 3");
+  ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("plant_rc=0"), std::string::npos) << run.out;
+  const Result sim = RunInNamespace(kSim + " --preset roll --phase train --seed 5 --duration 3 " +
+                                    "--output sim.csv");
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  const Recording rec = ReadLog("run.lcm");
+  const auto table = odonata::io::CsvTable::Read(dir_ + "/sim.csv");
+  ASSERT_EQ(table.rows(), 300u);
+  ExpectSameAsSim(rec, table, false);
+  ASSERT_FALSE(rec.commands.empty());
+  EXPECT_EQ(rec.commands.begin()->second.source, "preset:roll/train");
+  EXPECT_EQ(rec.commands.begin()->second.excitation_names, std::vector<std::string>{"u_roll_rad"});
+}
+
+// The test stand and another phase and seed; the plant starts with its default set-up.
+TEST_F(PipelineProcess, LockstepActuatorMatchesOdonataSimBitForBit) {
+  const Result run =
+      RecordRun(7682, "", "--preset actuator_fz --phase validate --seed 7 --duration 3");
+  ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
+  const Result sim = RunInNamespace(
+      kSim + " --preset actuator_fz --phase validate --seed 7 --duration 3 --output sim.csv");
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  ExpectSameAsSim(ReadLog("run.lcm"), odonata::io::CsvTable::Read(dir_ + "/sim.csv"), true);
+}
+
+// Real time: 2 s of commands at 100 Hz against the plant's 100 Hz clock.
+TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
+  const Result run = RecordRun(7683, "--mode realtime --preset roll",
+                               "--mode realtime --preset roll --duration 2");
+  ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
+  const Recording rec = ReadLog("run.lcm");
+  ASSERT_EQ(rec.commands.size(), 200u);
+  EXPECT_EQ(rec.commands.rbegin()->first, 199);
+
+  // States from the reset's state 0 on: consecutive, no gaps.
+  std::size_t first = rec.state_stream.size();
+  for (std::size_t i = 0; i < rec.state_stream.size(); ++i) {
+    if (rec.state_stream[i].seq == 0) first = i;  // the last state 0: the reset's
+  }
+  ASSERT_LT(first, rec.state_stream.size());
+  // The run: from the first state answering command 0 to the first answering command 199 (the
+  // plant then holds command 199 until it is stopped).
+  int64_t run_states = 0, first_utime = 0, last_utime = 0;
+  std::set<int64_t> applied;
+  for (std::size_t i = first; i < rec.state_stream.size(); ++i) {
+    const odonata::plant_state_t& s = rec.state_stream[i];
+    ASSERT_EQ(s.seq, static_cast<int64_t>(i - first)) << "gap in states";
+    EXPECT_TRUE(odonata::bus::AllFinite(s));
+    if (s.command_seq < 0 || applied.count(199)) continue;
+    if (run_states++ == 0) first_utime = s.utime;
+    last_utime = s.utime;
+    applied.insert(s.command_seq);
+  }
+  // Two free-running 100 Hz clocks: ≈ 200 states over ≈ 2 s, each command applied about once.
+  EXPECT_GE(run_states, 190);
+  EXPECT_LE(run_states, 210);
+  EXPECT_GE(applied.size(), 190u);
+  EXPECT_NEAR(static_cast<double>(last_utime - first_utime) * 1e-6, 1.99, 0.15);
+  // The plant saw every command and dropped none (its last heartbeat, sent as it stopped).
+  const odonata::heartbeat_t* plant_hb = nullptr;
+  for (const auto& hb : rec.heartbeats)
+    if (hb.service == "odonata-plant") plant_hb = &hb;
+  ASSERT_NE(plant_hb, nullptr);
+  EXPECT_EQ(plant_hb->gaps, 0);
+  EXPECT_EQ(plant_hb->dropped, 0);
+  EXPECT_EQ(plant_hb->decode_errors, 0);
+}
+
+TEST_F(PipelineProcess, MissingPlantIsAClearFailure) {
+  const Result r = RunInNamespace("timeout 20 " + kSignal + " --lcm-url " + Url(7684) +
+                                  " --preset roll --duration 1 --timeout-ms 100 --max-resends 3"
+                                  "; echo rc=$?");
+  EXPECT_NE(r.out.find("rc=1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("plant 'odonata-plant'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("after 3 resend(s) 100 ms apart"), std::string::npos) << r.out;
+}
+
+TEST_F(PipelineProcess, SigtermIsACleanExitWithinOneSecond) {
+  const std::vector<std::string> commands = {
+      kPlant + " --lcm-url " + Url(7685),
+      kPlant + " --lcm-url " + Url(7686) + " --mode realtime --preset roll",
+      kSignal + " --lcm-url " + Url(7687) + " --preset roll --max-resends 1000",  // no plant
+  };
+  for (const std::string& command : commands) {
+    const Result r = TerminateAfterStart(command);
+    int rc = -1, ms = -1;
+    const auto at = r.out.find("rc=");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "rc=%d ms=%d", &rc, &ms), 2) << r.out;
+    EXPECT_EQ(rc, 0) << command << "\n" << r.out;
+    EXPECT_LT(ms, 1000) << command;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,210 @@
+// PlantNode over memq://: the messages in and out of odonata-plant, in one process. memq delivers
+// within one LCM instance, so the test talks to the node through the node's own BusNode, and the
+// node's handlers run when the test turns the Asio loop (Pump).
+#include "plant_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "bus/sample_fields.hpp"
+#include "pipeline/vehicle_setup.hpp"
+
+namespace odonata::plant_service {
+namespace {
+
+using Mode = pipeline::PlantSession::Mode;
+
+bus::BusOptions MemqOptions(const std::string& service) {
+  bus::BusOptions o;
+  o.lcm_url = "memq://";
+  o.service = service;
+  o.heartbeat_period_s = 0;  // no heartbeat traffic to wade through
+  return o;
+}
+
+// Runs the loop for `ms`: delivers what is queued and fires due timers.
+void Pump(bus::BusNode& bus, int ms = 5) {
+  bus.io().restart();
+  bus.io().run_for(std::chrono::milliseconds(ms));
+}
+
+odonata::wing_command_t Command(int64_t seq, const plant::CommandMatrix& c) {
+  odonata::wing_command_t m{};
+  m.seq = seq;
+  m.t_s = 0.01 * static_cast<double>(seq);
+  for (int w = 0; w < 4; ++w) {
+    m.beta_rad[w] = c(w, 0);
+    m.freq_hz[w] = c(w, 1);
+    m.amp_rad[w] = c(w, 2);
+    m.pitch_mean_rad[w] = c(w, 3);
+    m.pitch_amp_rad[w] = c(w, 4);
+    m.phase_rad[w] = c(w, 5);
+  }
+  m.source = "test";
+  return m;
+}
+
+bool SameState(const odonata::plant_state_t& a, const odonata::plant_state_t& b) {
+  for (const std::string& name : bus::StateFieldNames()) {
+    const double x = *bus::StateField(a, name), y = *bus::StateField(b, name);
+    if (std::memcmp(&x, &y, sizeof x) != 0) return false;
+  }
+  return a.seq == b.seq && a.command_seq == b.command_seq && a.t_s == b.t_s;
+}
+
+class PlantNodeTest : public ::testing::Test {
+ protected:
+  void Start(Mode mode, const std::string& preset = "roll") {
+    bus_ = std::make_unique<bus::BusNode>(MemqOptions(kServiceName));
+    // Subscribed before the node, so state 0 (published by its constructor) is seen too.
+    bus_->Subscribe<odonata::plant_state_t>(bus_->channels().state,
+                                            [this](const auto& m) { states_.push_back(m); });
+    node_ = std::make_unique<PlantNode>(*bus_, config_, mode, preset);
+    trim_ = node_->session().setup().trim_command;
+  }
+  void Send(const odonata::wing_command_t& m) {
+    bus_->Publish(bus_->channels().command, m);
+    Pump(*bus_);
+  }
+  void Control(int8_t command, const std::string& target, const std::string& path = "") {
+    odonata::control_t c{};
+    c.target = target;
+    c.command = command;
+    c.path = path;
+    bus_->Publish(bus_->channels().control, c);
+    Pump(*bus_);
+  }
+
+  plant::PlantConfig config_ = plant::DefaultPlantConfig();
+  std::unique_ptr<bus::BusNode> bus_;
+  std::unique_ptr<PlantNode> node_;
+  std::vector<odonata::plant_state_t> states_;
+  plant::CommandMatrix trim_;
+};
+
+TEST_F(PlantNodeTest, LockstepAnswersEachCommandOnceAndResendsWithoutStepping) {
+  Start(Mode::kLockstep);
+  Pump(*bus_);
+  ASSERT_EQ(states_.size(), 1u);
+  EXPECT_EQ(states_[0].seq, 0);
+  EXPECT_EQ(states_[0].command_seq, -1);
+  EXPECT_EQ(states_[0].position_m[2], pipeline::kDefaultStartAltitudeM);
+
+  Send(Command(0, trim_));
+  ASSERT_EQ(states_.size(), 2u);
+  EXPECT_EQ(states_[1].seq, 1);
+  EXPECT_EQ(states_[1].command_seq, 0);
+  const double t1_s = node_->session().plant().output().time_s;
+
+  Send(Command(0, trim_));  // the generator lost state 1 and resent command 0
+  ASSERT_EQ(states_.size(), 3u);
+  EXPECT_TRUE(SameState(states_[2], states_[1]));
+  EXPECT_EQ(node_->session().plant().output().time_s, t1_s);  // no second step
+
+  Send(Command(1, trim_));
+  ASSERT_EQ(states_.size(), 4u);
+  EXPECT_EQ(states_[3].seq, 2);
+  EXPECT_EQ(states_[3].command_seq, 1);
+  EXPECT_EQ(bus_->stats().dropped, 0);
+  EXPECT_EQ(bus_->stats().gaps, 0);
+}
+
+TEST_F(PlantNodeTest, StaleNaNAndOutOfLimitCommandsAreDroppedAndCounted) {
+  Start(Mode::kLockstep);
+  Send(Command(0, trim_));
+  Send(Command(1, trim_));
+  const std::size_t before = states_.size();
+
+  Send(Command(0, trim_));  // older than the last applied
+  odonata::wing_command_t nan = Command(2, trim_);
+  nan.freq_hz[1] = std::numeric_limits<double>::quiet_NaN();
+  Send(nan);
+  odonata::wing_command_t inf_excitation = Command(2, trim_);
+  inf_excitation.num_excitations = 1;
+  inf_excitation.excitation_names = {"u_roll_rad"};
+  inf_excitation.excitations = {std::numeric_limits<double>::infinity()};
+  Send(inf_excitation);
+  odonata::wing_command_t high = Command(2, trim_);
+  high.beta_rad[3] = 1.0;  // limit ±30°
+  Send(high);
+
+  EXPECT_EQ(states_.size(), before);  // none was answered
+  EXPECT_EQ(bus_->stats().dropped, 4);
+  EXPECT_EQ(node_->session().last().seq, 2);
+
+  Send(Command(5, trim_));  // a jump ahead is applied and counted as a gap
+  ASSERT_EQ(states_.size(), before + 1);
+  EXPECT_EQ(states_.back().seq, 6);
+  EXPECT_EQ(states_.back().command_seq, 5);
+  EXPECT_EQ(bus_->stats().gaps, 3);
+  for (const auto& s : states_) EXPECT_TRUE(bus::AllFinite(s));
+}
+
+TEST_F(PlantNodeTest, StateZeroRepeatsUntilTheFirstCommand) {
+  Start(Mode::kLockstep);
+  Pump(*bus_, 650);  // three periods of 200 ms (slack for a loaded machine)
+  ASSERT_GE(states_.size(), 3u);
+  for (const auto& s : states_) EXPECT_EQ(s.seq, 0);
+  Send(Command(0, trim_));
+  const std::size_t answered = states_.size();
+  Pump(*bus_, 250);
+  EXPECT_EQ(states_.size(), answered);  // quiet once commanded
+}
+
+TEST_F(PlantNodeTest, ResetToAnotherPresetAndShutdown) {
+  Start(Mode::kLockstep, "roll");
+  Send(Command(0, trim_));
+  Send(Command(1, trim_));
+  Control(odonata::control_t::RESET, "someone-else", "actuator_fz");  // not for us
+  EXPECT_EQ(node_->session().last().seq, 2);
+
+  states_.clear();
+  Control(odonata::control_t::RESET, kServiceName, "actuator_fz");
+  ASSERT_EQ(states_.size(), 1u);
+  EXPECT_EQ(states_[0].seq, 0);
+  EXPECT_EQ(states_[0].command_seq, -1);
+  EXPECT_EQ(node_->session().setup().name, "actuator_fz");
+  Send(Command(0, trim_));  // seq 0 is new again
+  ASSERT_EQ(states_.size(), 2u);
+  EXPECT_EQ(states_[1].seq, 1);
+  EXPECT_EQ(states_[1].position_m[2], states_[0].position_m[2]);  // test stand: held
+
+  Control(odonata::control_t::RESET, "", "no_such_preset");  // refused, counted
+  EXPECT_EQ(bus_->stats().dropped, 1);
+  EXPECT_EQ(node_->session().setup().name, "actuator_fz");
+
+  Control(odonata::control_t::RESET, "");  // empty path: the current set-up again
+  EXPECT_EQ(states_.back().seq, 0);
+
+  odonata::control_t c{};
+  c.command = odonata::control_t::SHUTDOWN;
+  bus_->Publish(bus_->channels().control, c);
+  bus_->After(std::chrono::seconds(3), [this] { bus_->Stop(99); });  // fence
+  bus_->io().restart();
+  EXPECT_EQ(bus_->Run(), 0);
+}
+
+TEST_F(PlantNodeTest, RealtimeTicksWithTrimThenTheNewestCommand) {
+  Start(Mode::kRealtime);
+  Pump(*bus_, 65);  // ≈ 6 ticks at 100 Hz
+  ASSERT_GE(states_.size(), 3u);
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    EXPECT_EQ(states_[i].seq, static_cast<int64_t>(i));
+    EXPECT_EQ(states_[i].command_seq, -1);
+  }
+  Send(Command(0, trim_));
+  Send(Command(0, trim_));  // duplicate: dropped
+  const std::size_t before = states_.size();
+  Pump(*bus_, 35);
+  ASSERT_GT(states_.size(), before);
+  EXPECT_EQ(states_.back().command_seq, 0);
+  EXPECT_EQ(states_.back().seq, static_cast<int64_t>(states_.size()) - 1);  // no gaps
+  EXPECT_EQ(bus_->stats().dropped, 1);
+}
+
+}  // namespace
+}  // namespace odonata::plant_service

@@ -1,0 +1,200 @@
+// PlantSession: the sequence rules of both modes, and that stepping equals odonata-sim's
+// per-sample order (hold on the pre-step output, clamp, step).
+#include "pipeline/plant_session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "experiments/attitude_hold.hpp"
+#include "experiments/experiment_preset.hpp"
+#include "pipeline/command_limits.hpp"
+#include "pipeline/vehicle_setup.hpp"
+
+namespace odonata::pipeline {
+namespace {
+
+using Mode = PlantSession::Mode;
+
+bool SameBits(const plant::PlantOutput& a, const plant::PlantOutput& b) {
+  const auto same = [](const double* x, const double* y, int n) {
+    return std::memcmp(x, y, sizeof(double) * static_cast<std::size_t>(n)) == 0;
+  };
+  return same(a.velocity_body_mps.data(), b.velocity_body_mps.data(), 3) &&
+         same(a.rate_body_radps.data(), b.rate_body_radps.data(), 3) &&
+         same(&a.roll_rad, &b.roll_rad, 1) && same(&a.pitch_rad, &b.pitch_rad, 1) &&
+         same(&a.yaw_rad, &b.yaw_rad, 1) && same(a.position_m.data(), b.position_m.data(), 3) &&
+         same(a.force_x_n.data(), b.force_x_n.data(), 4) &&
+         same(a.force_z_n.data(), b.force_z_n.data(), 4) && same(&a.time_s, &b.time_s, 1);
+}
+
+class PlantSessionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    config_ = plant::DefaultPlantConfig();
+    roll_ = PresetVehicleSetup(*experiments::FindPreset("roll"), config_);
+  }
+  plant::PlantConfig config_;
+  VehicleSetup roll_;
+};
+
+TEST_F(PlantSessionTest, PresetSetupIsBuildExperimentRunsInitialCondition) {
+  const auto run = experiments::BuildExperimentRun(*experiments::FindPreset("roll"),
+                                                   experiments::Phase::kValidate, 9, 1.0, config_);
+  EXPECT_TRUE(roll_.attitude_hold);
+  EXPECT_FALSE(roll_.initial.clamped_body);
+  EXPECT_EQ(roll_.initial.state.position_m, run.initial.state.position_m);
+  EXPECT_EQ(roll_.initial.prior_command, run.initial.prior_command);
+  EXPECT_EQ(roll_.trim_command, run.trim.command);
+  const VehicleSetup fz = VehicleSetupByName("actuator_fz", config_);
+  EXPECT_TRUE(fz.initial.clamped_body);
+  EXPECT_FALSE(fz.attitude_hold);
+  EXPECT_EQ(VehicleSetupByName("", config_).name, "default");
+  EXPECT_THROW(VehicleSetupByName("rol", config_), std::invalid_argument);
+}
+
+TEST_F(PlantSessionTest, LockstepStepsExactlyAsOdonataSimDoes) {
+  const auto run = experiments::BuildExperimentRun(*experiments::FindPreset("roll"),
+                                                   experiments::Phase::kTrain, 3, 0.5, config_);
+  PlantSession session(config_, Mode::kLockstep, roll_);
+  EXPECT_EQ(session.last().seq, 0);
+  EXPECT_EQ(session.last().command_seq, -1);
+  // The reference is sim_runner.cpp's loop, written out.
+  plant::DimavPlant reference(config_);
+  reference.Reset(run.initial);
+  ASSERT_TRUE(SameBits(session.last().output, reference.output()));
+  for (std::size_t k = 0; k < run.commands.size(); ++k) {
+    const CommandOutcome out = session.Submit(static_cast<int64_t>(k), run.commands[k]);
+    ASSERT_EQ(out.verdict, CommandVerdict::kStepped) << k;
+    ASSERT_TRUE(out.publish.has_value());
+    reference.Step(reference.ClampToLimits(
+        experiments::ApplyAttitudeHold(run.hold_gains, run.commands[k], reference.output())));
+    EXPECT_EQ(out.publish->seq, static_cast<int64_t>(k) + 1);
+    EXPECT_EQ(out.publish->command_seq, static_cast<int64_t>(k));
+    ASSERT_TRUE(SameBits(out.publish->output, reference.output())) << "sample " << k + 1;
+  }
+}
+
+TEST_F(PlantSessionTest, LockstepRepeatStaleGapAndRejection) {
+  PlantSession session(config_, Mode::kLockstep, roll_);
+  const plant::CommandMatrix trim = roll_.trim_command;
+  ASSERT_EQ(session.Submit(0, trim).verdict, CommandVerdict::kStepped);
+  const PlantSample after0 = session.last();
+
+  // A resend: the same answer, and the plant did not move.
+  const CommandOutcome again = session.Submit(0, trim);
+  EXPECT_EQ(again.verdict, CommandVerdict::kRepeated);
+  ASSERT_TRUE(again.publish.has_value());
+  EXPECT_EQ(again.publish->seq, 1);
+  EXPECT_TRUE(SameBits(again.publish->output, after0.output));
+  EXPECT_EQ(session.plant().output().time_s, after0.output.time_s);
+
+  ASSERT_EQ(session.Submit(1, trim).verdict, CommandVerdict::kStepped);
+  const CommandOutcome stale = session.Submit(0, trim);
+  EXPECT_EQ(stale.verdict, CommandVerdict::kStale);
+  EXPECT_FALSE(stale.publish.has_value());
+  EXPECT_EQ(session.last().seq, 2);
+
+  plant::CommandMatrix nan = trim;
+  nan(2, plant::kFlapFrequency) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(session.Submit(2, nan).verdict, CommandVerdict::kRejected);
+  plant::CommandMatrix high = trim;
+  high(1, plant::kStrokeAmplitude) = config_.limits.max(plant::kStrokeAmplitude) + 0.01;
+  const CommandOutcome rejected = session.Submit(2, high);
+  EXPECT_EQ(rejected.verdict, CommandVerdict::kRejected);
+  EXPECT_NE(rejected.problem.find("w2_amp_rad"), std::string::npos) << rejected.problem;
+  EXPECT_EQ(session.Submit(-3, trim).verdict, CommandVerdict::kRejected);
+  EXPECT_EQ(session.last().seq, 2);  // nothing of the above stepped
+
+  const CommandOutcome gap = session.Submit(5, trim);
+  EXPECT_EQ(gap.verdict, CommandVerdict::kGap);
+  EXPECT_EQ(gap.missing, 3);
+  ASSERT_TRUE(gap.publish.has_value());
+  EXPECT_EQ(gap.publish->seq, 6);
+  EXPECT_EQ(gap.publish->command_seq, 5);
+  EXPECT_DOUBLE_EQ(gap.publish->output.time_s, 3 * session.plant().sample_period_s());
+}
+
+TEST_F(PlantSessionTest, ResetRestartsTheSequenceAndAcceptsAnyFirstCommand) {
+  PlantSession session(config_, Mode::kLockstep, roll_);
+  const PlantSample initial = session.last();
+  for (int64_t k = 0; k < 4; ++k) session.Submit(k, roll_.trim_command);
+  const PlantSample& zero = session.Reset(roll_);
+  EXPECT_EQ(zero.seq, 0);
+  EXPECT_EQ(zero.command_seq, -1);
+  EXPECT_TRUE(SameBits(zero.output, initial.output));
+  EXPECT_FALSE(session.commanded());
+  EXPECT_EQ(session.Submit(0, roll_.trim_command).verdict, CommandVerdict::kStepped);
+
+  const VehicleSetup stand = VehicleSetupByName("actuator_fz", config_);
+  session.Reset(stand);
+  EXPECT_EQ(session.setup().name, "actuator_fz");
+  const CommandOutcome first = session.Submit(7, stand.trim_command);  // first after a reset
+  EXPECT_EQ(first.verdict, CommandVerdict::kStepped);
+  EXPECT_EQ(first.missing, 0);
+  EXPECT_EQ(first.publish->seq, 8);
+  // Clamped test stand: the body does not move.
+  EXPECT_EQ(first.publish->output.position_m, stand.initial.state.position_m);
+}
+
+TEST_F(PlantSessionTest, RealtimeHoldsTheNewestCommandFromTrim) {
+  PlantSession session(config_, Mode::kRealtime, roll_);
+  PlantSession reference(config_, Mode::kLockstep, roll_);
+  const PlantSample& s1 = session.Tick();
+  EXPECT_EQ(s1.seq, 1);
+  EXPECT_EQ(s1.command_seq, -1);  // hover trim before any command
+  reference.Submit(0, roll_.trim_command);
+  EXPECT_TRUE(SameBits(s1.output, reference.last().output));
+
+  plant::CommandMatrix c = roll_.trim_command;
+  c(0, plant::kStrokeAmplitude) += 0.01;
+  EXPECT_EQ(session.Submit(0, c).verdict, CommandVerdict::kAccepted);
+  EXPECT_EQ(session.Submit(0, c).verdict, CommandVerdict::kStale);  // duplicate
+  const CommandOutcome jump = session.Submit(4, c);
+  EXPECT_EQ(jump.verdict, CommandVerdict::kAccepted);
+  EXPECT_EQ(jump.missing, 3);
+  EXPECT_FALSE(jump.publish.has_value());
+  EXPECT_EQ(session.Submit(2, c).verdict, CommandVerdict::kStale);
+  for (int i = 0; i < 3; ++i) {  // zero-order hold: the same command every tick
+    const PlantSample& s = session.Tick();
+    EXPECT_EQ(s.seq, 2 + i);
+    EXPECT_EQ(s.command_seq, 4);
+    reference.Submit(1 + i, c);
+    EXPECT_TRUE(SameBits(s.output, reference.last().output));
+  }
+}
+
+TEST_F(PlantSessionTest, DivergenceStopsWithoutNaN) {
+  plant::PlantConfig config = config_;
+  config.divergence.max_tilt_rad = 0.05;  // an easy divergence
+  VehicleSetup free = DefaultVehicleSetup(config);
+  PlantSession session(config, Mode::kLockstep, free);
+  plant::CommandMatrix roll = free.trim_command;
+  roll(0, plant::kStrokeAmplitude) += 0.3;
+  roll(1, plant::kStrokeAmplitude) += 0.3;
+  bool diverged = false;
+  for (int64_t k = 0; k < 300 && !diverged; ++k) {
+    const CommandOutcome out = session.Submit(k, roll);
+    ASSERT_TRUE(out.publish.has_value());
+    EXPECT_TRUE(std::isfinite(out.publish->output.roll_rad));
+    diverged = out.publish->status == SampleStatus::kDiverged;
+  }
+  EXPECT_TRUE(diverged);
+  EXPECT_FALSE(session.plant().divergence_message().empty());
+}
+
+TEST(CommandLimits, ListsEveryProblem) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  plant::CommandMatrix c = plant::UniformCommand(config.nominal_command);
+  EXPECT_EQ(CommandLimitProblems(c, config.limits), "");
+  c(0, plant::kFlapFrequency) = 9.0;
+  c(3, plant::kPitchPhase) = std::numeric_limits<double>::infinity();
+  const std::string p = CommandLimitProblems(c, config.limits);
+  EXPECT_NE(p.find("w1_freq_hz = 9"), std::string::npos) << p;
+  EXPECT_NE(p.find("w4_phase_rad is not finite"), std::string::npos) << p;
+}
+
+}  // namespace
+}  // namespace odonata::pipeline

@@ -1,0 +1,154 @@
+// SignalNode over memq://: with the real PlantNode on the same bus (a complete lockstep run in one
+// process), with a fake plant that loses a message, and with no plant at all.
+#include "signal_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <map>
+
+#include "bus/sample_fields.hpp"
+#include "experiments/experiment_preset.hpp"
+#include "pipeline/plant_session.hpp"
+#include "plant_node.hpp"
+
+namespace odonata::signal_service {
+namespace {
+
+bus::BusOptions MemqOptions() {
+  bus::BusOptions o;
+  o.lcm_url = "memq://";
+  o.service = "odonata-plant";  // one bus for both nodes: control messages reach the plant
+  o.heartbeat_period_s = 0;
+  return o;
+}
+
+pipeline::CommandSchedule Roll(double duration_s) {
+  return pipeline::PresetSchedule(*experiments::FindPreset("roll"), experiments::Phase::kTrain, 1,
+                                  duration_s, plant::DefaultPlantConfig());
+}
+
+// Runs the bus until the signal node stops it; a fence stops a hung run with code 99.
+int RunFenced(bus::BusNode& bus, int seconds = 10) {
+  bus.After(std::chrono::seconds(seconds), [&bus] { bus.Stop(99); });
+  return bus.Run();
+}
+
+TEST(SignalNode, CommandMessageCarriesCommandsExcitationAndSource) {
+  const pipeline::CommandSchedule s = Roll(0.1);
+  const odonata::wing_command_t m = ToCommandMessage(s, 4);
+  EXPECT_EQ(m.seq, 4);
+  EXPECT_EQ(m.t_s, s.TimeOf(4));
+  EXPECT_EQ(m.source, "preset:roll/train");
+  ASSERT_EQ(m.num_excitations, 1);
+  ASSERT_EQ(m.excitations.size(), 1u);
+  EXPECT_EQ(m.excitation_names[0], "u_roll_rad");
+  EXPECT_EQ(m.excitations[0], s.excitation_values[0][4]);
+  EXPECT_EQ(*bus::CommandField(m, "w3_amp_rad"), s.commands[4](2, plant::kStrokeAmplitude));
+  EXPECT_EQ(*bus::CommandField(m, "w1_freq_hz"), s.commands[4](0, plant::kFlapFrequency));
+  EXPECT_EQ(bus::CountProblems(m), "");
+}
+
+TEST(SignalNode, LockstepRunWithThePlantNodeMatchesTheOfflineSession) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  bus::BusNode bus(MemqOptions());
+  std::map<int64_t, odonata::plant_state_t> states;
+  bus.Subscribe<odonata::plant_state_t>(bus.channels().state,
+                                        [&](const auto& m) { states[m.seq] = m; });
+  // The plant starts on the test stand; the generator's RESET must switch it to free flight.
+  plant_service::PlantNode plant(bus, config, pipeline::PlantSession::Mode::kLockstep,
+                                 "actuator_fz");
+  const pipeline::CommandSchedule schedule = Roll(0.3);
+  SignalOptions options;
+  options.timeout_ms = 500;
+  SignalNode signal(bus, schedule, options);
+  ASSERT_EQ(RunFenced(bus), 0);
+  EXPECT_EQ(signal.commands_sent(), 30);
+  EXPECT_EQ(signal.sequencer().total_resends(), 0);
+
+  pipeline::PlantSession reference(config, pipeline::PlantSession::Mode::kLockstep,
+                                   pipeline::VehicleSetupByName("roll", config));
+  ASSERT_EQ(states.size(), 31u);
+  for (int64_t k = 0; k <= 30; ++k) {
+    if (k > 0) reference.Submit(k - 1, schedule.commands[static_cast<std::size_t>(k - 1)]);
+    const odonata::plant_state_t expected = plant_service::ToStateMessage(reference.last());
+    const odonata::plant_state_t& got = states.at(k);
+    EXPECT_EQ(got.command_seq, k - 1);
+    for (const std::string& name : bus::StateFieldNames()) {
+      const double a = *bus::StateField(got, name), b = *bus::StateField(expected, name);
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << name << " at sample " << k;
+    }
+  }
+}
+
+TEST(SignalNode, ResendsACommandWhoseAnswerWasLost) {
+  bus::BusNode bus(MemqOptions());
+  std::map<int64_t, int> received;  // command seq → times seen
+  // A fake plant that answers every command but the first copy of command 3.
+  bus.Subscribe<odonata::wing_command_t>(bus.channels().command, [&](const auto& m) {
+    if (++received[m.seq] == 1 && m.seq == 3) return;
+    odonata::plant_state_t s{};
+    s.seq = m.seq + 1;
+    s.command_seq = m.seq;
+    bus.Publish(bus.channels().state, s);
+  });
+  bus.Subscribe<odonata::control_t>(bus.channels().control, [&](const auto& c) {
+    if (c.command != odonata::control_t::RESET) return;
+    odonata::plant_state_t s{};
+    s.command_seq = -1;
+    bus.Publish(bus.channels().state, s);
+  });
+  SignalOptions options;
+  options.timeout_ms = 20;
+  SignalNode signal(bus, Roll(0.1), options);
+  ASSERT_EQ(RunFenced(bus), 0);
+  EXPECT_EQ(received.size(), 10u);
+  EXPECT_EQ(received[3], 2);
+  EXPECT_EQ(received[4], 1);
+  EXPECT_EQ(signal.sequencer().total_resends(), 1);
+}
+
+TEST(SignalNode, MissingPlantFailsAfterTheResends) {
+  bus::BusNode bus(MemqOptions());
+  int resets = 0;
+  bus.Subscribe<odonata::control_t>(bus.channels().control, [&](const auto& c) {
+    if (c.command == odonata::control_t::RESET && c.path == "roll" && c.target == "odonata-plant")
+      ++resets;
+  });
+  SignalOptions options;
+  options.timeout_ms = 10;
+  options.max_resends = 3;
+  SignalNode signal(bus, Roll(0.1), options);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(RunFenced(bus), kExitNoPlant);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  EXPECT_EQ(resets, 4);  // the first RESET and three resends
+  EXPECT_EQ(signal.commands_sent(), 0);
+  EXPECT_NE(bus.stats().last_error.find("odonata-plant"), std::string::npos)
+      << bus.stats().last_error;
+}
+
+TEST(SignalNode, RealtimeSendsOnTheClockWithoutAPlant) {
+  bus::BusNode bus(MemqOptions());
+  std::vector<int64_t> seqs;
+  bus.Subscribe<odonata::wing_command_t>(bus.channels().command,
+                                         [&](const auto& m) { seqs.push_back(m.seq); });
+  SignalOptions options;
+  options.lockstep = false;
+  options.reset_plant = false;
+  options.rate_hz = 200;
+  const auto start = std::chrono::steady_clock::now();
+  SignalNode signal(bus, Roll(0.2), options);  // 20 commands at 200 Hz ≈ 95 ms
+  EXPECT_EQ(RunFenced(bus), 0);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GT(elapsed_s, 0.09);
+  EXPECT_LT(elapsed_s, 0.5);
+  // The last command goes out just before Stop(); memq queues it undelivered, so ≥ 19 arrive.
+  ASSERT_GE(seqs.size(), 19u);
+  for (std::size_t i = 0; i < seqs.size(); ++i) EXPECT_EQ(seqs[i], static_cast<int64_t>(i));
+}
+
+}  // namespace
+}  // namespace odonata::signal_service
