@@ -40,6 +40,8 @@ def live_scores(path, output):
 def fmt(v, digits=2):
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "–"
+    if v < -999:
+        return "diverges"  # a FIT below −999 % only says the simulation ran away
     return f"{v:.{digits}f}"
 
 
@@ -63,6 +65,7 @@ def summarise(r):
         "output": r["preset"]["output"],
         "inputs": r["preset"]["inputs"],
         "entropy_threshold": r["chosen_entropy_threshold"],
+        "sigma_min": r["config"]["sigma_min"],
         "rules": r["rules"],
         "paper": r["paper"],
         "paper_threshold_run": {"entropy_threshold": r["paper_entropy_threshold_run"]["entropy_threshold"],
@@ -261,7 +264,10 @@ def make_plots(out, r):
 
     pts = r["sweep"]["points"]
     fig, ax = plt.subplots(figsize=(6, 3.5))
-    ax.plot([q["rules"] for q in pts], [q["validate_one_step_fit"] for q in pts], "o-", label="validation one-step FIT")
+    for sm in sorted(set(q.get("sigma_min", 0) for q in pts)):
+        sel = [q for q in pts if q.get("sigma_min", 0) == sm]
+        ax.plot([q["rules"] for q in sel], [q["validate_one_step_fit"] for q in sel], "o-",
+                label=f"validation one-step FIT, σ_min {sm}")
     for q in pts:
         ax.annotate(f"H={q['entropy_threshold']:.3g}", (q["rules"], q["validate_one_step_fit"]), fontsize=7)
     ch = pts[r["sweep"]["chosen_index"]]
