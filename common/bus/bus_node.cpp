@@ -69,7 +69,7 @@ void BusNode::SubscribeRaw(
       Report("failed to handle a message on " + channel, e.what());
     }
   };
-  lcm_->subscribeFunction(regex, &BusNode::Trampoline, &h);
+  lcm_->subscribeFunction(regex, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
 }
 
 void BusNode::WaitForLcm() {
@@ -103,8 +103,11 @@ void BusNode::Every(std::chrono::microseconds period, std::function<void()> fn) 
 void BusNode::After(std::chrono::microseconds delay, std::function<void()> fn) {
   auto timer = std::make_shared<boost::asio::steady_timer>(io_, delay);
   timers_.push_back(timer);
-  timer->async_wait([this, fn = std::move(fn)](const boost::system::error_code& ec) {
-    if (!ec && !stopping_) fn();
+  const auto it = std::prev(timers_.end());
+  timer->async_wait([this, it, fn = std::move(fn)](const boost::system::error_code& ec) {
+    if (ec || stopping_) return;  // Stop() cancels and keeps the list intact
+    timers_.erase(it);            // one-shot: forget it, or a timer per call would pile up
+    fn();
   });
 }
 

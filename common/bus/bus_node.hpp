@@ -33,6 +33,9 @@ struct BusOptions {
 
 class BusNode {
  public:
+  /// Messages LCM may hold per subscription before it drops (its default is 30).
+  static constexpr int kQueueCapacity = 100000;
+
   /// @throws std::runtime_error when LCM cannot be opened (bad URL, no multicast route).
   explicit BusNode(const BusOptions& options);
   ~BusNode();
@@ -127,7 +130,9 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
       Report("rejected message on " + channel, e.what());
     }
   };
-  lcm_->subscribeFunction(channel, &BusNode::Trampoline, &h);
+  // LCM 1.3.1 keeps only 30 undelivered messages per subscription and drops the rest without
+  // telling anyone; a lockstep burst while this process is off the CPU can exceed that.
+  lcm_->subscribeFunction(channel, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
 }
 
 template <class Msg>

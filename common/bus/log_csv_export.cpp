@@ -60,8 +60,10 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     }
   }
   summary.runs = static_cast<int>(runs.size());
-  const int pick = options.run < 0 ? summary.runs - 1 : options.run;
-  if (pick >= summary.runs) {
+  // Negative indices count from the end (−1 the last run), as a real-time plant that idled
+  // before its reset adds a run of its own at the start.
+  const int pick = options.run < 0 ? summary.runs + options.run : options.run;
+  if (pick < 0 || pick >= summary.runs) {
     throw std::runtime_error("the log has " + std::to_string(summary.runs) + " run(s); no run " +
                              std::to_string(pick));
   }

@@ -10,7 +10,7 @@ namespace odonata::bus {
 struct ExportOptions {
   std::string command_channel = "DIMAV_COMMAND";
   std::string state_channel = "DIMAV_STATE";
-  int run = -1;  ///< which run (a plant reset starts a new one); −1 = the last
+  int run = -1;  ///< which run (a plant reset starts a new one); negative counts from the end
 };
 
 struct ExportSummary {

@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   std::string prediction_channel = "ODONATA_PREDICTION", model_channel = "ODONATA_MODEL";
   exp->add_option("--prediction-channel", prediction_channel)->capture_default_str();
   exp->add_option("--model-channel", model_channel)->capture_default_str();
-  exp->add_option("--run", ex.run, "run to export (a plant reset starts a new one); -1 = last")
+  exp->add_option("--run", ex.run, "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 

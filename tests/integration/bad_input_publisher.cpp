@@ -63,16 +63,17 @@ int main(int argc, char** argv) {
   const int rounds = std::atoi(argv[2]);
   const int period_ms = argc > 3 ? std::atoi(argv[3]) : 5;
   std::mt19937_64 rng(99);
-  const std::vector<std::string> channels = {"DIMAV_COMMAND", "DIMAV_STATE", "ODONATA_PREDICTION",
-                                             "ODONATA_CONTROL", "ODONATA_MODEL",
-                                             "ODONATA_HEARTBEAT"};
+  const std::vector<std::string> channels = {"DIMAV_COMMAND",      "DIMAV_STATE",
+                                             "ODONATA_PREDICTION", "ODONATA_CONTROL",
+                                             "ODONATA_MODEL",      "ODONATA_HEARTBEAT"};
   for (int r = 0; r < rounds; ++r) {
     for (const auto& ch : channels) {
       // A valid message of another type: wrong fingerprint for this channel.
       odonata::heartbeat_t hb{};
       hb.service = "bad";
       auto wrong = Encode(hb);
-      if (ch != "ODONATA_HEARTBEAT") lcm.publish(ch, wrong.data(), static_cast<unsigned>(wrong.size()));
+      if (ch != "ODONATA_HEARTBEAT")
+        lcm.publish(ch, wrong.data(), static_cast<unsigned>(wrong.size()));
       // Random bytes.
       std::vector<uint8_t> noise(1 + rng() % 200);
       for (auto& b : noise) b = static_cast<uint8_t>(rng());

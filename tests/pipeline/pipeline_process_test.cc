@@ -215,6 +215,7 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
   const Result run = RecordRun(7683, "--mode realtime --preset roll",
                                "--mode realtime --preset roll --duration 2");
   ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
+  SCOPED_TRACE(run.out);  // the processes' own account, should anything below fail
   const Recording rec = ReadLog("run.lcm");
   ASSERT_EQ(rec.commands.size(), 200u);
   EXPECT_EQ(rec.commands.rbegin()->first, 199);
@@ -239,9 +240,11 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
     applied.insert(s.command_seq);
   }
   // Two free-running 100 Hz clocks: ≈ 200 states over ≈ 2 s, each command applied about once.
-  EXPECT_GE(run_states, 190);
-  EXPECT_LE(run_states, 210);
-  EXPECT_GE(applied.size(), 190u);
+  // ±10 %: a process descheduled for a few periods catches up (Asio timers keep their schedule)
+  // but applies only the newest of the commands that queued meanwhile.
+  EXPECT_GE(run_states, 180);
+  EXPECT_LE(run_states, 220);
+  EXPECT_GE(applied.size(), 180u);
   EXPECT_NEAR(static_cast<double>(last_utime - first_utime) * 1e-6, 1.99, 0.15);
   // The plant saw every command and dropped none (its last heartbeat, sent as it stopped).
   const odonata::heartbeat_t* plant_hb = nullptr;
