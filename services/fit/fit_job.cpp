@@ -7,6 +7,7 @@
 
 #include "io/csv_table.hpp"
 #include "metrics/accuracy.hpp"
+#include "metrics/accuracy_json.hpp"
 #include "progress_bar.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
@@ -43,28 +44,18 @@ sysid::Series LoadSeries(const std::string& path, const std::string& output,
   return s;
 }
 
-nlohmann::json AccuracyJson(const metrics::Accuracy& a) {
-  auto finite = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
-  return {{"fit", finite(a.fit_percent)},
-          {"vaf", finite(a.vaf_percent)},
-          {"rmse", finite(a.rmse)},
-          {"ndei", finite(a.ndei)},
-          {"samples", a.samples}};
-}
-
 /// Scores a predictor on a series in both modes.
 nlohmann::json Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
                         const sysid::Predictor& predict) {
   const Eigen::Index t0 = spec.first_target();
   const Eigen::VectorXd y = s.outputs.col(0).tail(s.samples() - t0);
   nlohmann::json j;
-  j["one_step"] = AccuracyJson(metrics::Score(y, sysid::PredictOneStep(spec, s, predict).col(0)));
+  j["one_step"] =
+      metrics::AccuracyToJson(metrics::Score(y, sysid::PredictOneStep(spec, s, predict).col(0)));
   if (spec.output_lags > 0) {
     bool diverged = false;
     const Eigen::MatrixXd sim = sysid::SimulateFreeRun(spec, s, predict, &diverged);
-    j["free_run"] = AccuracyJson(metrics::Score(y, sim.col(0)));
+    j["free_run"] = metrics::AccuracyToJson(metrics::Score(y, sim.col(0)));
     if (diverged) j["free_run"]["diverged"] = true;
   }
   return j;
@@ -82,8 +73,8 @@ nlohmann::json EvaluatePersistence(const sysid::RegressorSpec& spec, const sysid
     held(r) = s.outputs(t0 - 1, 0);
   }
   nlohmann::json j;
-  j["one_step"] = AccuracyJson(metrics::Score(y, one));
-  if (spec.output_lags > 0) j["free_run"] = AccuracyJson(metrics::Score(y, held));
+  j["one_step"] = metrics::AccuracyToJson(metrics::Score(y, one));
+  if (spec.output_lags > 0) j["free_run"] = metrics::AccuracyToJson(metrics::Score(y, held));
   return j;
 }
 

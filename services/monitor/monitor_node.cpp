@@ -5,20 +5,12 @@
 #include <cstdio>
 #include <fstream>
 
+#include "metrics/accuracy_json.hpp"
+
 namespace odonata::monitor {
 namespace {
 std::chrono::microseconds Period(double seconds) {
   return std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6));
-}
-nlohmann::json Json(const metrics::Accuracy& a) {
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
-  return {{"fit", num(a.fit_percent)},
-          {"vaf", num(a.vaf_percent)},
-          {"rmse", num(a.rmse)},
-          {"ndei", num(a.ndei)},
-          {"samples", a.samples}};
 }
 }  // namespace
 
@@ -184,9 +176,9 @@ nlohmann::json MonitorNode::Summary() const {
   for (const auto& name : order_) {
     const Output& o = outputs_.at(name);
     j["outputs"][name] = {{"rules", o.rules},
-                          {"one_step", Json(o.total_one_step.Get())},
-                          {"free_run", Json(o.total_free_run.Get())},
-                          {"window_one_step", Json(o.window_one_step.Get())}};
+                          {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
+                          {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
+                          {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())}};
   }
   for (const auto& [instance, p] : peers_) {
     j["services"][instance] = {{"service", p.service},
