@@ -44,8 +44,12 @@ int main(int argc, char** argv) {
   std::string prediction_channel = "ODONATA_PREDICTION", model_channel = "ODONATA_MODEL";
   exp->add_option("--prediction-channel", prediction_channel)->capture_default_str();
   exp->add_option("--model-channel", model_channel)->capture_default_str();
-  exp->add_option("--run", ex.run, "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
+  exp->add_option(
+         "--run", ex.run,
+         "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
       ->capture_default_str();
+  // Any option can also come from a settings file (TOML/INI, option names as keys).
+  app.set_config("--settings", "", "read options from this TOML/INI file");
   CLI11_PARSE(app, argc, argv);
 
   try {

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name")->capture_default_str();
   app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  // Any option can also come from a settings file (TOML/INI, option names as keys).
+  app.set_config("--settings", "", "read options from this TOML/INI file");
   CLI11_PARSE(app, argc, argv);
   try {
     o.live_table = isatty(STDOUT_FILENO) == 1;

@@ -104,9 +104,16 @@ int main(int argc, char** argv) {
     lcm.publish("DIMAV_STATE", &nan_state);
     odonata::plant_state_t stale = State(-100);
     lcm.publish("DIMAV_STATE", &stale);
+    // A prediction whose count claims more outputs than the arrays hold. encode() trusts the
+    // count, so build a consistent one and then overwrite the count in the bytes.
     odonata::prediction_t p{};
-    p.num_outputs = 2;  // arrays left empty: inconsistent counts
-    lcm.publish("ODONATA_PREDICTION", &p);
+    p.num_outputs = 1;
+    p.names = {"roll_rad"};
+    p.measured = p.predicted = p.free_run = p.next = p.max_entropy = {0.0};
+    p.rules = {1};
+    auto pb = Encode(p);
+    pb[8 + 8 + 8 + 8 + 3] = 5;  // fingerprint, utime, seq, sample; then int32 num_outputs
+    lcm.publish("ODONATA_PREDICTION", pb.data(), static_cast<unsigned>(pb.size()));
     odonata::control_t bad_control{};
     bad_control.command = 99;
     bad_control.target = "nobody-in-particular";
