@@ -51,6 +51,9 @@ def summarise(r):
     pers_ndei = b["persistence"]["validate"]["one_step"]["ndei"]
     arx_fit = b["arx"]["validate"]["one_step"]["fit"]
     notes = []
+    if r["rules"] == 1:
+        notes.append("one rule: the model is a single local linear model (ARX-like); within the sweep's "
+                     "tolerance the data does not call for more rules at these amplitudes")
     if r["integrator"]:
         notes.append("integrating loop: free run drifts with any bias, one-step is the meaningful score")
     if v["one_step"]["fit"] is not None and arx_fit is not None and v["one_step"]["fit"] < arx_fit:
@@ -66,6 +69,8 @@ def summarise(r):
         "inputs": r["preset"]["inputs"],
         "entropy_threshold": r["chosen_entropy_threshold"],
         "sigma_min": r["config"]["sigma_min"],
+        "ny": r["config"]["ny"],
+        "nu": r["config"]["nu"],
         "rules": r["rules"],
         "paper": r["paper"],
         "paper_threshold_run": {"entropy_threshold": r["paper_entropy_threshold_run"]["entropy_threshold"],
@@ -86,7 +91,7 @@ def summarise(r):
     }
 
 
-COLUMNS = [("experiment", "experiment"), ("H", "H chosen"), ("rules", "MFs"), ("paper_mfs", "paper MFs"),
+COLUMNS = [("experiment", "experiment"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "MFs"), ("paper_mfs", "paper MFs"),
            ("paper_h_fit", "FIT @ paper H"), ("train_fit", "train FIT"), ("train_fr", "train free-run"),
            ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"), ("val_fr", "val free-run"),
            ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"), ("pers_fit", "persist. FIT"),
@@ -100,6 +105,7 @@ def table_rows(summary):
         pn = s["persistence"]["one_step"]["ndei"]
         rows.append({
             "experiment": s["experiment"],
+            "order": f"{s['ny']}/{s['nu']}",
             "H": f"{s['entropy_threshold']:.4g}",
             "rules": str(s["rules"]),
             "paper_mfs": str(s["paper"].get("mfs", "–")),
@@ -264,10 +270,10 @@ def make_plots(out, r):
 
     pts = r["sweep"]["points"]
     fig, ax = plt.subplots(figsize=(6, 3.5))
-    for sm in sorted(set(q.get("sigma_min", 0) for q in pts)):
-        sel = [q for q in pts if q.get("sigma_min", 0) == sm]
-        ax.plot([q["rules"] for q in sel], [q["validate_one_step_fit"] for q in sel], "o-",
-                label=f"validation one-step FIT, σ_min {sm}")
+    for key in sorted(set((q.get("ny", 0), q.get("nu", 0), q.get("sigma_min", 0)) for q in pts)):
+        sel = [q for q in pts if (q.get("ny", 0), q.get("nu", 0), q.get("sigma_min", 0)) == key]
+        ax.plot([q["rules"] for q in sel], [q["validate_one_step_fit"] for q in sel], "o-", ms=3,
+                label=f"ny/nu {key[0]}/{key[1]}, σ_min {key[2]}")
     for q in pts:
         ax.annotate(f"H={q['entropy_threshold']:.3g}", (q["rules"], q["validate_one_step_fit"]), fontsize=7)
     ch = pts[r["sweep"]["chosen_index"]]
