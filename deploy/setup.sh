@@ -6,7 +6,8 @@ PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev libboost-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libfuzzylite-dev
-  liblcm-dev liblcm-bin liblcm-java default-jdk-headless libjchart2d-java xvfb
+  liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre fonts-dejavu-core
+  libjchart2d-java xvfb
   python3 python3-matplotlib iproute2 util-linux
 )
 missing=()

@@ -122,6 +122,22 @@ TEST(FitCli, SweepAndRulesAreReadable) {
   EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
 }
 
+TEST(FitCli, ProgressBarOnlyOnATerminal) {
+  // script(1) gives the program a pseudo-terminal, as a user's shell would.
+  const std::string fit = std::string(ODONATA_FIT_EXE) + " --train " + Example("train.csv") +
+                          " --output y --input u --epochs 3";
+  const std::string cmd = "script -qec '" + fit + "' /dev/null 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  ASSERT_EQ(pclose(p), 0) << out;
+  EXPECT_NE(out.find("epoch 3/3"), std::string::npos) << out;
+  EXPECT_NE(out.find("100%"), std::string::npos);
+}
+
 void ExpectError(const std::string& args, const std::string& fragment) {
   const ProcessResult r = Exec(args);
   EXPECT_NE(r.status, 0) << args;
