@@ -1,15 +1,18 @@
 #pragma once
 // Decoding that never throws: lcm-gen's decode() resizes vectors to whatever count a corrupt
-// message claims (std::bad_alloc / length_error) before it notices the buffer is too short.
+// message claims before it notices the buffer is too short; CountsFit (wire_bounds.hpp) rejects
+// such a message before any allocation, and the catch stays as a second fence.
 
 #include <cstdint>
+
+#include "bus/wire_bounds.hpp"
 
 namespace odonata::bus {
 
 /// True when `data` holds a valid Msg (fingerprint, sizes and counts all consistent).
 template <class Msg>
 bool SafeDecode(Msg* msg, const void* data, int64_t size) {
-  if (size < 0 || size > INT32_MAX) return false;
+  if (size < 0 || size > INT32_MAX || !CountsFit(msg, data, size)) return false;
   try {
     return msg->decode(data, 0, static_cast<int>(size)) >= 0;
   } catch (...) {

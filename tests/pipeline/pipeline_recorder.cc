@@ -18,7 +18,13 @@ struct Recorder {
   lcm::LogFile* log;
   int64_t count = 0;
 
-  void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  // Through subscribeFunction, as the services do: LCM 1.3.1's member-function subscription
+  // trips UBSan's vptr check in the sanitizer build.
+  static void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Recorder* self) {
+    self->Write(rbuf, channel);
+  }
+
+  void Write(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     lcm::LogEvent e;
     e.eventnum = count++;
     e.timestamp = rbuf->recv_utime;
@@ -45,7 +51,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   Recorder recorder{&log};
-  lcm::Subscription* sub = lcm.subscribe(".*", &Recorder::Handle, &recorder);
+  lcm::Subscription* sub = lcm.subscribeFunction(".*", &Recorder::Handle, &recorder);
   sub->setQueueCapacity(0);  // unbounded: never drop a message because we were descheduled
   std::FILE* ready = std::fopen((std::string(argv[2]) + ".ready").c_str(), "w");
   if (ready) std::fclose(ready);
