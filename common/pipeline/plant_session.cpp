@@ -5,6 +5,7 @@
 
 #include "experiments/attitude_hold.hpp"
 #include "pipeline/command_limits.hpp"
+#include "pipeline/sequence_window.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -61,6 +62,11 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
   CommandOutcome out;
   if (seq < 0) {
     out.problem = "negative command seq " + std::to_string(seq);
+    return out;
+  }
+  if (!SeqWithinWindow(seq, newest_seq_.value_or(-1))) {
+    out.problem = "command seq " + std::to_string(seq) + " leaps more than " +
+                  std::to_string(kMaxSeqJump) + " past the newest";
     return out;
   }
   out.problem = CommandLimitProblems(command, plant_.config().limits);

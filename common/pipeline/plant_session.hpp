@@ -40,7 +40,8 @@ enum class CommandVerdict {
   kRepeated,  ///< lockstep: the last command again; its state is re-sent, no step
   kAccepted,  ///< real time: held until the next tick (may also report `missing`)
   kStale,     ///< older than (real time: or equal to) the newest command: dropped
-  kRejected,  ///< not finite, outside the actuator limits, or a negative seq: dropped
+  kRejected,  ///< not finite, outside the actuator limits, a negative seq or one that leaps
+              ///< more than kMaxSeqJump ahead (sequence_window.hpp): dropped
 };
 
 /// Result of PlantSession::Submit().

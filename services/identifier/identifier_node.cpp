@@ -6,6 +6,7 @@
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
 #include "odonata/prediction_t.hpp"
+#include "pipeline/sequence_window.hpp"
 
 namespace odonata::identifier {
 namespace {
@@ -75,15 +76,21 @@ void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
   const std::string count = bus::CountProblems(msg);
   if (!count.empty()) throw std::invalid_argument("command: " + count);
+  const int64_t newest_command = commands_.empty() ? -1 : commands_.rbegin()->first;
+  if (!pipeline::SeqWithinWindow(msg.seq, newest_command))
+    throw std::invalid_argument("command seq " + std::to_string(msg.seq) +
+                                " is negative or leaps past the newest, " +
+                                std::to_string(newest_command));
   // A generator that restarted counts from 0 again: forget the old run's commands.
-  if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < commands_.rbegin()->first)
+  if (!commands_.empty() &&
+      msg.seq + static_cast<int64_t>(kMaxCommands) < commands_.rbegin()->first)
     commands_.clear();
   // The first command of a seq wins: a resend carries the same values, and a later message
   // reusing the seq (a stale or forged one) must not change a sample after the fact.
   if (!commands_.emplace(msg.seq, msg).second) {
     if (msg.source == commands_.at(msg.seq).source) return;  // a lockstep resend: not a problem
-    throw std::invalid_argument("a second command with seq " + std::to_string(msg.seq) +
-                                " from '" + msg.source + "'");
+    throw std::invalid_argument("a second command with seq " + std::to_string(msg.seq) + " from '" +
+                                msg.source + "'");
   }
   while (commands_.size() > kMaxCommands) commands_.erase(commands_.begin());
   Process();
@@ -94,6 +101,9 @@ void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
   const int64_t newest = !pending_states_.empty() ? pending_states_.back().seq
                          : previous_state_        ? previous_state_->seq
                                                   : -1;
+  if (!pipeline::SeqWithinWindow(msg.seq, newest))
+    throw std::invalid_argument("state seq " + std::to_string(msg.seq) +
+                                " is negative or leaps past the newest, " + std::to_string(newest));
   if (newest >= 0 && msg.seq <= newest) {
     if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
       previous_state_.reset();

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "metrics/accuracy_json.hpp"
+#include "pipeline/sequence_window.hpp"
 
 namespace odonata::monitor {
 namespace {
@@ -40,6 +41,11 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   if (m.num_outputs < 0 || m.names.size() != n || m.measured.size() != n ||
       m.predicted.size() != n || m.free_run.size() != n || m.rules.size() != n) {
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
+  }
+  if (!pipeline::SeqWithinWindow(m.sample, last_sample_)) {
+    throw std::invalid_argument("prediction for sample " + std::to_string(m.sample) +
+                                ": negative or leaps past the newest, " +
+                                std::to_string(last_sample_));
   }
   if (last_sample_ >= 0 && m.sample == last_sample_) {
     throw std::invalid_argument("duplicate prediction for sample " + std::to_string(m.sample));

@@ -1,6 +1,7 @@
 // Publishes malformed traffic on the project's channels, for the bad-input integration test:
 // wrong fingerprints, truncated and random bytes, NaN/Inf fields, out-of-range commands,
-// stale (duplicate / out-of-order) sequence numbers, and absurd array counts.
+// stale (duplicate / out-of-order), negative and far-future sequence numbers, and absurd array
+// counts.
 
 #include <unistd.h>
 
@@ -104,6 +105,14 @@ int main(int argc, char** argv) {
     lcm.publish("DIMAV_STATE", &nan_state);
     odonata::plant_state_t stale = State(-100);
     lcm.publish("DIMAV_STATE", &stale);
+    // Well-formed, within limits, but with a seq far in the future or negative: if accepted, either
+    // would make every genuine message after it look stale and stall the run.
+    odonata::wing_command_t leap = Command(int64_t{1} << 40);
+    lcm.publish("DIMAV_COMMAND", &leap);
+    odonata::wing_command_t negative = Command(-3);
+    lcm.publish("DIMAV_COMMAND", &negative);
+    odonata::plant_state_t future = State(int64_t{1} << 40);
+    lcm.publish("DIMAV_STATE", &future);
     // A prediction whose count claims more outputs than the arrays hold. encode() trusts the
     // count, so build a consistent one and then overwrite the count in the bytes.
     odonata::prediction_t p{};
@@ -114,6 +123,10 @@ int main(int argc, char** argv) {
     auto pb = Encode(p);
     pb[8 + 8 + 8 + 8 + 3] = 5;  // fingerprint, utime, seq, sample; then int32 num_outputs
     lcm.publish("ODONATA_PREDICTION", pb.data(), static_cast<unsigned>(pb.size()));
+    // A well-formed prediction for a sample far ahead: if scored, the monitor would take the
+    // genuine ones after it for a new run and throw the run's accuracy away.
+    p.sample = int64_t{1} << 40;
+    lcm.publish("ODONATA_PREDICTION", &p);
     odonata::control_t bad_control{};
     bad_control.command = 99;
     bad_control.target = "nobody-in-particular";

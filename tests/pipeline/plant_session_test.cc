@@ -11,6 +11,7 @@
 #include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_limits.hpp"
+#include "pipeline/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
 
 namespace odonata::pipeline {
@@ -115,6 +116,33 @@ TEST_F(PlantSessionTest, LockstepRepeatStaleGapAndRejection) {
   EXPECT_EQ(gap.publish->seq, 6);
   EXPECT_EQ(gap.publish->command_seq, 5);
   EXPECT_DOUBLE_EQ(gap.publish->output.time_s, 3 * session.plant().sample_period_s());
+}
+
+TEST_F(PlantSessionTest, ASeqThatLeapsAheadIsRejectedAndDoesNotStallTheRun) {
+  for (const Mode mode : {Mode::kLockstep, Mode::kRealtime}) {
+    PlantSession session(config_, mode, roll_);
+    const plant::CommandMatrix trim = roll_.trim_command;
+    // Before any command (a forged first one) and after some: both would make every genuine
+    // command after them stale.
+    const CommandOutcome first = session.Submit(kMaxSeqJump + 1, trim);
+    EXPECT_EQ(first.verdict, CommandVerdict::kRejected);
+    EXPECT_NE(first.problem.find("leaps"), std::string::npos) << first.problem;
+    EXPECT_FALSE(session.commanded());
+    EXPECT_NE(session.Submit(0, trim).verdict, CommandVerdict::kRejected);
+    EXPECT_EQ(session.Submit(int64_t{1} << 40, trim).verdict, CommandVerdict::kRejected);
+    EXPECT_NE(session.Submit(1, trim).verdict, CommandVerdict::kRejected);
+    EXPECT_NE(session.Submit(1 + kMaxSeqJump, trim).verdict, CommandVerdict::kRejected);  // a gap
+  }
+}
+
+TEST(SequenceWindow, BoundsTheJumpFromTheNewest) {
+  EXPECT_TRUE(SeqWithinWindow(0, -1));
+  EXPECT_TRUE(SeqWithinWindow(kMaxSeqJump - 1, -1));
+  EXPECT_FALSE(SeqWithinWindow(kMaxSeqJump, -1));
+  EXPECT_FALSE(SeqWithinWindow(-1, 5));
+  EXPECT_TRUE(SeqWithinWindow(3, 5));  // older: the receiver's own rules decide
+  EXPECT_TRUE(SeqWithinWindow(5 + kMaxSeqJump, 5));
+  EXPECT_FALSE(SeqWithinWindow(6 + kMaxSeqJump, 5));
 }
 
 TEST_F(PlantSessionTest, ResetRestartsTheSequenceAndAcceptsAnyFirstCommand) {
