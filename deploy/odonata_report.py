@@ -92,7 +92,7 @@ def summarise(r):
 
 
 COLUMNS = [("experiment", "experiment"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "MFs"), ("paper_mfs", "paper MFs"),
-           ("paper_h_fit", "FIT @ paper H"), ("train_fit", "train FIT"), ("train_fr", "train free-run"),
+           ("paper_h_fit", "paper H: val FIT (MFs)"), ("train_fit", "train FIT"), ("train_fr", "train free-run"),
            ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"), ("val_fr", "val free-run"),
            ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"), ("pers_fit", "persist. FIT"),
            ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy")]
@@ -109,7 +109,8 @@ def table_rows(summary):
             "H": f"{s['entropy_threshold']:.4g}",
             "rules": str(s["rules"]),
             "paper_mfs": str(s["paper"].get("mfs", "–")),
-            "paper_h_fit": f"{fmt(s['paper_threshold_run']['validate_one_step_fit'])} ({s['paper_threshold_run']['rules']} MFs)",
+            "paper_h_fit": f"{s['paper_threshold_run']['entropy_threshold']:.4g}: "
+                           f"{fmt(s['paper_threshold_run']['validate_one_step_fit'])} ({s['paper_threshold_run']['rules']} MFs)",
             "train_fit": fmt(s["train"]["one_step"]["fit"]),
             "train_fr": fmt((s["train"]["free_run"] or {}).get("fit")),
             "val_fit": fmt(s["validate"]["one_step"]["fit"]),
