@@ -27,6 +27,8 @@ constexpr double kStartAltitudeM = 50.0;
 constexpr double kRampS = 1.0;
 // The paper's noise power (section IV-B1), 1-ohm convention: variance 0.01, σ = 0.1 rad.
 constexpr double kNoisePowerW = 0.01;
+// Cut at ±2.5σ (power kept, see GaussianNoise) so chirp + noise never meets the φ₀ limit.
+constexpr double kNoiseClipSigmas = 2.5;
 
 // Wing groups (0-based rows): 1 fore-left, 2 hind-left, 3 hind-right, 4 fore-right.
 constexpr int kLeft[2] = {0, 1};
@@ -72,11 +74,15 @@ struct Builder {
     for (std::size_t k = 0; k < samples; ++k) {
       CommandMatrix c = trim.command;
       fill(static_cast<double>(k) * dt_s, &c);
+      bool clamped = false;
       for (int w = 0; w < kWingCount; ++w) {
         for (int i = 0; i < plant::kCommandsPerWing; ++i) {
-          c(w, i) = Clamp(c(w, i), config.limits.min(i), config.limits.max(i));
+          const double inside = Clamp(c(w, i), config.limits.min(i), config.limits.max(i));
+          clamped = clamped || inside != c(w, i);
+          c(w, i) = inside;
         }
       }
+      if (clamped) ++run.clamped_samples;
       run.commands.push_back(c);
       if (applied) u.push_back(applied(c));
     }
@@ -162,11 +168,11 @@ std::vector<ExperimentPreset> MakePresets() {
     p.validate_duration_s = 40.0;
     p.description = "body vertical velocity under the same phi0 on all four wings";
     p.train_excitation =
-        "all wings: phi0 = phi0c + u, u = 0.25 rad linear chirp(0.05->5 Hz) + Gaussian noise "
-        "0.01 W; f = trim; attitude hold on";
+        "all wings: phi0 = phi0c + u, u = 0.19 rad linear chirp(0.05->5 Hz) + Gaussian noise "
+        "0.01 W cut at 2.5 sigma; f = trim; attitude hold on";
     p.validate_excitation =
-        "all wings: phi0 = phi0c + u, u = 0.21 rad log-chirp(0.05->6 Hz) + Gaussian noise 0.01 W "
-        "(other stream); f = trim; attitude hold on";
+        "all wings: phi0 = phi0c + u, u = 0.17 rad log-chirp(0.05->6 Hz) + Gaussian noise 0.01 W "
+        "cut at 2.5 sigma (other stream); f = trim; attitude hold on";
     v.push_back(p);
   }
   {
@@ -277,13 +283,15 @@ ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, st
   }
 
   if (preset.name == "vertical_velocity") {
-    const double amplitude_rad = train ? 0.25 : 0.21;
+    // φ₀ ≈ 1.03 rad at the centre, 1.48 rad (85°) at the limit: the chirp and the noise, cut at
+    // ±2.5σ (0.26 rad at 0.01 W), must share the 0.45 rad between.
+    const double amplitude_rad = train ? 0.19 : 0.17;
     // Lift ∝ φ₀²: centring on φ₀c = √(φ₀² − E[u²]) keeps the mean lift at the weight.
     const double mean_square = 0.5 * amplitude_rad * amplitude_rad + kNoisePowerW;
     const double centre_rad = std::sqrt(a0 * a0 - mean_square);
     const signals::LinearChirp c_train(0.05, 5.0, amplitude_rad, t_end_s, phase0);
     const signals::LogChirp c_val(0.05, 6.0, amplitude_rad, t_end_s, phase0);
-    signals::GaussianNoise noise(kNoisePowerW, NoiseSeed(seed, phase));
+    signals::GaussianNoise noise(kNoisePowerW, NoiseSeed(seed, phase), kNoiseClipSigmas);
     b.Fill(
         samples, dt_s,
         [&](double t, CommandMatrix* c) {

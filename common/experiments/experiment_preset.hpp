@@ -50,6 +50,9 @@ struct ExperimentRun {
   bool attitude_hold{};            ///< close the slow roll/pitch hold around the plant
   AttitudeHoldGains hold_gains{};  ///< its gains (free-flight presets)
   double sample_period_s{};
+  /// Samples whose designed command left the actuator limits and was clamped: a well-designed
+  /// excitation has none, since clamping distorts the spectrum it was designed to have.
+  std::size_t clamped_samples{};
 };
 
 /// The six presets, in the paper's order: actuator_fz, actuator_fx, vertical_velocity, roll,

@@ -1,19 +1,39 @@
 #include "signals/gaussian_noise.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace odonata::signals {
 
 GaussianNoise::GaussianNoise(double power_w, std::uint64_t seed)
-    : power_w_(power_w), stddev_(std::sqrt(power_w)), rng_(seed) {
+    : power_w_(power_w),
+      stddev_(std::sqrt(power_w)),
+      clip_sigmas_(std::numeric_limits<double>::infinity()),
+      rng_(seed) {
   if (!(power_w >= 0.0)) throw std::invalid_argument("GaussianNoise: power_w must be >= 0");
 }
 
+GaussianNoise::GaussianNoise(double power_w, std::uint64_t seed, double clip_sigmas)
+    : GaussianNoise(power_w, seed) {
+  if (!(clip_sigmas >= 1.0)) throw std::invalid_argument("GaussianNoise: clip_sigmas must be >= 1");
+  const double c = clip_sigmas;
+  const double pdf = std::exp(-0.5 * c * c) / std::sqrt(2.0 * M_PI);
+  const double mass = std::erf(c / std::sqrt(2.0));  // 2Φ(c) − 1
+  stddev_ = std::sqrt(power_w / (1.0 - 2.0 * c * pdf / mass));
+  clip_sigmas_ = c;
+}
+
 double GaussianNoise::Next() {
+  double z = NextStandard();
+  while (std::abs(z) > clip_sigmas_) z = NextStandard();
+  return stddev_ * z;
+}
+
+double GaussianNoise::NextStandard() {
   if (has_spare_) {
     has_spare_ = false;
-    return stddev_ * spare_;
+    return spare_;
   }
   // u1 ∈ (0, 1] so log(u1) is finite; u2 ∈ [0, 1).
   const double u1 = (static_cast<double>(rng_() >> 11) + 1.0) * 0x1.0p-53;
@@ -22,7 +42,7 @@ double GaussianNoise::Next() {
   const double angle = 6.28318530717958647692 * u2;
   spare_ = radius * std::sin(angle);
   has_spare_ = true;
-  return stddev_ * radius * std::cos(angle);
+  return radius * std::cos(angle);
 }
 
 std::vector<double> GaussianNoise::Generate(std::size_t count) {

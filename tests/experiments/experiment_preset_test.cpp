@@ -58,8 +58,10 @@ TEST_P(EveryPreset, TrainAndValidateDifferStayWithinLimitsAndAreSeeded) {
   EXPECT_GT(max_diff, 1e-3);
   EXPECT_EQ(train.excitation_values, again.excitation_values);
 
-  // Within actuator limits, and excited (not constant).
+  // Designed within the actuator limits (the builder's clamp never had to act), and excited
+  // (not constant).
   for (const ExperimentRun* run : {&train, &val}) {
+    EXPECT_EQ(run->clamped_samples, 0u) << "of " << run->commands.size() << " samples";
     double spread = 0.0;
     for (const plant::CommandMatrix& c : run->commands) {
       for (int w = 0; w < plant::kWingCount; ++w) {

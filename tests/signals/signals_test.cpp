@@ -100,6 +100,24 @@ TEST(GaussianNoise, VarianceEqualsPowerInWatts) {
   EXPECT_DOUBLE_EQ(n.stddev(), 0.1);
 }
 
+TEST(GaussianNoise, TruncatedKeepsItsPowerAndItsBound) {
+  for (const double clip : {1.5, 2.5, 3.0}) {
+    GaussianNoise n(0.01, 77, clip);
+    const std::vector<double> x = n.Generate(400000);
+    double power = 0.0, peak = 0.0;
+    for (const double v : x) {
+      power += v * v;
+      peak = std::max(peak, std::abs(v));
+    }
+    power /= x.size();
+    EXPECT_NEAR(power / 0.01, 1.0, 0.01) << clip;
+    EXPECT_LE(peak, n.bound()) << clip;
+    EXPECT_GT(peak, 0.98 * n.bound()) << clip;  // the tails are still reached
+    EXPECT_GT(n.stddev(), 0.1) << clip;         // raised to make up for the cut tails
+  }
+  EXPECT_THROW(GaussianNoise(0.01, 1, 0.5), std::invalid_argument);
+}
+
 TEST(GaussianNoise, SameSeedSameSequenceOtherSeedOtherSequence) {
   GaussianNoise a(1.0, 5), b(1.0, 5), c(1.0, 6);
   const std::vector<double> xa = a.Generate(1000);
