@@ -29,7 +29,7 @@ run_identifier() {
   sleep 0.5
 }
 run_identifier
-"$B" --lcm-url "$URL" --mode latency --samples 10000
+"$B" --lcm-url "$URL" --mode latency --samples 10011  # 10k measured after the regressor fill
 kill $IDPID; wait $IDPID 2>/dev/null || true
 best=0
 for rate in 100 1000 2000 5000 10000 20000 40000; do
