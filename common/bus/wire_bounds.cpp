@@ -116,7 +116,7 @@ bool CountsFit(const odonata::accuracy_t*, const void* data, int64_t size) {
   w.Skip(kFingerprint + 3 * kI64 + kI32 + kI64);
   const int64_t n = w.Count();
   w.Strings(n);
-  w.Array(n, 8 * kF64 + kI32);
+  w.Array(n, 12 * kF64 + kI32);  // FIT, VAF, RMSE × window/total × one-step/free-run; rules
   w.Skip(kI64);
   return w.ok();
 }

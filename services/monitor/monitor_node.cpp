@@ -167,8 +167,13 @@ void MonitorNode::PublishAccuracy() {
     a.total_fit_one_step.push_back(t.fit_percent);
     a.total_vaf_one_step.push_back(t.vaf_percent);
     a.total_rmse_one_step.push_back(t.rmse);
-    a.window_fit_free_run.push_back(o.window_free_run.Get().fit_percent);
-    a.total_fit_free_run.push_back(o.total_free_run.Get().fit_percent);
+    const auto wf = o.window_free_run.Get(), tf = o.total_free_run.Get();
+    a.window_fit_free_run.push_back(wf.fit_percent);
+    a.window_vaf_free_run.push_back(wf.vaf_percent);
+    a.window_rmse_free_run.push_back(wf.rmse);
+    a.total_fit_free_run.push_back(tf.fit_percent);
+    a.total_vaf_free_run.push_back(tf.vaf_percent);
+    a.total_rmse_free_run.push_back(tf.rmse);
     a.rules.push_back(o.rules);
   }
   bus_.Publish(bus_.channels().accuracy, a);

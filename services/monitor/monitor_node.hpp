@@ -40,6 +40,13 @@ class MonitorNode {
   /// Final accuracy per output (what --summary-json writes).
   nlohmann::json Summary() const;
 
+  /// True while `output`'s window FIT is below warn_fit_percent (a warning was printed and the
+  /// FIT has not recovered since).
+  bool Warned(const std::string& output) const {
+    const auto it = outputs_.find(output);
+    return it != outputs_.end() && it->second.warned;
+  }
+
  private:
   struct Output {
     metrics::CumulativeAccuracy total_one_step, total_free_run;

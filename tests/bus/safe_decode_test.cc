@@ -51,7 +51,8 @@ odonata::accuracy_t Accuracy() {
   a.names = {"a", "bb"};
   for (auto* v : {&a.window_fit_one_step, &a.window_vaf_one_step, &a.window_rmse_one_step,
                   &a.total_fit_one_step, &a.total_vaf_one_step, &a.total_rmse_one_step,
-                  &a.window_fit_free_run, &a.total_fit_free_run})
+                  &a.window_fit_free_run, &a.window_vaf_free_run, &a.window_rmse_free_run,
+                  &a.total_fit_free_run, &a.total_vaf_free_run, &a.total_rmse_free_run})
     *v = {1.5, 2.5};
   a.rules = {3, 4};
   a.gaps = 7;

@@ -1,0 +1,125 @@
+// MonitorNode over memq://: the published accuracy_t equals the metrics computed directly, for
+// both modes, over the window and since start; the accuracy-drop warning comes and goes; a
+// forged far-ahead prediction is dropped without touching the score.
+#include "monitor_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "metrics/accuracy.hpp"
+
+namespace odonata::monitor {
+namespace {
+
+void Pump(bus::BusNode& bus, int ms = 1) {
+  bus.io().restart();
+  bus.io().run_for(std::chrono::milliseconds(ms));
+}
+
+double Y(int64_t k) { return std::sin(0.03 * static_cast<double>(k)); }
+double OneStep(int64_t k) { return Y(k) + 0.01 * std::cos(1.7 * static_cast<double>(k)); }
+double FreeRun(int64_t k) { return 0.9 * Y(k) + 0.05; }
+
+class MonitorNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    bus::BusOptions o;
+    o.lcm_url = "memq://";
+    o.service = "odonata-monitor";
+    o.heartbeat_period_s = 0;
+    bus_ = std::make_unique<bus::BusNode>(o);
+    bus_->Subscribe<odonata::accuracy_t>(bus_->channels().accuracy,
+                                         [this](const auto& m) { accuracy_.push_back(m); });
+    MonitorOptions mo;
+    mo.window_samples = 100;
+    mo.publish_hz = 1000.0;
+    mo.print_period_s = 1e6;
+    mo.warn_fit_percent = 80.0;
+    node_ = std::make_unique<MonitorNode>(*bus_, mo);
+  }
+  void Send(int64_t k, double predicted, double free_run) {
+    odonata::prediction_t p{};
+    p.seq = k;
+    p.sample = k;
+    p.num_outputs = 1;
+    p.names = {"roll_rad"};
+    p.measured = {Y(k)};
+    p.predicted = {predicted};
+    p.free_run = {free_run};
+    p.next = {0.0};
+    p.rules = {3};
+    p.max_entropy = {0.2};
+    p.learning = 1;
+    bus_->Publish(bus_->channels().prediction, p);
+    Pump(*bus_);
+  }
+
+  std::unique_ptr<bus::BusNode> bus_;
+  std::unique_ptr<MonitorNode> node_;
+  std::vector<odonata::accuracy_t> accuracy_;
+};
+
+TEST_F(MonitorNodeTest, PublishesWindowAndTotalAccuracyOfBothModes) {
+  const int n = 300;
+  for (int64_t k = 0; k < n; ++k) Send(k, OneStep(k), FreeRun(k));
+  accuracy_.clear();
+  Pump(*bus_, 5);
+  ASSERT_FALSE(accuracy_.empty());
+  const odonata::accuracy_t& a = accuracy_.back();
+  ASSERT_EQ(a.num_outputs, 1);
+  EXPECT_EQ(a.names[0], "roll_rad");
+  EXPECT_EQ(a.total_samples, n);
+  EXPECT_EQ(a.window_samples, 100);
+  EXPECT_EQ(a.last_sample, n - 1);
+  EXPECT_EQ(a.rules[0], 3);
+
+  Eigen::VectorXd y(n), one(n), free(n);
+  for (int k = 0; k < n; ++k) {
+    y(k) = Y(k);
+    one(k) = OneStep(k);
+    free(k) = FreeRun(k);
+  }
+  const auto total_one = metrics::Score(y, one), total_free = metrics::Score(y, free);
+  const auto window_one = metrics::Score(y.tail(100), one.tail(100));
+  const auto window_free = metrics::Score(y.tail(100), free.tail(100));
+  EXPECT_NEAR(a.total_fit_one_step[0], total_one.fit_percent, 1e-6);
+  EXPECT_NEAR(a.total_vaf_one_step[0], total_one.vaf_percent, 1e-6);
+  EXPECT_NEAR(a.total_rmse_one_step[0], total_one.rmse, 1e-9);
+  EXPECT_NEAR(a.window_fit_one_step[0], window_one.fit_percent, 1e-6);
+  EXPECT_NEAR(a.window_vaf_one_step[0], window_one.vaf_percent, 1e-6);
+  EXPECT_NEAR(a.window_rmse_one_step[0], window_one.rmse, 1e-9);
+  EXPECT_NEAR(a.total_fit_free_run[0], total_free.fit_percent, 1e-6);
+  EXPECT_NEAR(a.total_vaf_free_run[0], total_free.vaf_percent, 1e-6);
+  EXPECT_NEAR(a.total_rmse_free_run[0], total_free.rmse, 1e-9);
+  EXPECT_NEAR(a.window_fit_free_run[0], window_free.fit_percent, 1e-6);
+  EXPECT_NEAR(a.window_vaf_free_run[0], window_free.vaf_percent, 1e-6);
+  EXPECT_NEAR(a.window_rmse_free_run[0], window_free.rmse, 1e-9);
+}
+
+TEST_F(MonitorNodeTest, WarnsWhenTheWindowFitDropsAndClearsWhenItRecovers) {
+  for (int64_t k = 0; k < 150; ++k) Send(k, OneStep(k), FreeRun(k));
+  EXPECT_FALSE(node_->Warned("roll_rad"));
+  for (int64_t k = 150; k < 250; ++k) Send(k, 0.0, 0.0);  // the model lost it
+  EXPECT_TRUE(node_->Warned("roll_rad"));
+  for (int64_t k = 250; k < 400; ++k) Send(k, OneStep(k), FreeRun(k));
+  EXPECT_FALSE(node_->Warned("roll_rad"));
+}
+
+TEST_F(MonitorNodeTest, AForgedFarAheadPredictionIsDroppedAndTheScoreGoesOn) {
+  for (int64_t k = 0; k < 50; ++k) Send(k, OneStep(k), FreeRun(k));
+  Send(int64_t{1} << 40, 0.0, 0.0);
+  EXPECT_EQ(bus_->stats().dropped + bus_->stats().decode_errors, 1);
+  for (int64_t k = 50; k < 100; ++k) Send(k, OneStep(k), FreeRun(k));
+  const nlohmann::json s = node_->Summary();
+  EXPECT_FALSE(s.contains("previous_runs"));
+  EXPECT_EQ(s["gaps"], 0);
+  EXPECT_EQ(s["last_sample"], 99);
+  EXPECT_EQ(s["outputs"]["roll_rad"]["one_step"]["samples"], 100);
+}
+
+}  // namespace
+}  // namespace odonata::monitor
