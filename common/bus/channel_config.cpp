@@ -27,4 +27,17 @@ void ChannelConfig::Override(const nlohmann::json& j) {
   }
 }
 
+void ChannelConfig::Set(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == assignment.size())
+    throw std::runtime_error("channel assignment '" + assignment + "' is not KEY=NAME");
+  Override(nlohmann::json{{assignment.substr(0, eq), assignment.substr(eq + 1)}});
+}
+
+void ChannelConfig::Configure(const std::string& suffix,
+                              const std::vector<std::string>& assignments) {
+  ApplySuffix(suffix);
+  for (const std::string& a : assignments) Set(a);
+}
+
 }  // namespace odonata::bus

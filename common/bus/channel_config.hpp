@@ -3,6 +3,7 @@
 // systems can share one bus (e.g. DIMAV_STATE_B).
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -22,6 +23,16 @@ struct ChannelConfig {
   /// Overrides names from a JSON object {"command": "...", ...}; unknown keys are an error.
   /// @throws std::runtime_error naming the unknown key.
   void Override(const nlohmann::json& j);
+  /// Renames one channel from a command-line assignment "KEY=NAME" (KEY as in Override).
+  /// @throws std::runtime_error for a malformed assignment or an unknown key.
+  void Set(const std::string& assignment);
+  /// Renames from several assignments, after the suffix: an explicit name is taken as given.
+  void Configure(const std::string& suffix, const std::vector<std::string>& assignments);
 };
+
+/// Help text for a --channel option.
+inline constexpr const char* kChannelOptionHelp =
+    "rename one channel, KEY=NAME with KEY one of command, state, prediction, model, accuracy, "
+    "heartbeat, control (repeatable; applied after --channel-suffix)";
 
 }  // namespace odonata::bus

@@ -3,6 +3,8 @@
 
 #include <cstdio>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -23,6 +25,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (overrides the configuration)");
   app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  std::vector<std::string> channel_names;
+  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
   CLI11_PARSE(app, argc, argv);
@@ -35,7 +39,7 @@ int main(int argc, char** argv) {
     auto config = odonata::identifier::LoadIdentifierConfig(config_path);
     if (!instance.empty()) config.instance = instance;
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
-    config.channels.ApplySuffix(suffix);
+    config.channels.Configure(suffix, channel_names);
     std::optional<odonata::sysid::NarxModel> initial;
     if (!model_path.empty()) initial = odonata::sysid::NarxModel::Load(model_path);
     odonata::bus::BusOptions opts;

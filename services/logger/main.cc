@@ -2,6 +2,8 @@
 // that odonata-fit reads.
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -27,6 +29,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   record->add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   record->add_option("--instance", instance, "instance name in heartbeats")->capture_default_str();
+  std::string suffix;
+  std::vector<std::string> channel_names;
+  record->add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  record->add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
 
   std::vector<std::string> logs;
   std::string csv;
@@ -78,6 +84,7 @@ int main(int argc, char** argv) {
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
     opts.service = "odonata-logger";
+    opts.channels.Configure(suffix, channel_names);
     opts.instance = instance;
     odonata::bus::BusNode bus(opts);
     odonata::logger::LoggerNode node(bus, rec);

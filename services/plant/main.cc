@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -27,6 +28,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (default odonata-plant)");
   app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
+  std::vector<std::string> channel_names;
+  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
   try {
@@ -51,7 +54,7 @@ int main(int argc, char** argv) {
     opts.lcm_url = lcm_url;
     opts.service = odonata::plant_service::kServiceName;
     opts.instance = instance;
-    opts.channels.ApplySuffix(suffix);
+    opts.channels.Configure(suffix, channel_names);
     odonata::bus::BusNode bus(opts);
     odonata::plant_service::PlantNode node(bus, config,
                                            mode == "lockstep"

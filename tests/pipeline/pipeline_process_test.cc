@@ -256,6 +256,26 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
   EXPECT_EQ(plant_hb->decode_errors, 0);
 }
 
+// Renamed channels (--channel KEY=NAME): plant and generator meet on the new names, and nothing
+// travels on the defaults.
+TEST_F(PipelineProcess, RenamedChannelsCarryTheRun) {
+  const std::string rename = "--channel command=VEHICLE7_CMD --channel state=VEHICLE7_STATE ";
+  const Result run = RecordRun(7685, rename + "--preset roll",
+                               rename + "--preset roll --phase train --duration 1");
+  ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
+  std::map<std::string, int> events;
+  lcm::LogFile log(dir_ + "/run.lcm", "r");
+  ASSERT_TRUE(log.good());
+  while (const lcm::LogEvent* e = log.readNextEvent()) ++events[e->channel];
+  EXPECT_EQ(events["VEHICLE7_CMD"], 100);
+  EXPECT_GE(events["VEHICLE7_STATE"], 101);
+  EXPECT_EQ(events.count("DIMAV_COMMAND"), 0u);
+  EXPECT_EQ(events.count("DIMAV_STATE"), 0u);
+  const Result bad = RunInNamespace(kPlant + " --channel stat=X --lcm-url " + Url(7686));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("unknown channel 'stat'"), std::string::npos) << bad.out;
+}
+
 TEST_F(PipelineProcess, MissingPlantIsAClearFailure) {
   const Result r = RunInNamespace("timeout 20 " + kSignal + " --lcm-url " + Url(7684) +
                                   " --preset roll --duration 1 --timeout-ms 100 --max-resends 3"
