@@ -29,7 +29,11 @@ int main(int argc, char** argv) {
   app.add_option("--path", path, "file (save-model) or preset (reset of the plant)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--channel", channel, "control channel")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
+  }
   lcm::LCM lcm(lcm_url);
   if (!lcm.good()) {
     std::fprintf(stderr, "odonata-control: error: cannot open LCM (is there a multicast route?)\n");

@@ -93,7 +93,11 @@ int main(int argc, char** argv) {
   app.add_option("--sweep-criterion", criterion, "score by one_step or free_run validation FIT")
       ->capture_default_str()
       ->check(CLI::IsMember({"one_step", "free_run"}));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
+  }
 
   try {
     if (o.load_model.empty()) {

@@ -7,6 +7,12 @@
 
 namespace odonata::identifier {
 
+namespace {
+
+IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path);
+
+}  // namespace
+
 IdentifierConfig LoadIdentifierConfig(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open configuration");
@@ -16,6 +22,16 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path) {
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": not valid JSON: " + e.what());
   }
+  return FromJson(j, path);
+}
+
+IdentifierConfig DefaultIdentifierConfig() {
+  return FromJson(nlohmann::json::parse(ExampleIdentifierConfig()), "built-in configuration");
+}
+
+namespace {
+
+IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
   IdentifierConfig c;
   std::string problems;
   auto problem = [&problems](const std::string& p) { problems += "\n  - " + p; };
@@ -58,6 +74,8 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path) {
   if (!problems.empty()) throw std::runtime_error(path + ": invalid configuration:" + problems);
   return c;
 }
+
+}  // namespace
 
 std::string ExampleIdentifierConfig() {
   return R"({

@@ -25,6 +25,9 @@ struct IdentifierConfig {
 /// @throws std::runtime_error naming the file and each problem.
 IdentifierConfig LoadIdentifierConfig(const std::string& path);
 
+/// The configuration used without --config: ExampleIdentifierConfig(), the roll loop.
+IdentifierConfig DefaultIdentifierConfig();
+
 /// The example configuration printed by --print-config.
 std::string ExampleIdentifierConfig();
 

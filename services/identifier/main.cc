@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
       "Online entropy fuzzy identifier. Pairs DIMAV_COMMAND and DIMAV_STATE by sequence number, "
       "learns from every sample, publishes ODONATA_PREDICTION per sample and ODONATA_MODEL "
       "snapshots; obeys ODONATA_CONTROL (freeze, resume, reset, set H, save, snapshot)."};
-  app.add_option("--config", config_path, "configuration file (JSON; see --print-config)");
+  app.add_option("--config", config_path,
+                 "configuration file (JSON; default: the roll loop printed by --print-config)");
   app.add_option("--model", model_path, "start from this saved model instead of the bus snapshot")
       ->check(CLI::ExistingFile);
   app.add_option("--save-model", save_path, "write the model here on exit and on SAVE_MODEL");
@@ -29,14 +30,21 @@ int main(int argc, char** argv) {
   app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
+  }
   if (print_config) {
     std::cout << odonata::identifier::ExampleIdentifierConfig();
     return 0;
   }
   try {
-    if (config_path.empty()) throw std::runtime_error("--config is required (see --print-config)");
-    auto config = odonata::identifier::LoadIdentifierConfig(config_path);
+    auto config = config_path.empty() ? odonata::identifier::DefaultIdentifierConfig()
+                                      : odonata::identifier::LoadIdentifierConfig(config_path);
+    if (config_path.empty())
+      std::fprintf(stderr, "[%s] no --config: identifying the roll loop (see --print-config)\n",
+                   config.instance.c_str());
     if (!instance.empty()) config.instance = instance;
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
     config.channels.Configure(suffix, channel_names);

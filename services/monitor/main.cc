@@ -39,7 +39,11 @@ int main(int argc, char** argv) {
   app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
+  }
   try {
     o.live_table = isatty(STDOUT_FILENO) == 1;
     odonata::bus::BusOptions opts;

@@ -220,5 +220,13 @@ TEST_F(IdentifierNodeTest, StartsFromASavedModelAndLearnsOnFromIt) {
   EXPECT_DOUBLE_EQ(p.predicted[1], expected(1));
 }
 
+TEST(IdentifierConfig, WithoutAFileTheRollLoopIsIdentified) {
+  const IdentifierConfig c = DefaultIdentifierConfig();
+  EXPECT_EQ(c.spec.outputs, std::vector<std::string>{"roll_rad"});
+  EXPECT_EQ(c.spec.inputs, std::vector<std::string>{"u_roll_rad"});
+  EXPECT_EQ(c.ranges.count("roll_rad"), 1u);
+  EXPECT_EQ(c.channels.state, "DIMAV_STATE");
+}
+
 }  // namespace
 }  // namespace odonata::identifier
