@@ -3,9 +3,11 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -69,9 +71,30 @@ TEST(FitCli, JsonReportHasTheContractFields) {
     }
   }
   for (const char* b : {"arx", "persistence"}) {
-    EXPECT_TRUE(j["baselines"][b]["validate"]["one_step"]["fit"].is_number()) << b;
-    EXPECT_TRUE(j["baselines"][b]["validate"]["free_run"]["fit"].is_number()) << b;
+    for (const char* mode : {"one_step", "free_run"}) {
+      for (const char* m : {"fit", "vaf", "rmse"})
+        EXPECT_TRUE(j["baselines"][b]["validate"][mode][m].is_number()) << b << mode << m;
+    }
   }
+  // Persistence, recomputed here from the CSV: ŷ(k+1) = y(k) over k = 0 … N−2.
+  std::ifstream csv(Example("validate.csv"));
+  std::string line;
+  std::getline(csv, line);
+  ASSERT_EQ(line, "k,u,y");
+  std::vector<double> y;
+  while (std::getline(csv, line)) y.push_back(std::stod(line.substr(line.rfind(',') + 1)));
+  ASSERT_GT(y.size(), 10u);
+  double mean = 0, err = 0, dev = 0;
+  for (std::size_t k = 1; k < y.size(); ++k) mean += y[k];
+  mean /= static_cast<double>(y.size() - 1);
+  for (std::size_t k = 1; k < y.size(); ++k) {
+    err += (y[k] - y[k - 1]) * (y[k] - y[k - 1]);
+    dev += (y[k] - mean) * (y[k] - mean);
+  }
+  EXPECT_NEAR(j["baselines"]["persistence"]["validate"]["one_step"]["fit"].get<double>(),
+              100.0 * (1.0 - std::sqrt(err / dev)), 1e-9);
+  EXPECT_NEAR(j["baselines"]["persistence"]["validate"]["one_step"]["rmse"].get<double>(),
+              std::sqrt(err / static_cast<double>(y.size() - 1)), 1e-12);
 }
 
 TEST(FitCli, StaticRegressionHasNoFreeRun) {

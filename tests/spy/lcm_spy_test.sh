@@ -100,12 +100,16 @@ pub_pid=$!
 # carrying the publisher's markers; the foreign one listed as undecodable.
 declare -A TYPE=(
   [DIMAV_COMMAND]=wing_command_t [DIMAV_STATE]=plant_state_t
-  [ODONATA_HEARTBEAT]=heartbeat_t [ODONATA_PREDICTION]=prediction_t)
+  [ODONATA_HEARTBEAT]=heartbeat_t [ODONATA_PREDICTION]=prediction_t
+  [ODONATA_ACCURACY]=accuracy_t [ODONATA_CONTROL]=control_t [ODONATA_MODEL]=model_snapshot_t)
 declare -A MARKERS=(
   [DIMAV_COMMAND]='source=spy-test excitation_names[0]=u_roll freq_hz[0]=30.0'
   [DIMAV_STATE]='fx_n[0]=0.25 status=0'
   [ODONATA_HEARTBEAT]='service=spy-test state=running'
-  [ODONATA_PREDICTION]='names[0]=roll_rad max_entropy[0]=0.75 learning=1')
+  [ODONATA_PREDICTION]='names[0]=roll_rad max_entropy[0]=0.75 learning=1'
+  [ODONATA_ACCURACY]='names[0]=roll_rad total_vaf_free_run[0]=95.5 rules[0]=3'
+  [ODONATA_CONTROL]='target=spy-test command=6'
+  [ODONATA_MODEL]='instance=spy-test outputs[0]=roll_rad inputs[0]=u_roll')
 declare -A MISSING=()
 channels_ok() {
   local snap ch row dec m

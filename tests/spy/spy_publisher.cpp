@@ -17,7 +17,10 @@
 #include <thread>
 
 #include <lcm/lcm-cpp.hpp>
+#include <odonata/accuracy_t.hpp>
+#include <odonata/control_t.hpp>
 #include <odonata/heartbeat_t.hpp>
+#include <odonata/model_snapshot_t.hpp>
 #include <odonata/plant_state_t.hpp>
 #include <odonata/prediction_t.hpp>
 #include <odonata/wing_command_t.hpp>
@@ -112,6 +115,58 @@ int main(int argc, char** argv) {
     pred.max_entropy = {0.75};
     pred.learning = 1;
     failures += bus.publish("ODONATA_PREDICTION", &pred) != 0;
+
+    odonata::accuracy_t acc{};
+    acc.utime = NowUs();
+    acc.seq = k;
+    acc.last_sample = k;
+    acc.window_samples = 100;
+    acc.total_samples = k;
+    acc.num_outputs = 1;
+    acc.names = {"roll_rad"};
+    for (auto* v : {&acc.window_fit_one_step, &acc.window_vaf_one_step, &acc.window_rmse_one_step,
+                    &acc.total_fit_one_step, &acc.total_vaf_one_step, &acc.total_rmse_one_step,
+                    &acc.window_fit_free_run, &acc.window_vaf_free_run, &acc.window_rmse_free_run,
+                    &acc.total_fit_free_run, &acc.total_vaf_free_run, &acc.total_rmse_free_run})
+      *v = {95.5};
+    acc.rules = {3};
+    failures += bus.publish("ODONATA_ACCURACY", &acc) != 0;
+
+    odonata::control_t ctl{};
+    ctl.utime = NowUs();
+    ctl.seq = k;
+    ctl.target = "spy-test";
+    ctl.command = odonata::control_t::PUBLISH_SNAPSHOT;
+    failures += bus.publish("ODONATA_CONTROL", &ctl) != 0;
+
+    odonata::model_snapshot_t snap{};
+    snap.utime = NowUs();
+    snap.seq = k;
+    snap.samples_learned = k;
+    snap.instance = "spy-test";
+    snap.output_lags = snap.input_lags = snap.delay = 1;
+    snap.num_outputs = 1;
+    snap.outputs = {"roll_rad"};
+    snap.num_inputs = 1;
+    snap.inputs = {"u_roll"};
+    snap.num_regressors = 2;
+    snap.regressor_mid = {0.0, 0.0};
+    snap.regressor_half = {1.0, 1.0};
+    snap.output_mean = {0.0};
+    snap.output_std = {1.0};
+    odonata::fuzzy_rules_t rules{};
+    rules.output_name = "roll_rad";
+    rules.num_rules = 1;
+    rules.num_inputs = 2;
+    rules.centres = {{0.1, 0.2}};
+    rules.sigmas = {{0.3, 0.3}};
+    rules.output_widths = {1.0};
+    rules.consequent = "singleton";
+    rules.num_coefficients = 1;
+    rules.coefficients = {{0.5}};
+    rules.entropy_measure = "rule";
+    snap.models = {rules};
+    failures += bus.publish("ODONATA_MODEL", &snap) != 0;
 
     // Eight bytes of a fingerprint no generated type has, then a payload.
     const unsigned char foreign[16] = {0xde, 0xad, 0xbe, 0xef, 0x0d, 0xd0, 0x0a, 0x7a,

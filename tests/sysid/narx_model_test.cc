@@ -33,6 +33,23 @@ TEST(NarxModel, SameDataSameModelBitForBit) {
   }
 }
 
+TEST(NarxModel, OnlyTheFirstEpochGrowsRulesLaterOnesTune) {
+  for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
+    fuzzy::FuzzyModelConfig cfg;
+    cfg.consequent = kind;
+    TrainOptions o;
+    o.epochs = 1;
+    NarxModel one(NarendraSpec(), cfg), five(NarendraSpec(), cfg);
+    one.Train(NarendraTrain(1500), o);
+    o.epochs = 5;
+    five.Train(NarendraTrain(1500), o);
+    ASSERT_GT(one.total_rules(), 1);
+    EXPECT_EQ(five.total_rules(), one.total_rules());
+    // …but they did tune: the parameters moved.
+    EXPECT_NE(five.ToJson().dump(), one.ToJson().dump());
+  }
+}
+
 TEST(NarxModel, SaveThenLoadGivesIdenticalPredictions) {
   for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
     const NarxModel a = TrainedModel(kind);
