@@ -7,8 +7,10 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/csv_table.hpp"
+#include "io/csv_writer.hpp"
 #include "sim_runner.hpp"
 
 namespace {
@@ -147,6 +149,38 @@ TEST_F(SimCli, NonUniformTimeInCommandFileIsRejected) {
   const Result r = Run("--commands " + Path("bad_t.csv") + " --output " + Path("x.csv"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("sample period"), std::string::npos) << r.err;
+}
+
+// A manoeuvre that tumbles the vehicle (±0.35 rad of stroke amplitude, left against right): with
+// the default policy "stop" the simulator says what diverged and when, exits 3, and the CSV holds
+// the rows up to the divergence, every one of them finite.
+TEST_F(SimCli, DivergenceStopsWithAClearMessageAndNoNaN) {
+  ASSERT_EQ(Run("--preset roll --duration 1 --output " + Path("roll.csv")).exit_code, 0);
+  const odonata::io::CsvTable roll = odonata::io::CsvTable::Read(Path("roll.csv"));
+  const std::vector<std::string> names(roll.names().begin(), roll.names().begin() + 25);
+  ASSERT_EQ(names.front(), "t_s");
+  {
+    odonata::io::CsvWriter out(Path("tumble.csv"), names);
+    for (std::size_t r = 0; r < roll.rows(); ++r) {
+      std::vector<double> row;
+      for (const std::string& name : names) {
+        double v = roll.Column(name)[r];
+        if (name == "w1_amp_rad" || name == "w2_amp_rad") v += 0.35;
+        if (name == "w3_amp_rad" || name == "w4_amp_rad") v -= 0.35;
+        row.push_back(v);
+      }
+      out.WriteRow(row);
+    }
+    out.Close();
+  }
+  const Result r = Run("--commands " + Path("tumble.csv") + " --output " + Path("t.csv"));
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("diverged at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("max_tilt_rad"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+  const odonata::io::CsvTable t = odonata::io::CsvTable::Read(Path("t.csv"));  // throws on NaN
+  EXPECT_GT(t.rows(), 0u);
+  EXPECT_LT(t.rows(), roll.rows());
 }
 
 // Every preset, both phases, full length: no divergence, no NaN (exit code 0).
