@@ -156,24 +156,24 @@ void MonitorNode::PublishAccuracy() {
   a.names = order_;
   a.window_samples = 0;
   a.total_samples = 0;
+  const auto append = [](const auto& score, std::vector<double>* fit, std::vector<double>* vaf,
+                         std::vector<double>* rmse) {
+    fit->push_back(score.fit_percent);
+    vaf->push_back(score.vaf_percent);
+    rmse->push_back(score.rmse);
+  };
   for (const auto& name : order_) {
     const Output& o = outputs_.at(name);
-    const auto w = o.window_one_step.Get(), t = o.total_one_step.Get();
     a.window_samples = static_cast<int32_t>(o.window_one_step.size());
     a.total_samples = o.total_one_step.samples();
-    a.window_fit_one_step.push_back(w.fit_percent);
-    a.window_vaf_one_step.push_back(w.vaf_percent);
-    a.window_rmse_one_step.push_back(w.rmse);
-    a.total_fit_one_step.push_back(t.fit_percent);
-    a.total_vaf_one_step.push_back(t.vaf_percent);
-    a.total_rmse_one_step.push_back(t.rmse);
-    const auto wf = o.window_free_run.Get(), tf = o.total_free_run.Get();
-    a.window_fit_free_run.push_back(wf.fit_percent);
-    a.window_vaf_free_run.push_back(wf.vaf_percent);
-    a.window_rmse_free_run.push_back(wf.rmse);
-    a.total_fit_free_run.push_back(tf.fit_percent);
-    a.total_vaf_free_run.push_back(tf.vaf_percent);
-    a.total_rmse_free_run.push_back(tf.rmse);
+    append(o.window_one_step.Get(), &a.window_fit_one_step, &a.window_vaf_one_step,
+           &a.window_rmse_one_step);
+    append(o.total_one_step.Get(), &a.total_fit_one_step, &a.total_vaf_one_step,
+           &a.total_rmse_one_step);
+    append(o.window_free_run.Get(), &a.window_fit_free_run, &a.window_vaf_free_run,
+           &a.window_rmse_free_run);
+    append(o.total_free_run.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
+           &a.total_rmse_free_run);
     a.rules.push_back(o.rules);
   }
   bus_.Publish(bus_.channels().accuracy, a);
