@@ -16,14 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/model_snapshot_codec.hpp"
+#include "support/memq_bus.hpp"
 
 namespace odonata::identifier {
 namespace {
 
-void Pump(bus::BusNode& bus) {
-  bus.io().restart();
-  bus.io().run_for(std::chrono::milliseconds(2));
-}
+void Pump(bus::BusNode& bus) { testing::Pump(bus, 2); }
 
 IdentifierConfig Config() {
   IdentifierConfig c;
@@ -48,11 +46,7 @@ double Pitch(int64_t k) { return 0.3 * std::cos(0.07 * static_cast<double>(k)); 
 class IdentifierNodeTest : public ::testing::Test {
  protected:
   void Start(std::optional<sysid::NarxModel> initial = std::nullopt) {
-    bus::BusOptions o;
-    o.lcm_url = "memq://";
-    o.service = "odonata-identifier";
-    o.heartbeat_period_s = 0;
-    bus_ = std::make_unique<bus::BusNode>(o);
+    bus_ = std::make_unique<bus::BusNode>(testing::MemqOptions("odonata-identifier"));
     bus_->Subscribe<odonata::prediction_t>(bus_->channels().prediction,
                                            [this](const auto& m) { predictions_.push_back(m); });
     bus_->Subscribe<odonata::model_snapshot_t>(bus_->channels().model,

@@ -11,14 +11,12 @@
 #include <vector>
 
 #include "metrics/accuracy.hpp"
+#include "support/memq_bus.hpp"
 
 namespace odonata::monitor {
 namespace {
 
-void Pump(bus::BusNode& bus, int ms = 1) {
-  bus.io().restart();
-  bus.io().run_for(std::chrono::milliseconds(ms));
-}
+void Pump(bus::BusNode& bus, int ms = 1) { testing::Pump(bus, ms); }
 
 double Y(int64_t k) { return std::sin(0.03 * static_cast<double>(k)); }
 double OneStep(int64_t k) { return Y(k) + 0.01 * std::cos(1.7 * static_cast<double>(k)); }
@@ -27,11 +25,7 @@ double FreeRun(int64_t k) { return 0.9 * Y(k) + 0.05; }
 class MonitorNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    bus::BusOptions o;
-    o.lcm_url = "memq://";
-    o.service = "odonata-monitor";
-    o.heartbeat_period_s = 0;
-    bus_ = std::make_unique<bus::BusNode>(o);
+    bus_ = std::make_unique<bus::BusNode>(testing::MemqOptions("odonata-monitor"));
     bus_->Subscribe<odonata::accuracy_t>(bus_->channels().accuracy,
                                          [this](const auto& m) { accuracy_.push_back(m); });
     MonitorOptions mo;

@@ -12,25 +12,16 @@
 
 #include "bus/sample_fields.hpp"
 #include "pipeline/vehicle_setup.hpp"
+#include "support/memq_bus.hpp"
 
 namespace odonata::plant_service {
 namespace {
 
 using Mode = pipeline::PlantSession::Mode;
 
-bus::BusOptions MemqOptions(const std::string& service) {
-  bus::BusOptions o;
-  o.lcm_url = "memq://";
-  o.service = service;
-  o.heartbeat_period_s = 0;  // no heartbeat traffic to wade through
-  return o;
-}
+using testing::MemqOptions;
 
-// Runs the loop for `ms`: delivers what is queued and fires due timers.
-void Pump(bus::BusNode& bus, int ms = 5) {
-  bus.io().restart();
-  bus.io().run_for(std::chrono::milliseconds(ms));
-}
+void Pump(bus::BusNode& bus, int ms = 5) { testing::Pump(bus, ms); }
 
 odonata::wing_command_t Command(int64_t seq, const plant::CommandMatrix& c) {
   odonata::wing_command_t m{};

@@ -12,17 +12,13 @@
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/plant_session.hpp"
 #include "plant_node.hpp"
+#include "support/memq_bus.hpp"
 
 namespace odonata::signal_service {
 namespace {
 
-bus::BusOptions MemqOptions() {
-  bus::BusOptions o;
-  o.lcm_url = "memq://";
-  o.service = "odonata-plant";  // one bus for both nodes: control messages reach the plant
-  o.heartbeat_period_s = 0;
-  return o;
-}
+// One bus for both nodes, named as the plant, so control messages reach the plant.
+bus::BusOptions MemqOptions() { return testing::MemqOptions("odonata-plant"); }
 
 pipeline::CommandSchedule Roll(double duration_s) {
   return pipeline::PresetSchedule(*experiments::FindPreset("roll"), experiments::Phase::kTrain, 1,
