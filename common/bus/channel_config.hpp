@@ -30,9 +30,4 @@ struct ChannelConfig {
   void Configure(const std::string& suffix, const std::vector<std::string>& assignments);
 };
 
-/// Help text for a --channel option.
-inline constexpr const char* kChannelOptionHelp =
-    "rename one channel, KEY=NAME with KEY one of command, state, prediction, model, accuracy, "
-    "heartbeat, control (repeatable; applied after --channel-suffix)";
-
 }  // namespace odonata::bus

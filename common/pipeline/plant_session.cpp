@@ -60,12 +60,8 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
 
 CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& command) {
   CommandOutcome out;
-  if (seq < 0) {
-    out.problem = "negative command seq " + std::to_string(seq);
-    return out;
-  }
   if (!SeqWithinWindow(seq, newest_seq_.value_or(-1))) {
-    out.problem = "command seq " + std::to_string(seq) + " leaps more than " +
+    out.problem = "command seq " + std::to_string(seq) + " is negative or leaps more than " +
                   std::to_string(kMaxSeqJump) + " past the newest";
     return out;
   }

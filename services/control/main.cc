@@ -4,9 +4,10 @@
 #include <map>
 
 #include <CLI/CLI.hpp>
-#include <lcm/lcm-cpp.hpp>
 
+#include <lcm/lcm-cpp.hpp>
 #include "bus/bus_node.hpp"
+#include "cli/parse_command_line.hpp"
 #include "odonata/control_t.hpp"
 
 int main(int argc, char** argv) {
@@ -29,11 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--path", path, "file (save-model) or preset (reset of the plant)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--channel", channel, "control channel")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   lcm::LCM lcm(lcm_url);
   if (!lcm.good()) {
     std::fprintf(stderr, "odonata-control: error: cannot open LCM (is there a multicast route?)\n");

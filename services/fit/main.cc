@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/parse_command_line.hpp"
 #include "fit_job.hpp"
 #include "progress_bar.hpp"
 
@@ -93,11 +94,7 @@ int main(int argc, char** argv) {
   app.add_option("--sweep-criterion", criterion, "score by one_step or free_run validation FIT")
       ->capture_default_str()
       ->check(CLI::IsMember({"one_step", "free_run"}));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
     if (o.load_model.empty()) {

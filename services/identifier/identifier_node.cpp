@@ -82,8 +82,7 @@ void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
                                 " is negative or leaps past the newest, " +
                                 std::to_string(newest_command));
   // A generator that restarted counts from 0 again: forget the old run's commands.
-  if (!commands_.empty() &&
-      msg.seq + static_cast<int64_t>(kMaxCommands) < commands_.rbegin()->first)
+  if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < newest_command)
     commands_.clear();
   // The first command of a seq wins: a resend carries the same values, and a later message
   // reusing the seq (a stale or forged one) must not change a sample after the fact.

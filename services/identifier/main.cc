@@ -4,14 +4,15 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
 #include "identifier_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string config_path, model_path, save_path, lcm_url, instance, suffix;
+  std::string config_path, model_path, save_path, lcm_url, instance;
   bool print_config = false;
   double resume_wait_s = -1;
   CLI::App app{
@@ -25,16 +26,11 @@ int main(int argc, char** argv) {
   app.add_option("--save-model", save_path, "write the model here on exit and on SAVE_MODEL");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (overrides the configuration)");
-  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
-  std::vector<std::string> channel_names;
-  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (print_config) {
     std::cout << odonata::identifier::ExampleIdentifierConfig();
     return 0;
@@ -47,7 +43,7 @@ int main(int argc, char** argv) {
                    config.instance.c_str());
     if (!instance.empty()) config.instance = instance;
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
-    config.channels.Configure(suffix, channel_names);
+    channels.ApplyTo(&config.channels);
     std::optional<odonata::sysid::NarxModel> initial;
     if (!model_path.empty()) initial = odonata::sysid::NarxModel::Load(model_path);
     odonata::bus::BusOptions opts;

@@ -8,6 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/log_csv_export.hpp"
+#include "cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
 #include "logger_node.hpp"
 
 int main(int argc, char** argv) {
@@ -29,10 +31,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   record->add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   record->add_option("--instance", instance, "instance name in heartbeats")->capture_default_str();
-  std::string suffix;
-  std::vector<std::string> channel_names;
-  record->add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
-  record->add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(record, &channels);
 
   std::vector<std::string> logs;
   std::string csv;
@@ -56,11 +56,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
     if (*exp) {
@@ -88,7 +84,7 @@ int main(int argc, char** argv) {
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
     opts.service = "odonata-logger";
-    opts.channels.Configure(suffix, channel_names);
+    channels.ApplyTo(&opts.channels);
     opts.instance = instance;
     odonata::bus::BusNode bus(opts);
     odonata::logger::LoggerNode node(bus, rec);

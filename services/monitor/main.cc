@@ -4,15 +4,16 @@
 
 #include <cstdio>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
 #include "monitor_node.hpp"
 
 int main(int argc, char** argv) {
   odonata::monitor::MonitorOptions o;
-  std::string lcm_url, instance = "monitor", suffix;
+  std::string lcm_url, instance = "monitor";
   CLI::App app{
       "Scores ODONATA_PREDICTION over a sliding window and since start, publishes "
       "ODONATA_ACCURACY, shows a live table, warns on low accuracy or silent services, "
@@ -34,23 +35,18 @@ int main(int argc, char** argv) {
   app.add_option("--summary-json", o.summary_json, "write the final accuracy here on exit");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name")->capture_default_str();
-  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
-  std::vector<std::string> channel_names;
-  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // 2: bad arguments, as every odonata program
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   try {
     o.live_table = isatty(STDOUT_FILENO) == 1;
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
     opts.service = "odonata-monitor";
     opts.instance = instance;
-    opts.channels.Configure(suffix, channel_names);
+    channels.ApplyTo(&opts.channels);
     odonata::bus::BusNode bus(opts);
     odonata::monitor::MonitorNode node(bus, o);
     return bus.Run();

@@ -4,15 +4,16 @@
 
 #include <cstdio>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "plant_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string mode = "lockstep", preset, config_path, lcm_url, instance, suffix;
+  std::string mode = "lockstep", preset, config_path, lcm_url, instance;
   CLI::App app{
       "odonata-plant: the DI-MAV plant as a process. State k is published before command k is "
       "applied; the answer to command k is state k+1 (command_seq k). Free-flight presets fly "
@@ -27,16 +28,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (default odonata-plant)");
-  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
-  std::vector<std::string> channel_names;
-  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   odonata::plant::PlantConfig config;
   try {
     config = config_path.empty() ? odonata::plant::DefaultPlantConfig()
@@ -54,7 +50,7 @@ int main(int argc, char** argv) {
     opts.lcm_url = lcm_url;
     opts.service = odonata::plant_service::kServiceName;
     opts.instance = instance;
-    opts.channels.Configure(suffix, channel_names);
+    channels.ApplyTo(&opts.channels);
     odonata::bus::BusNode bus(opts);
     odonata::plant_service::PlantNode node(bus, config,
                                            mode == "lockstep"

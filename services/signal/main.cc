@@ -8,10 +8,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_schedule.hpp"
 #include "plant/plant_config.hpp"
@@ -19,7 +20,7 @@
 
 int main(int argc, char** argv) {
   std::string preset, phase = "train", commands_path, config_path, mode = "lockstep", lcm_url,
-                      instance, suffix;
+                      instance;
   std::uint64_t seed = 1;
   double duration_s = 0.0;
   odonata::signal_service::SignalOptions options;
@@ -55,16 +56,11 @@ int main(int argc, char** argv) {
   app.add_option("--plant", options.plant, "plant instance to reset and wait for");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (default odonata-signal)");
-  app.add_option("--channel-suffix", suffix, "append _SUFFIX to every channel name");
-  std::vector<std::string> channel_names;
-  app.add_option("--channel", channel_names, odonata::bus::kChannelOptionHelp);
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (preset.empty() == commands_path.empty()) {
     std::fprintf(stderr,
                  "odonata-signal: give exactly one of --preset or --commands (see --help)\n");
@@ -100,7 +96,7 @@ int main(int argc, char** argv) {
     opts.lcm_url = lcm_url;
     opts.service = odonata::signal_service::kServiceName;
     opts.instance = instance;
-    opts.channels.Configure(suffix, channel_names);
+    channels.ApplyTo(&opts.channels);
     odonata::bus::BusNode bus(opts);
     odonata::signal_service::SignalNode node(bus, std::move(schedule), options);
     return bus.Run();

@@ -3,10 +3,12 @@
 // diverged with policy "stop" (the CSV holds the rows up to the divergence).
 
 #include <CLI/CLI.hpp>
+
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include "cli/parse_command_line.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -78,11 +80,7 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "Plant configuration JSON (default: built-in 40 g set)");
   app.add_option("--output", output_path, "Output CSV file");
   preset_opt->excludes(commands_opt);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (list) {
     if (json) {
       ListPresetsJson();

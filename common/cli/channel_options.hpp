@@ -1,0 +1,31 @@
+#pragma once
+// --channel-suffix and --channel KEY=NAME, the same on every service.
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "bus/channel_config.hpp"
+
+namespace odonata::cli {
+
+struct ChannelOptions {
+  std::string suffix;
+  std::vector<std::string> names;  ///< KEY=NAME assignments
+
+  /// Suffix first, then the explicit names (taken as given).
+  /// @throws std::runtime_error for a malformed assignment or an unknown key.
+  void ApplyTo(bus::ChannelConfig* channels) const { channels->Configure(suffix, names); }
+};
+
+/// Adds both options to `app` (a program or a subcommand).
+inline void AddChannelOptions(CLI::App* app, ChannelOptions* options) {
+  app->add_option("--channel-suffix", options->suffix, "append _SUFFIX to every channel name");
+  app->add_option("--channel", options->names,
+                  "rename one channel, KEY=NAME with KEY one of command, state, prediction, "
+                  "model, accuracy, heartbeat, control (repeatable; applied after "
+                  "--channel-suffix)");
+}
+
+}  // namespace odonata::cli
