@@ -77,21 +77,20 @@ TEST_F(MonitorNodeTest, PublishesWindowAndTotalAccuracyOfBothModes) {
     one(k) = OneStep(k);
     free(k) = FreeRun(k);
   }
-  const auto total_one = metrics::Score(y, one), total_free = metrics::Score(y, free);
-  const auto window_one = metrics::Score(y.tail(100), one.tail(100));
-  const auto window_free = metrics::Score(y.tail(100), free.tail(100));
-  EXPECT_NEAR(a.total_fit_one_step[0], total_one.fit_percent, 1e-6);
-  EXPECT_NEAR(a.total_vaf_one_step[0], total_one.vaf_percent, 1e-6);
-  EXPECT_NEAR(a.total_rmse_one_step[0], total_one.rmse, 1e-9);
-  EXPECT_NEAR(a.window_fit_one_step[0], window_one.fit_percent, 1e-6);
-  EXPECT_NEAR(a.window_vaf_one_step[0], window_one.vaf_percent, 1e-6);
-  EXPECT_NEAR(a.window_rmse_one_step[0], window_one.rmse, 1e-9);
-  EXPECT_NEAR(a.total_fit_free_run[0], total_free.fit_percent, 1e-6);
-  EXPECT_NEAR(a.total_vaf_free_run[0], total_free.vaf_percent, 1e-6);
-  EXPECT_NEAR(a.total_rmse_free_run[0], total_free.rmse, 1e-9);
-  EXPECT_NEAR(a.window_fit_free_run[0], window_free.fit_percent, 1e-6);
-  EXPECT_NEAR(a.window_vaf_free_run[0], window_free.vaf_percent, 1e-6);
-  EXPECT_NEAR(a.window_rmse_free_run[0], window_free.rmse, 1e-9);
+  // Each published (FIT, VAF, RMSE) triple against the same figures computed here.
+  const auto expect = [](const char* what, double fit, double vaf, double rmse, const auto& score) {
+    EXPECT_NEAR(fit, score.fit_percent, 1e-6) << what;
+    EXPECT_NEAR(vaf, score.vaf_percent, 1e-6) << what;
+    EXPECT_NEAR(rmse, score.rmse, 1e-9) << what;
+  };
+  expect("total one-step", a.total_fit_one_step[0], a.total_vaf_one_step[0],
+         a.total_rmse_one_step[0], metrics::Score(y, one));
+  expect("window one-step", a.window_fit_one_step[0], a.window_vaf_one_step[0],
+         a.window_rmse_one_step[0], metrics::Score(y.tail(100), one.tail(100)));
+  expect("total free-run", a.total_fit_free_run[0], a.total_vaf_free_run[0],
+         a.total_rmse_free_run[0], metrics::Score(y, free));
+  expect("window free-run", a.window_fit_free_run[0], a.window_vaf_free_run[0],
+         a.window_rmse_free_run[0], metrics::Score(y.tail(100), free.tail(100)));
 }
 
 TEST_F(MonitorNodeTest, WarnsWhenTheWindowFitDropsAndClearsWhenItRecovers) {
