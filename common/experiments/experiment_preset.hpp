@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "experiments/attitude_hold.hpp"
+#include "plant/actuator_damage.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
 #include "plant/trim_finder.hpp"
@@ -53,6 +54,9 @@ struct ExperimentRun {
   /// Samples whose designed command left the actuator limits and was clamped: a well-designed
   /// excitation has none, since clamping distorts the spectrum it was designed to have.
   std::size_t clamped_samples{};
+  /// A wing that fails mid-run (the damage scenario); none by default. The commands above stay
+  /// what was commanded; the plant flies damage.Apply(command, t).
+  plant::ActuatorDamage damage{};
 };
 
 /// The six presets, in the paper's order: actuator_fz, actuator_fx, vertical_velocity, roll,

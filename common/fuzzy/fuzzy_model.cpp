@@ -229,9 +229,10 @@ LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double
     rules_.RefreshCaches();
   }
   if (mode != LearnMode::kTunePremises) consequent_->Update(x, phi, e, y);
-  if (grow_mode) {
+  // Utility is only bookkept when pruning is on: it costs a pass over the rules per sample.
+  if (grow_mode && ec.prune_utility > 0.0) {
     utility_sum_.head(r) += phi;
-    if (ec.prune_utility > 0.0 && r > 1) {
+    if (r > 1) {
       const int worst = LeastUsefulRule();
       if (worst >= 0 && utility(worst) < ec.prune_utility) RemoveRule(worst);
     }

@@ -56,22 +56,48 @@ void LinearConsequent::Update(const Eigen::Ref<const Eigen::VectorXd>& x,
                               const Eigen::Ref<const Eigen::ArrayXd>& phi, double, double target) {
   z_(0) = 1.0;
   z_.tail(inputs_) = x;
+  const int n1 = inputs_ + 1;
   for (int j = 0; j < rules_; ++j) {
     const double w = phi(j);
     if (w < kActiveFiring) continue;
-    auto& p = covariances_[static_cast<std::size_t>(j)];
-    pz_.noalias() = p.selfadjointView<Eigen::Lower>() * z_;
-    const double denom = 1.0 + w * z_.dot(pz_);
-    const double local_error = target - theta_.col(j).dot(z_);
-    theta_.col(j) += (w * local_error / denom) * pz_;
-    p.selfadjointView<Eigen::Lower>().rankUpdate(pz_, -w / denom);
+    // P is kept full (symmetric by construction). At (N+1)² ≈ 50 entries, plain loops over raw
+    // storage beat Eigen's dynamic-size expressions, whose per-call overhead dominates here.
+    double* p = covariances_[static_cast<std::size_t>(j)].data();
+    double* theta = theta_.col(j).data();
+    double* pz = pz_.data();
+    const double* z = z_.data();
+    double zpz = 0.0, prediction = 0.0;
+    for (int a = 0; a < n1; ++a) pz[a] = 0.0;
+    for (int b = 0; b < n1; ++b) {
+      const double zb = z[b];
+      const double* col = p + b * n1;
+      for (int a = 0; a < n1; ++a) pz[a] += col[a] * zb;
+      prediction += theta[b] * zb;
+    }
+    for (int a = 0; a < n1; ++a) zpz += z[a] * pz[a];
+    const double denom = 1.0 + w * zpz;
+    const double gain = w * (target - prediction) / denom;
+    for (int a = 0; a < n1; ++a) theta[a] += gain * pz[a];
+    const double k = w / denom;
+    // Forgetting raises P by 1/λ_j; a trace cap keeps a long quiet spell from winding it up (a
+    // wound-up P turns the next sample into a violent step).
+    const double inflate = forgetting_ < 1.0 ? 1.0 / (1.0 - w * (1.0 - forgetting_)) : 1.0;
+    // Each pair (a, b) is computed once and mirrored: rounding must not make P asymmetric, since
+    // forgetting would amplify the skew part step after step until the update diverges.
+    double trace = 0.0;
+    for (int b = 0; b < n1; ++b) {
+      const double kb = k * pz[b];
+      for (int a = b; a < n1; ++a) {
+        const double v = (p[a + b * n1] - kb * pz[a]) * inflate;
+        p[a + b * n1] = v;
+        p[b + a * n1] = v;
+      }
+      trace += p[b + b * n1];
+    }
     if (forgetting_ < 1.0) {
-      // Forgetting raises P; keep its trace at most the initial one so a long quiet spell cannot
-      // blow it up (a wound-up P turns the next sample into a violent step).
-      p.triangularView<Eigen::Lower>() /= 1.0 - w * (1.0 - forgetting_);
-      const double cap = initial_covariance_ * (inputs_ + 1);
-      const double trace = p.diagonal().sum();
-      if (trace > cap) p.triangularView<Eigen::Lower>() *= cap / trace;
+      const double cap = initial_covariance_ * n1;
+      if (trace > cap)
+        for (int e = 0; e < n1 * n1; ++e) p[e] *= cap / trace;
     }
   }
 }
@@ -118,11 +144,8 @@ nlohmann::json LinearConsequent::ToJson() const {
   for (int r = 0; r < rules_; ++r) {
     const Eigen::VectorXd c = theta_.col(r);
     coef.push_back(std::vector<double>(c.data(), c.data() + c.size()));
-    // Only the lower triangle is maintained by the rank update; store the full symmetric matrix
-    // so a reloaded model resumes learning exactly where it stopped.
     const auto& p = covariances_[static_cast<std::size_t>(r)];
-    const Eigen::MatrixXd full = p.selfadjointView<Eigen::Lower>();
-    cov.push_back(std::vector<double>(full.data(), full.data() + full.size()));
+    cov.push_back(std::vector<double>(p.data(), p.data() + p.size()));
   }
   j["coefficients"] = coef;
   j["covariances"] = cov;

@@ -43,7 +43,7 @@ class LinearConsequent final : public Consequent {
   nlohmann::json ToJson() const override;
 
   /// Rules with a smaller normalised firing skip the RLS step (most of its O(R N²) cost).
-  static constexpr double kActiveFiring = 1e-3;
+  static constexpr double kActiveFiring = 1e-2;
   double forgetting() const { return forgetting_; }
 
   /// θ_j = [a_j0, a_j1 … a_jN] in scaled units.

@@ -8,7 +8,9 @@
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "metrics/accuracy.hpp"
+#include "metrics/accuracy_alarm.hpp"
 #include "metrics/accuracy_json.hpp"
+#include "metrics/running_accuracy.hpp"
 #include "progress_bar.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
@@ -115,6 +117,65 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
     ++set_index;
   }
   out.Close();
+}
+
+/// The tracking run of FitJobOptions::track_csv: one-step predictions of the model learning on
+/// (online), of a frozen copy and of ARX, each with its accuracy alarm.
+nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
+                     const sysid::NarxModel& trained, const sysid::ArxModel& arx,
+                     const std::string& output) {
+  sysid::NarxModel online = trained;
+  const sysid::NarxModel& frozen = trained;
+  const sysid::RegressionData d = sysid::BuildRegression(spec, s);
+  const char* names[] = {"online", "frozen", "arx"};
+  metrics::AccuracyAlarm alarms[3];
+  metrics::WindowAccuracy windows[3] = {metrics::WindowAccuracy(100), metrics::WindowAccuracy(100),
+                                        metrics::WindowAccuracy(100)};
+  nlohmann::json events[3] = {nlohmann::json::array(), nlohmann::json::array(),
+                              nlohmann::json::array()};
+  std::optional<io::CsvWriter> out;
+  if (!output.empty())
+    out.emplace(output, std::vector<std::string>{"sample", "measured", "online", "frozen", "arx",
+                                                 "online_window_fit", "frozen_window_fit",
+                                                 "arx_window_fit"});
+  const Eigen::Index t0 = spec.first_target();
+  Eigen::MatrixXd yhat(d.x.rows(), 3);
+  for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
+    const Eigen::VectorXd x = d.x.row(r).transpose();
+    const double y = d.y(r, 0);
+    const double p_frozen = frozen.Predict(x)(0);
+    const double p_arx = arx.Predict(x)(0);
+    const double p_online = online.Learn(x, d.y.row(r).transpose())[0].prediction;
+    const double p[3] = {p_online, p_frozen, p_arx};
+    std::vector<double> row = {double(t0 + r), y, p_online, p_frozen, p_arx, 0, 0, 0};
+    for (int m = 0; m < 3; ++m) {
+      yhat(r, m) = p[m];
+      windows[m].Add(y, p[m]);
+      row[static_cast<std::size_t>(5 + m)] = windows[m].full() ? windows[m].Get().fit_percent : NAN;
+      if (const auto e = alarms[m].Push(long(t0 + r), y, p[m])) {
+        events[m].push_back(
+            {{"kind", e->kind == metrics::AccuracyEvent::Kind::kAlarm ? "alarm" : "recovered"},
+             {"sample", e->sample},
+             {"window_fit", e->window_fit},
+             {"reference_fit", e->reference_fit}});
+      }
+    }
+    if (out) out->WriteRow(row);
+  }
+  if (out) out->Close();
+  nlohmann::json j;
+  j["samples"] = d.x.rows();
+  j["rules_before"] = trained.total_rules();
+  j["rules_after"] = online.total_rules();
+  for (int m = 0; m < 3; ++m) {
+    j[names[m]]["events"] = events[m];
+    j[names[m]]["one_step"] = metrics::AccuracyToJson(metrics::Score(d.y.col(0), yhat.col(m)));
+  }
+  int pruned = 0;
+  for (int o = 0; o < online.outputs(); ++o) pruned += int(online.model(o).rules_pruned());
+  j["rules_pruned"] = pruned;
+  if (!output.empty()) j["file"] = output;
+  return j;
 }
 
 }  // namespace
@@ -265,6 +326,10 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           }
         }
       }
+    }
+    if (!o.track_csv.empty()) {
+      const sysid::Series track = LoadSeries(o.track_csv, output, spec.inputs, spec);
+      report["track"] = Track(spec, track, *model, arx, o.track_output);
     }
     if (!o.predictions.empty()) {
       std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};

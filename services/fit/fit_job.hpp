@@ -33,9 +33,14 @@ struct FitJobOptions {
   bool epochs_given = false;
   sysid::SelectionOptions selection;
   std::string predictions;  ///< optional CSV of measured, fuzzy and ARX predictions
-  bool progress = false;    ///< draw a progress bar on stderr
-  std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
-  std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
+  /// Optional: after training, run the model online over this CSV (it keeps learning, as the
+  /// online identifier does), beside a frozen copy and the ARX model fitted on --train, with the
+  /// accuracy alarm on each; a vehicle that changes mid-run shows what online learning is for.
+  std::string track_csv;
+  std::string track_output;  ///< optional per-sample CSV of the tracking run
+  bool progress = false;     ///< draw a progress bar on stderr
+  std::string ranges;        ///< optional: declared signal ranges (JSON) fix the scaling
+  std::string save_ranges;   ///< optional: write the training data's ranges (JSON)
 };
 
 /// Runs the job and returns the report (the --json document).

@@ -111,6 +111,13 @@ int main(int argc, char** argv) {
   app.add_option("--predictions", o.predictions,
                  "write a CSV: set (0 train, 1 validate), sample, measured, fuzzy_one_step, "
                  "fuzzy_free_run, arx_one_step, arx_free_run");
+  app.add_option("--track", o.track_csv,
+                 "after training, learn online over this CSV beside a frozen copy and ARX, with an "
+                 "accuracy alarm on each (a vehicle that changes mid-run)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--track-output", o.track_output,
+                 "per-sample CSV of the --track run: measured, online, frozen, arx and their 1 s "
+                 "window FIT");
   app.add_option("--ranges", o.ranges,
                  "JSON {signal: [min, max]}: fixes the scaling instead of deriving it from the "
                  "training data (what the online identifier uses)")

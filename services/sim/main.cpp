@@ -79,6 +79,16 @@ int main(int argc, char** argv) {
   app.add_option("--altitude", altitude_m, "Start height in m (with --commands)");
   app.add_option("--config", config_path, "Plant configuration JSON (default: built-in 40 g set)");
   app.add_option("--output", output_path, "Output CSV file");
+  odonata::plant::ActuatorDamage damage;
+  app.add_option("--damage-at", damage.at_s,
+                 "damage scenario: from this time (s) on, one wing delivers less than commanded");
+  app.add_option("--damage-wing", damage.wing, "the damaged wing, 1…4")->capture_default_str();
+  app.add_option("--damage-amplitude", damage.amplitude_scale,
+                 "delivered stroke amplitude / commanded (0.7: 30 % lost)")
+      ->capture_default_str();
+  app.add_option("--damage-frequency", damage.frequency_scale,
+                 "delivered flapping frequency / commanded (a sagging battery)")
+      ->capture_default_str();
   preset_opt->excludes(commands_opt);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (list) {
@@ -119,6 +129,11 @@ int main(int argc, char** argv) {
         if (rows < run.commands.size()) run.commands.resize(rows);
       }
     }
+    if (const std::string p = damage.Problems(); !p.empty()) {
+      std::fprintf(stderr, "odonata-sim: %s\n", p.c_str());
+      return 2;
+    }
+    run.damage = damage;
     const odonata::sim::SimResult result = odonata::sim::RunAndWrite(config, run, output_path);
     for (const std::string& m : result.messages)
       std::fprintf(stderr, "odonata-sim: %s\n", m.c_str());

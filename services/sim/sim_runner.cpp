@@ -54,7 +54,9 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
     writer.WriteRow(row);
     ++result.rows_written;
 
-    const plant::StepStatus status = plant.Step(command);
+    // A damaged wing flies less than it is told; the CSV keeps what was commanded.
+    const plant::StepStatus status =
+        plant.Step(run.damage.Apply(command, double(k) * run.sample_period_s));
     if (status == plant::StepStatus::kReset) {
       ++result.resets;
       result.messages.push_back(plant.divergence_message());

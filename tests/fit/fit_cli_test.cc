@@ -211,6 +211,32 @@ TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
   EXPECT_NEAR(100 * (1 - std::sqrt(se / sv)), j["validate"]["one_step"]["fit"].get<double>(), 1e-6);
 }
 
+TEST(FitCli, TrackLearnsOnlineBesideAFrozenCopyAndArx) {
+  // The validation file as a "changed vehicle": the online copy keeps learning on it.
+  const std::string out = Dir() + "/track.csv";
+  const ProcessResult r = Exec("--train " + Example("train.csv") +
+                                   " --output y --input u --entropy-threshold 0.45 --kappa 0.5 "
+                                   "--epochs 1 --no-least-squares --consequent linear "
+                                   "--forgetting 0.995 --json --track " +
+                                   Example("validate.csv") + " --track-output " + out,
+                               false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto t = nlohmann::json::parse(r.out)["track"];
+  EXPECT_EQ(t["samples"].get<int>(), 999);
+  for (const char* m : {"online", "frozen", "arx"}) {
+    EXPECT_TRUE(t[m]["one_step"]["fit"].is_number()) << m;
+    EXPECT_TRUE(t[m]["events"].is_array()) << m;
+  }
+  EXPECT_GT(t["online"]["one_step"]["fit"].get<double>(),
+            t["frozen"]["one_step"]["fit"].get<double>())
+      << "learning on the new data beats the frozen copy on it";
+  std::ifstream in(out);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header,
+            "sample,measured,online,frozen,arx,online_window_fit,frozen_window_fit,arx_window_fit");
+}
+
 TEST(FitCli, ProgressBarOnlyOnATerminal) {
   // script(1) gives the program a pseudo-terminal, as a user's shell would.
   const std::string fit = std::string(ODONATA_FIT_EXE) + " --train " + Example("train.csv") +

@@ -114,6 +114,26 @@ TEST_F(SimCli, SameSeedGivesTheSameCsvBitForBit) {
   }
 }
 
+TEST_F(SimCli, DamagedWingFliesLessThanCommandedFromItsTimeOn) {
+  const std::string base = "--preset actuator_fz --phase validate --seed 2 --duration 4 --output ";
+  ASSERT_EQ(Run(base + Path("ok.csv")).exit_code, 0);
+  const Result r =
+      Run(base + Path("hurt.csv") + " --damage-at 2 --damage-wing 1 --damage-amplitude 0.7");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const odonata::io::CsvTable ok = odonata::io::CsvTable::Read(Path("ok.csv"));
+  const odonata::io::CsvTable hurt = odonata::io::CsvTable::Read(Path("hurt.csv"));
+  // Commands (what the identifier sees) are identical; wing 1's force is not, after 2 s only.
+  EXPECT_EQ(ok.Column("w1_amp_rad"), hurt.Column("w1_amp_rad"));
+  for (std::size_t k = 0; k <= 200; ++k) EXPECT_EQ(ok.Column("fz1_n")[k], hurt.Column("fz1_n")[k]);
+  double ok_late = 0, hurt_late = 0;
+  for (std::size_t k = 300; k < 400; ++k) {
+    ok_late += ok.Column("fz1_n")[k];
+    hurt_late += hurt.Column("fz1_n")[k];
+  }
+  EXPECT_LT(hurt_late, 0.7 * ok_late) << "lift falls faster than the amplitude";
+  EXPECT_EQ(Run(base + Path("x.csv") + " --damage-at 1 --damage-wing 7").exit_code, 2);
+}
+
 TEST_F(SimCli, CsvHasTheDocumentedColumnsAndAnExcitationColumn) {
   ASSERT_EQ(Run("--preset roll --duration 2 --output " + Path("roll.csv")).exit_code, 0);
   const odonata::io::CsvTable t = odonata::io::CsvTable::Read(Path("roll.csv"));
