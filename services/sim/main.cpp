@@ -26,8 +26,9 @@ void ListPresets() {
     std::printf(", ny %d nu %d delay %d, H %.3g (paper %s, %d MFs, %s)\n", p.ny, p.nu, p.delay,
                 p.entropy_threshold, p.paper_entropy_text.c_str(), p.paper_mf_count,
                 p.paper_accuracy_text.c_str());
-    std::printf("  train %.0f s: %s\n  validate %.0f s: %s\n", p.train_duration_s,
-                p.train_excitation.c_str(), p.validate_duration_s, p.validate_excitation.c_str());
+    std::printf("  train %.0f s: %s\n  select %.0f s: %s\n  validate %.0f s: %s\n",
+                p.train_duration_s, p.train_excitation.c_str(), p.select_duration_s,
+                p.select_excitation.c_str(), p.validate_duration_s, p.validate_excitation.c_str());
   }
 }
 
@@ -48,10 +49,13 @@ void ListPresetsJson() {
                    {"paper_accuracy", p.paper_accuracy_text},
                    {"train_duration_s", p.train_duration_s},
                    {"validate_duration_s", p.validate_duration_s},
+                   {"select_duration_s", p.select_duration_s},
+                   {"held_vehicle", p.held_vehicle},
                    {"clamped_body", p.clamped_body},
                    {"attitude_hold", p.attitude_hold},
                    {"train_excitation", p.train_excitation},
-                   {"validate_excitation", p.validate_excitation}});
+                   {"validate_excitation", p.validate_excitation},
+                   {"select_excitation", p.select_excitation}});
   }
   std::printf("%s\n", all.dump(1).c_str());
 }
@@ -69,8 +73,10 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "With --list-presets: print them as JSON");
   auto* preset_opt =
       app.add_option("--preset", preset_name, "Experiment preset (see --list-presets)");
-  app.add_option("--phase", phase_name, "train or validate (with --preset)")
-      ->check(CLI::IsMember({"train", "validate"}));
+  app.add_option("--phase", phase_name,
+                 "train, select (for choices: H, widths, order) or validate (never for a "
+                 "choice); with --preset")
+      ->check(CLI::IsMember(odonata::experiments::PhaseNames()));
   app.add_option("--seed", seed, "Random seed (with --preset)");
   app.add_option("--duration", duration_s, "Duration in s (default: the preset's)")
       ->check(CLI::PositiveNumber);
@@ -109,8 +115,7 @@ int main(int argc, char** argv) {
                      preset_name.c_str(), odonata::experiments::PresetNames().c_str());
         return 2;
       }
-      const auto phase = phase_name == "train" ? odonata::experiments::Phase::kTrain
-                                               : odonata::experiments::Phase::kValidate;
+      const auto phase = *odonata::experiments::ParsePhase(phase_name);
       run = odonata::experiments::BuildExperimentRun(*preset, phase, seed, duration_s, config);
     } else {
       run = odonata::sim::ReadCommandFile(commands_path, config, altitude_m);

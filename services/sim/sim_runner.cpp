@@ -8,7 +8,16 @@
 
 namespace odonata::sim {
 
-std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns) {
+const std::vector<std::string>& BeatColumnNames() {
+  static const std::vector<std::string> kNames = {"vx_mps_avg",     "vy_mps_avg",    "vz_mps_avg",
+                                                  "p_radps_avg",    "q_radps_avg",   "r_radps_avg",
+                                                  "roll_rad_avg",   "pitch_rad_avg", "yaw_rad_avg",
+                                                  "fx_total_n_avg", "fz_total_n_avg"};
+  return kNames;
+}
+
+std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns,
+                                   bool applied_columns) {
   std::vector<std::string> h = {"t_s"};
   for (int w = 0; w < plant::kWingCount; ++w) {
     for (int i = 0; i < plant::kCommandsPerWing; ++i) h.push_back(plant::CommandColumnName(w, i));
@@ -20,6 +29,11 @@ std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns
   for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fx" + std::to_string(w) + "_n");
   for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fz" + std::to_string(w) + "_n");
   h.insert(h.end(), extra_columns.begin(), extra_columns.end());
+  h.insert(h.end(), BeatColumnNames().begin(), BeatColumnNames().end());
+  if (applied_columns) {
+    const std::vector<std::string>& applied = experiments::AppliedChannelNames();
+    h.insert(h.end(), applied.begin(), applied.end());
+  }
   return h;
 }
 
@@ -27,7 +41,7 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
                       const std::string& output_path) {
   plant::DimavPlant plant(config);
   plant.Reset(run.initial);
-  const std::vector<std::string> header = CsvHeader(run.excitation_names);
+  const std::vector<std::string> header = CsvHeader(run.excitation_names, run.record_applied);
   io::CsvWriter writer(output_path, header);
   SimResult result;
   std::vector<double> row(header.size());
@@ -51,6 +65,19 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
     for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_x_n(w);
     for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_z_n(w);
     for (const std::vector<double>& values : run.excitation_values) row[c++] = values[k];
+    const plant::BeatAverages& b = o.beat;
+    for (int i = 0; i < 3; ++i) row[c++] = b.velocity_body_mps(i);
+    for (int i = 0; i < 3; ++i) row[c++] = b.rate_body_radps(i);
+    row[c++] = b.roll_rad;
+    row[c++] = b.pitch_rad;
+    row[c++] = b.yaw_rad;
+    row[c++] = b.force_x_n;
+    row[c++] = b.force_z_n;
+    if (run.record_applied) {
+      for (const double v : experiments::AppliedChannelValues(command, run.trim.amp_rad)) {
+        row[c++] = v;
+      }
+    }
     writer.WriteRow(row);
     ++result.rows_written;
 
