@@ -85,6 +85,11 @@ int main(int argc, char** argv) {
   app.add_option("--altitude", altitude_m, "Start height in m (with --commands)");
   app.add_option("--config", config_path, "Plant configuration JSON (default: built-in 40 g set)");
   app.add_option("--output", output_path, "Output CSV file");
+  int decimate = 1;
+  app.add_option("--decimate", decimate,
+                 "write one row per N samples: outputs (and their _avg) at the block's first "
+                 "sample, inputs averaged over the block (N = 19 is about one wing beat at hover)")
+      ->check(CLI::Range(1, 1000000));
   preset_opt->excludes(commands_opt);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (list) {
@@ -124,7 +129,8 @@ int main(int argc, char** argv) {
         if (rows < run.commands.size()) run.commands.resize(rows);
       }
     }
-    const odonata::sim::SimResult result = odonata::sim::RunAndWrite(config, run, output_path);
+    const odonata::sim::SimResult result =
+        odonata::sim::RunAndWrite(config, run, output_path, decimate);
     for (const std::string& m : result.messages)
       std::fprintf(stderr, "odonata-sim: %s\n", m.c_str());
     if (result.stopped) {

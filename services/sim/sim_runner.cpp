@@ -38,13 +38,29 @@ std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns
 }
 
 SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::ExperimentRun& run,
-                      const std::string& output_path) {
+                      const std::string& output_path, int decimate) {
   plant::DimavPlant plant(config);
   plant.Reset(run.initial);
   const std::vector<std::string> header = CsvHeader(run.excitation_names, run.record_applied);
   io::CsvWriter writer(output_path, header);
   SimResult result;
   std::vector<double> row(header.size());
+  // Decimation: inputs (commands, excitation, applied channels) are averaged over a block, the
+  // rest is taken at the block's first sample.
+  std::vector<bool> is_input(header.size(), false);
+  const std::size_t commands = plant::kWingCount * plant::kCommandsPerWing;
+  const std::size_t first_excitation = 1 + commands + 12 + 2 * plant::kWingCount;  // after fz4_n
+  for (std::size_t c = 1; c <= commands; ++c) is_input[c] = true;
+  for (std::size_t e = 0; e < run.excitation_names.size(); ++e)
+    is_input[first_excitation + e] = true;
+  if (run.record_applied) {
+    for (std::size_t c = header.size() - experiments::AppliedChannelNames().size();
+         c < header.size(); ++c) {
+      is_input[c] = true;
+    }
+  }
+  std::vector<double> block(header.size());
+  int in_block = 0;
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const plant::PlantOutput& o = plant.output();
     // The command actually applied (clamped) is what the wings did, so that is what is written.
@@ -78,8 +94,22 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
         row[c++] = v;
       }
     }
-    writer.WriteRow(row);
-    ++result.rows_written;
+    if (decimate <= 1) {
+      writer.WriteRow(row);
+      ++result.rows_written;
+    } else {
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        if (in_block == 0 || is_input[i]) block[i] = in_block == 0 ? row[i] : block[i] + row[i];
+      }
+      if (++in_block == decimate) {
+        for (std::size_t i = 0; i < block.size(); ++i) {
+          if (is_input[i]) block[i] /= decimate;
+        }
+        writer.WriteRow(block);
+        ++result.rows_written;
+        in_block = 0;
+      }
+    }
 
     const plant::StepStatus status = plant.Step(command);
     if (status == plant::StepStatus::kReset) {

@@ -37,9 +37,15 @@ std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns
 /// The w{i}_* columns are the command actually applied (attitude hold added, clamped); the
 /// excitation columns are the designed excitation; the *_applied_* columns (runs with
 /// record_applied) are the excitation's channels read from the applied command.
+///
+/// With decimate = N > 1 one row is written per block of N samples (a lower, e.g. wing-beat,
+/// rate): the outputs (instantaneous and _avg) at the block's first sample t_jN, the inputs
+/// (w{i}_*, excitation and applied columns) averaged over the block, i.e. the mean input held
+/// over [t_jN, t_(j+1)N). A partial last block is not written.
+/// @pre decimate ≥ 1.
 /// @throws std::runtime_error if the file cannot be written.
 SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::ExperimentRun& run,
-                      const std::string& output_path);
+                      const std::string& output_path, int decimate = 1);
 
 /// Reads a command file (columns t_s and the 24 command names, any order, other columns ignored),
 /// checking that t_s is uniformly spaced at the plant's sample period.

@@ -199,6 +199,31 @@ TEST_F(SimCli, BeatAveragedVelocityHasNoWingBeatRipple) {
   EXPECT_LT(rms_diff("vz_mps_avg"), 0.3 * rms_diff("vz_mps"));
 }
 
+// --decimate N: one row per N samples, outputs at the block's first sample, inputs averaged over
+// the block.
+TEST_F(SimCli, DecimateKeepsOutputsAndAveragesInputsOverEachBlock) {
+  const std::string base = "--preset roll --duration 3 --output ";
+  ASSERT_EQ(Run(base + Path("full.csv")).exit_code, 0);
+  ASSERT_EQ(Run(base + Path("dec.csv") + " --decimate 19").exit_code, 0);
+  ASSERT_EQ(Run(base + Path("one.csv") + " --decimate 1").exit_code, 0);
+  EXPECT_EQ(Slurp(Path("one.csv")), Slurp(Path("full.csv")));
+  EXPECT_EQ(Run(base + Path("x.csv") + " --decimate 0").exit_code, 2);
+  const odonata::io::CsvTable full = odonata::io::CsvTable::Read(Path("full.csv"));
+  const odonata::io::CsvTable dec = odonata::io::CsvTable::Read(Path("dec.csv"));
+  ASSERT_EQ(dec.names(), full.names());
+  ASSERT_EQ(dec.rows(), 300u / 19u);  // the partial last block is dropped
+  for (std::size_t j = 0; j < dec.rows(); ++j) {
+    for (const char* out : {"t_s", "roll_rad", "vz_mps", "roll_rad_avg", "fz_total_n_avg"}) {
+      EXPECT_EQ(dec.Column(out)[j], full.Column(out)[19 * j]) << out << " " << j;
+    }
+    for (const char* in : {"w1_amp_rad", "u_roll_rad", "u_roll_applied_rad"}) {
+      double sum = 0.0;
+      for (std::size_t k = 19 * j; k < 19 * j + 19; ++k) sum += full.Column(in)[k];
+      EXPECT_NEAR(dec.Column(in)[j], sum / 19.0, 1e-12) << in << " " << j;
+    }
+  }
+}
+
 TEST_F(SimCli, SelectPhaseIsAThirdExcitation) {
   const std::string base = "--preset pitch --duration 3 --seed 4 --phase ";
   ASSERT_EQ(Run(base + "train --output " + Path("t.csv")).exit_code, 0);
