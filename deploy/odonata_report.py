@@ -52,8 +52,8 @@ def summarise(r):
     arx_fit = b["arx"]["validate"]["one_step"]["fit"]
     notes = []
     if r["rules"] == 1:
-        notes.append("one rule: the model is a single local linear model (ARX-like); within the sweep's "
-                     "tolerance the data does not call for more rules at these amplitudes")
+        notes.append("one rule: the model is a single local linear model (ARX-like); within the selection's "
+                     "tolerance the training hold-out does not call for more rules at these amplitudes")
     if r["integrator"]:
         notes.append("integrating loop: free run drifts with any bias, one-step is the meaningful score")
     if v["one_step"]["fit"] is not None and arx_fit is not None and v["one_step"]["fit"] < arx_fit:
@@ -68,7 +68,7 @@ def summarise(r):
         "output": r["preset"]["output"],
         "inputs": r["preset"]["inputs"],
         "entropy_threshold": r["chosen_entropy_threshold"],
-        "sigma_min": r["config"]["sigma_min"],
+        "kappa": r["config"]["kappa"],
         "ny": r["config"]["ny"],
         "nu": r["config"]["nu"],
         "rules": r["rules"],
@@ -271,18 +271,18 @@ def make_plots(out, r):
 
     pts = r["sweep"]["points"]
     fig, ax = plt.subplots(figsize=(6, 3.5))
-    for key in sorted(set((q.get("ny", 0), q.get("nu", 0), q.get("sigma_min", 0)) for q in pts)):
-        sel = [q for q in pts if (q.get("ny", 0), q.get("nu", 0), q.get("sigma_min", 0)) == key]
-        ax.plot([q["rules"] for q in sel], [q["validate_one_step_fit"] for q in sel], "o-", ms=3,
-                label=f"ny/nu {key[0]}/{key[1]}, σ_min {key[2]}")
-    for q in pts:
-        ax.annotate(f"H={q['entropy_threshold']:.3g}", (q["rules"], q["validate_one_step_fit"]), fontsize=7)
+    for key in sorted(set((q.get("ny", 0), q.get("nu", 0), q["kappa"]) for q in pts)):
+        sel = sorted([q for q in pts if (q.get("ny", 0), q.get("nu", 0), q["kappa"]) == key and q["score"] is not None],
+                     key=lambda q: q["entropy_threshold"])
+        ax.plot([q["rules"] for q in sel], [q["score"] for q in sel], "o-", ms=3,
+                label=f"ny/nu {key[0]}/{key[1]}, κ {key[2]:g}")
     ch = pts[r["sweep"]["chosen_index"]]
-    ax.plot([ch["rules"]], [ch["validate_one_step_fit"]], "r*", ms=12, label="chosen")
-    ax.set_xlabel("rules (MFs)")
-    ax.set_ylabel("FIT %")
-    ax.set_title(f"{r['name']}: accuracy against rule count")
-    ax.legend(fontsize=8)
+    ax.plot([ch["rules"]], [ch["score"]], "r*", ms=12, label=f"chosen (H={ch['entropy_threshold']:.3g})")
+    ax.set_xlabel("rules")
+    ax.set_ylabel(f"hold-out {r['sweep']['criterion'].replace('_', '-')} NDEI")
+    ax.set_yscale("log")
+    ax.set_title(f"{r['name']}: model selection on the training hold-out")
+    ax.legend(fontsize=7)
     fig.tight_layout()
     files["sweep"] = f"{r['name']}-sweep.png"
     fig.savefig(os.path.join(out, files["sweep"]), dpi=90)

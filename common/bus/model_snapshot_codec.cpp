@@ -44,6 +44,14 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
     f.sigma_min = e["sigma_min"];
     f.sigma_max = e["sigma_max"];
     f.entropy_measure = e["measure"];
+    f.prune_utility = e["prune_utility"];
+    f.prune_min_age = e["prune_min_age"];
+    f.clock = fm["clock"];
+    f.pruned = fm["pruned"];
+    for (const auto& rule : fm["rules"]) {
+      f.utility_sums.push_back(rule["utility_sum"].get<double>());
+      f.born.push_back(rule["born"].get<int64_t>());
+    }
     const auto& a = fm["rates"];
     f.rate_centre = a["centre"];
     f.rate_sigma = a["sigma"];
@@ -51,7 +59,8 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
     f.max_step = a["max_step"];
     const auto& c = fm["consequent"];
     f.consequent = c["kind"];
-    f.nlms_rate = f.nlms_regulariser = f.rls_initial_covariance = f.rls_forgetting = 0;
+    f.nlms_rate = f.nlms_regulariser = f.rls_initial_covariance = 0;
+    f.rls_forgetting = fm["forgetting"];
     if (f.consequent == "singleton") {
       f.nlms_rate = c["rate"];
       f.nlms_regulariser = c["regulariser"];
@@ -64,6 +73,7 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
       f.rls_forgetting = c["forgetting"];
       f.num_coefficients = f.num_inputs + 1;
       f.coefficients = c["coefficients"].get<std::vector<std::vector<double>>>();
+      f.rls_forgetting = c["forgetting"];
       f.covariance_size = f.num_coefficients * f.num_coefficients;
       f.covariances = c["covariances"].get<std::vector<std::vector<double>>>();
     }
@@ -89,19 +99,30 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   for (const auto& f : m.models) {
     nlohmann::json fm;
     fm["inputs"] = f.num_inputs;
-    fm["entropy"] = {
-        {"threshold", f.entropy_threshold}, {"max_rules", f.max_rules}, {"kappa", f.kappa},
-        {"sigma_init", f.sigma_init},       {"sigma_min", f.sigma_min}, {"sigma_max", f.sigma_max},
-        {"measure", f.entropy_measure}};
+    fm["entropy"] = {{"threshold", f.entropy_threshold},
+                     {"max_rules", f.max_rules},
+                     {"kappa", f.kappa},
+                     {"sigma_init", f.sigma_init},
+                     {"sigma_min", f.sigma_min},
+                     {"sigma_max", f.sigma_max},
+                     {"measure", f.entropy_measure},
+                     {"prune_utility", f.prune_utility},
+                     {"prune_min_age", f.prune_min_age}};
+    fm["forgetting"] = f.rls_forgetting;
+    fm["clock"] = f.clock;
+    fm["pruned"] = f.pruned;
     fm["rates"] = {{"centre", f.rate_centre},
                    {"sigma", f.rate_sigma},
                    {"output_width", f.rate_output_width},
                    {"max_step", f.max_step}};
     nlohmann::json rules = nlohmann::json::array();
     for (int r = 0; r < f.num_rules; ++r) {
-      rules.push_back({{"centre", f.centres[static_cast<std::size_t>(r)]},
-                       {"sigma", f.sigmas[static_cast<std::size_t>(r)]},
-                       {"output_width", f.output_widths[static_cast<std::size_t>(r)]}});
+      const auto k = static_cast<std::size_t>(r);
+      rules.push_back({{"centre", f.centres[k]},
+                       {"sigma", f.sigmas[k]},
+                       {"output_width", f.output_widths[k]},
+                       {"utility_sum", f.utility_sums[k]},
+                       {"born", f.born[k]}});
     }
     fm["rules"] = rules;
     nlohmann::json c;

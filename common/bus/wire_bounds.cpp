@@ -81,6 +81,9 @@ void FuzzyRules(WireCursor& w) {
   w.Skip(kF64 + kI32 + 4 * kF64);  // entropy_threshold, max_rules, kappa … sigma_max
   w.String();                      // entropy_measure
   w.Skip(8 * kF64);                // rates, NLMS and RLS settings
+  w.Skip(kF64 + kI32 + 2 * kI64);  // prune_utility, prune_min_age, clock, pruned
+  w.Array(rules, kF64);            // utility_sums
+  w.Array(rules, kI64);            // born
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ enum class Phase { kTrain, kValidate, kSelect };
 struct ExperimentPreset {
   std::string name;         ///< CLI name, e.g. "roll"
   std::string description;  ///< one line
-  // Identification (identifier.md §4 and §6).
+  // Identification (docs/identifier.md §7 and §10).
   std::string output_column;               ///< CSV column of y
   std::vector<std::string> input_columns;  ///< CSV column(s) of u
   int ny{};                                ///< suggested output lags

@@ -13,7 +13,6 @@ namespace {
 constexpr double kNlmsRate = 0.5;
 constexpr double kNlmsRegulariser = 1e-3;
 constexpr double kRlsInitialCovariance = 1e3;
-constexpr double kRlsForgetting = 1.0;
 }  // namespace
 
 const char* ToString(ConsequentKind kind) {
@@ -26,12 +25,12 @@ ConsequentKind ConsequentKindFromString(const std::string& name) {
   throw std::invalid_argument("unknown consequent '" + name + "' (expected singleton or linear)");
 }
 
-std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity) {
+std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity,
+                                           double forgetting) {
   if (kind == ConsequentKind::kSingleton) {
     return std::make_unique<SingletonConsequent>(capacity, kNlmsRate, kNlmsRegulariser);
   }
-  return std::make_unique<LinearConsequent>(inputs, capacity, kRlsInitialCovariance,
-                                            kRlsForgetting);
+  return std::make_unique<LinearConsequent>(inputs, capacity, kRlsInitialCovariance, forgetting);
 }
 
 std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json& j, int inputs, int capacity) {

@@ -1,5 +1,5 @@
 #pragma once
-// The THEN part of the rules, as a strategy behind one rule base (identifier.md §1 and §7).
+// The THEN part of the rules, as a strategy behind one rule base (docs/identifier.md §1 and §2).
 
 #include <memory>
 #include <string>
@@ -36,6 +36,12 @@ class Consequent {
   virtual void AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
                        const Eigen::Ref<const Eigen::ArrayXd>& phi_existing) = 0;
 
+  /// Removes consequent `rule`; later rules move up one place. @pre 0 ≤ rule < rules().
+  virtual void RemoveRule(int rule) = 0;
+  /// Sets the forgetting factor λ ∈ (0, 1] of a recursive learner (1 never forgets). Learners
+  /// that track by construction (NLMS) ignore it.
+  virtual void SetForgetting(double /*lambda*/) {}
+
   /// One online learning step given the weights φ, the output error e = ŷ − y and target y.
   virtual void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
                       const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) = 0;
@@ -60,8 +66,10 @@ class Consequent {
   virtual nlohmann::json ToJson() const = 0;
 };
 
-/// Creates an empty consequent for `inputs` regressors with room for `capacity` rules.
-std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity);
+/// Creates an empty consequent for `inputs` regressors with room for `capacity` rules; `forgetting`
+/// is the recursive learner's λ (linear consequents).
+std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity,
+                                           double forgetting = 1.0);
 /// Rebuilds a consequent saved by ToJson().
 /// @throws std::runtime_error on malformed content.
 std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json& j, int inputs, int capacity);

@@ -1,21 +1,50 @@
 #include "fuzzy/fuzzy_model.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
 #include <nlohmann/json.hpp>
+
+#include "fuzzy/blockwise_least_squares.hpp"
 
 namespace odonata::fuzzy {
 
+namespace {
+FuzzyModelConfig Checked(const FuzzyModelConfig& config) {
+  const std::string p = config.Problems();
+  if (!p.empty()) throw std::invalid_argument("fuzzy model: " + p);
+  return config;
+}
+}  // namespace
+
+std::string FuzzyModelConfig::Problems() const {
+  std::string p;
+  auto add = [&p](const std::string& line) {
+    if (line.empty()) return;
+    if (!p.empty()) p += "\n";
+    p += line;
+  };
+  // Sizes are products in memory (rules × inputs²), so an absurd count is refused here, before
+  // anything is allocated.
+  if (inputs < 1 || inputs > 1000)
+    add("inputs must be in [1, 1000], not " + std::to_string(inputs));
+  add(entropy.Problems());
+  if (!(forgetting > 0.0 && forgetting <= 1.0))
+    add("forgetting factor must be in (0, 1], not " + std::to_string(forgetting));
+  const auto finite_nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (!finite_nonneg(rates.centre) || !finite_nonneg(rates.sigma) ||
+      !finite_nonneg(rates.output_width) ||
+      !(rates.max_step > 0.0 && std::isfinite(rates.max_step)))
+    add("learning rates must be finite and non-negative, max_step positive");
+  return p;
+}
+
 FuzzyModel::FuzzyModel(const FuzzyModelConfig& config)
-    : config_(config),
+    : config_(Checked(config)),
       rules_(config.inputs, config.entropy.max_rules),
-      consequent_(MakeConsequent(config.consequent, config.inputs, config.entropy.max_rules)),
-      generator_(config.entropy) {
-  assert(config.inputs >= 1 && config.entropy.max_rules >= 1);
+      consequent_(MakeConsequent(config.consequent, config.inputs, config.entropy.max_rules,
+                                 config.forgetting)) {
   AllocateScratch();
 }
 
@@ -23,7 +52,10 @@ FuzzyModel::FuzzyModel(const FuzzyModel& other)
     : config_(other.config_),
       rules_(other.rules_),
       consequent_(other.consequent_->Clone()),
-      generator_(other.generator_) {
+      utility_sum_(other.utility_sum_),
+      born_(other.born_),
+      clock_(other.clock_),
+      pruned_(other.pruned_) {
   AllocateScratch();
 }
 
@@ -32,7 +64,10 @@ FuzzyModel& FuzzyModel::operator=(const FuzzyModel& other) {
     config_ = other.config_;
     rules_ = other.rules_;
     consequent_ = other.consequent_->Clone();
-    generator_ = other.generator_;
+    utility_sum_ = other.utility_sum_;
+    born_ = other.born_;
+    clock_ = other.clock_;
+    pruned_ = other.pruned_;
     AllocateScratch();
   }
   return *this;
@@ -41,16 +76,62 @@ FuzzyModel& FuzzyModel::operator=(const FuzzyModel& other) {
 void FuzzyModel::AllocateScratch() {
   const int cap = config_.entropy.max_rules;
   gradient_factor_.resize(cap);
-  diff_.resize(cap);
-  scaled_diff_.resize(cap);
+  grad_c_.resize(cap);
+  grad_s_.resize(cap);
+  if (utility_sum_.size() != cap) {
+    utility_sum_ = Eigen::ArrayXd::Zero(cap);
+    born_ = Eigen::Array<long long, Eigen::Dynamic, 1>::Zero(cap);
+  }
   scratch_.weighted_distance.resize(0);
   scratch_.normalized.resize(0);
   rule_outputs_.resize(0);
 }
 
 void FuzzyModel::set_entropy_threshold(double h) {
+  EntropyRuleConfig e = config_.entropy;
+  e.threshold = h;
+  const std::string p = e.Problems();
+  if (!p.empty()) throw std::invalid_argument(p);
   config_.entropy.threshold = h;
-  generator_.set_threshold(h);
+}
+
+void FuzzyModel::set_forgetting(double lambda) {
+  FuzzyModelConfig c = config_;
+  c.forgetting = lambda;
+  const std::string p = c.Problems();
+  if (!p.empty()) throw std::invalid_argument(p);
+  config_.forgetting = lambda;
+  consequent_->SetForgetting(lambda);
+}
+
+double FuzzyModel::utility(int rule) const {
+  const long long age = clock_ - born_(rule);
+  return age <= 0 ? 1.0 : utility_sum_(rule) / static_cast<double>(age);
+}
+
+int FuzzyModel::LeastUsefulRule() const {
+  int worst = -1;
+  double lowest = 0.0;
+  for (int j = 0; j < rules_.rules(); ++j) {
+    if (clock_ - born_(j) < config_.entropy.prune_min_age) continue;
+    const double u = utility(j);
+    if (worst < 0 || u < lowest) {
+      worst = j;
+      lowest = u;
+    }
+  }
+  return worst;
+}
+
+void FuzzyModel::RemoveRule(int rule) {
+  const int tail = rules_.rules() - rule - 1;
+  rules_.RemoveRule(rule);
+  consequent_->RemoveRule(rule);
+  if (tail > 0) {
+    utility_sum_.segment(rule, tail) = utility_sum_.segment(rule + 1, tail).eval();
+    born_.segment(rule, tail) = born_.segment(rule + 1, tail).eval();
+  }
+  ++pruned_;
 }
 
 double FuzzyModel::Predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
@@ -62,20 +143,49 @@ double FuzzyModel::Predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
 
 double FuzzyModel::MaxEntropy(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   rules_.Evaluate(x, &scratch_);
-  return generator_.MaxEntropy(rules_, scratch_, x);
+  return EntropyRuleGenerator::MaxEntropy(config_.entropy, rules_, scratch_, x);
 }
 
-LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
-                              LearnMode mode) {
+void FuzzyModel::PremiseGradientOfInput(int i, double xi, const Eigen::Ref<const Eigen::ArrayXd>& g,
+                                        Eigen::Ref<Eigen::ArrayXd> dc,
+                                        Eigen::Ref<Eigen::ArrayXd> ds) const {
+  const auto diff = xi - rules_.centres_of_input(i);
+  const auto inv = rules_.inverse_variances_of_input(i);
+  // ∂J/∂c_ji = g_j (x_i − c_ji)/(σ_ji² + ε);  ∂J/∂σ_ji = ∂J/∂c_ji · (x_i − c_ji) σ_ji/(σ_ji² + ε)
+  dc = g * diff * inv;
+  ds = dc * diff * rules_.sigmas_of_input(i) * inv;
+}
+
+LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double y, LearnMode mode,
+                              double premise_rate_scale) {
   LearnResult result;
+  const auto& ec = config_.entropy;
   rules_.Evaluate(x, &scratch_);
-  result.max_entropy = generator_.MaxEntropy(rules_, scratch_, x);
-  if (mode == LearnMode::kGrowAndTune && generator_.ShouldGrow(rules_, result.max_entropy)) {
-    const Eigen::VectorXd sigma = generator_.NewWidths(rules_, x);
-    consequent_->AddRule(x, y, scratch_.normalized);
-    rules_.AddRule(x, sigma);
-    rules_.Evaluate(x, &scratch_);
-    result.rule_added = true;
+  result.max_entropy = EntropyRuleGenerator::MaxEntropy(ec, rules_, scratch_, x);
+  const bool grow_mode = mode == LearnMode::kGrowAndTune;
+  if (grow_mode) {
+    ++clock_;
+    if (EntropyRuleGenerator::IsNovel(ec, rules_, result.max_entropy)) {
+      // A full rule base that prunes makes room by retiring its least useful rule, so a vehicle
+      // that changes keeps learning instead of freezing its structure at the cap.
+      if (rules_.rules() >= ec.max_rules && ec.prune_utility > 0.0) {
+        const int worst = LeastUsefulRule();
+        if (worst >= 0) {
+          RemoveRule(worst);
+          rules_.Evaluate(x, &scratch_);
+        }
+      }
+      if (rules_.rules() < ec.max_rules) {
+        const Eigen::VectorXd sigma = EntropyRuleGenerator::NewWidths(ec, rules_, x);
+        consequent_->AddRule(x, y, scratch_.normalized);
+        const int j = rules_.rules();
+        rules_.AddRule(x, sigma);
+        utility_sum_(j) = 0.0;
+        born_(j) = clock_ - 1;
+        rules_.Evaluate(x, &scratch_);
+        result.rule_added = true;
+      }
+    }
   }
   const int r = rules_.rules();
   if (r == 0) {
@@ -90,35 +200,42 @@ LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double
   result.error = e;
   if (mode == LearnMode::kFrozen) return result;
 
-  // Premise step, from the pre-update parameters: g_j = e (y_j − ŷ) φ_j is the common factor
-  // of ∂J/∂c, ∂J/∂σ and ∂J/∂s (identifier.md §2). Scratch arrays are members sized to the
-  // capacity, so this loop never allocates.
+  // Premise step from the pre-update parameters. Updating input i's centres and widths does not
+  // change input i+1's gradient (g is computed once), so input-by-input is exact. Scratch arrays
+  // are members sized to the capacity, so this loop never allocates.
   const auto& rates = config_.rates;
   const double lo = -rates.max_step;
   const double hi = rates.max_step;
+  const double rate_c = rates.centre * premise_rate_scale;
+  const double rate_s = rates.sigma * premise_rate_scale;
   auto g = gradient_factor_.head(r);
   g = e * (rule_outputs_ - yhat) * phi;
-  const double sigma_min = config_.entropy.sigma_min;
-  auto diff = diff_.head(r);
-  auto gd = scaled_diff_.head(r);
+  const double sigma_min = ec.sigma_min;
+  auto dc = grad_c_.head(r);
+  auto ds = grad_s_.head(r);
   for (int i = 0; i < config_.inputs; ++i) {
+    PremiseGradientOfInput(i, x(i), g, dc, ds);
     auto c = rules_.mutable_centres().col(i).head(r);
     auto sg = rules_.mutable_sigmas().col(i).head(r);
-    auto inv = rules_.mutable_inverse_variances().col(i).head(r);
-    diff = x(i) - c;
-    gd = g * diff * inv;  // ∂J/∂c_ji
-    c -= (rates.centre * gd).min(hi).max(lo);
-    // ∂J/∂σ_ji = ∂J/∂c_ji · (x_i − c_ji) σ_ji / (σ_ji² + ε)
-    sg = (sg - (rates.sigma * gd * diff * sg * inv).min(hi).max(lo)).max(sigma_min);
-    inv = 1.0 / (sg.square() + kEpsilon);
+    c -= (rate_c * dc).min(hi).max(lo);
+    sg = (sg - (rate_s * ds).min(hi).max(lo)).max(sigma_min);
+    rules_.mutable_inverse_variances().col(i).head(r) = 1.0 / (sg.square() + kEpsilon);
   }
   if (rates.output_width > 0.0) {
     auto& s = rules_.mutable_output_widths();
-    const Eigen::ArrayXd ds = -g * 2.0 * s.head(r) * rules_.inverse_output_weights();
-    s.head(r) = (s.head(r) - (rates.output_width * ds).min(hi).max(lo)).max(0.05);
+    const Eigen::ArrayXd gs = -g * 2.0 * s.head(r) * rules_.inverse_output_weights();
+    s.head(r) =
+        (s.head(r) - (rates.output_width * premise_rate_scale * gs).min(hi).max(lo)).max(0.05);
     rules_.RefreshCaches();
   }
   if (mode != LearnMode::kTunePremises) consequent_->Update(x, phi, e, y);
+  if (grow_mode) {
+    utility_sum_.head(r) += phi;
+    if (ec.prune_utility > 0.0 && r > 1) {
+      const int worst = LeastUsefulRule();
+      if (worst >= 0 && utility(worst) < ec.prune_utility) RemoveRule(worst);
+    }
+  }
   return result;
 }
 
@@ -138,33 +255,59 @@ Gradients FuzzyModel::ComputeGradients(const Eigen::Ref<const Eigen::VectorXd>& 
   const double yhat = (phi * outputs).sum();
   const double e = yhat - y;
   const Eigen::ArrayXd g = e * (outputs - yhat) * phi;
+  Eigen::ArrayXd dc(r), ds(r);
   for (int i = 0; i < n; ++i) {
-    const Eigen::ArrayXd diff = x(i) - rules_.centres_of_input(i);
-    const Eigen::ArrayXd inv = rules_.inverse_variances_of_input(i);
-    grad.centres.col(i) = g * diff * inv;
-    grad.sigmas.col(i) = g * diff.square() * rules_.sigmas_of_input(i) * inv.square();
+    PremiseGradientOfInput(i, x(i), g, dc, ds);
+    grad.centres.col(i) = dc;
+    grad.sigmas.col(i) = ds;
   }
   grad.output_widths = -g * 2.0 * rules_.output_widths() * rules_.inverse_output_weights();
   grad.consequents = consequent_->Gradient(x, phi, e);
   return grad;
 }
 
-void FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
+void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
+                                           Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const {
+  const int r = rules_.rules();
+  if (r == 0) return;
+  rules_.Evaluate(x, &scratch_);
+  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const Eigen::ArrayXd& phi = scratch_.normalized;
+  const double yhat = (phi * rule_outputs_).sum();
+  auto g = gradient_factor_.head(r);
+  g = (yhat - y) * (rule_outputs_ - yhat) * phi;
+  auto dc = grad_c_.head(r);
+  auto ds = grad_s_.head(r);
+  for (int i = 0; i < config_.inputs; ++i) {
+    PremiseGradientOfInput(i, x(i), g, dc, ds);
+    gc->col(i).head(r) += dc;
+    gs->col(i).head(r) += ds;
+  }
+}
+
+void FuzzyModel::StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds) {
+  const int r = rules_.rules();
+  rules_.mutable_centres().topRows(r) += dc.topRows(r);
+  rules_.mutable_sigmas().topRows(r) =
+      (rules_.mutable_sigmas().topRows(r) + ds.topRows(r)).max(config_.entropy.sigma_min);
+  rules_.RefreshCaches();
+}
+
+bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge) {
   const int r = rules_.rules();
-  if (r == 0 || X.rows() == 0) return;
+  if (r == 0 || X.rows() == 0) return false;
   const int w = consequent_->LeastSquaresWidth();
   const Eigen::Index m = static_cast<Eigen::Index>(r) * w;
-  // Row k of Φ is [φ_k1 z_k, …, φ_kR z_k]. Accumulating ΦᵀΦ in blocks of rows keeps memory at
-  // O(block · m) for long records while the products still run as matrix–matrix kernels.
-  constexpr Eigen::Index kBlock = 2048;
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(m, m);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
-  Eigen::MatrixXd phi_rows(std::min<Eigen::Index>(kBlock, X.rows()), m);
+  // Row k of Φ is [φ_k1 z_k, …, φ_kR z_k]. Blocks several times taller than Φ is wide keep the
+  // QR's extra work for the carried R factor small.
+  const Eigen::Index block = std::max<Eigen::Index>(2048, 4 * m);
+  BlockwiseLeastSquares ls(m);
+  Eigen::MatrixXd phi_rows(std::min<Eigen::Index>(block, X.rows()), m);
   Eigen::VectorXd z(w);
   Inference inf;
-  for (Eigen::Index start = 0; start < X.rows(); start += kBlock) {
-    const Eigen::Index rows = std::min<Eigen::Index>(kBlock, X.rows() - start);
+  for (Eigen::Index start = 0; start < X.rows(); start += block) {
+    const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
     for (Eigen::Index k = 0; k < rows; ++k) {
       const Eigen::VectorXd xk = X.row(start + k).transpose();
       rules_.Evaluate(xk, &inf);
@@ -172,15 +315,12 @@ void FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
       for (int j = 0; j < r; ++j)
         phi_rows.block(k, j * w, 1, w) = inf.normalized(j) * z.transpose();
     }
-    const auto block = phi_rows.topRows(rows);
-    normal.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
-    rhs.noalias() += block.transpose() * Y.segment(start, rows);
+    ls.AddRows(phi_rows.topRows(rows), Y.segment(start, rows));
   }
-  const double mean_diag = normal.diagonal().mean();
-  normal.diagonal().array() += ridge * mean_diag + 1e-12;
-  const Eigen::VectorXd theta = normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
-  if (!theta.allFinite()) return;  // keep the online solution rather than install NaN
+  const Eigen::VectorXd theta = ls.Solve(ridge);
+  if (!theta.allFinite()) return false;  // keep the online solution rather than install NaN
   consequent_->SetFromLeastSquares(theta);
+  return true;
 }
 
 nlohmann::json FuzzyModel::ToJson() const {
@@ -193,7 +333,12 @@ nlohmann::json FuzzyModel::ToJson() const {
                   {"sigma_init", e.sigma_init},
                   {"sigma_min", e.sigma_min},
                   {"sigma_max", e.sigma_max},
-                  {"measure", e.measure == EntropyMeasure::kFiring ? "firing" : "per_input"}};
+                  {"measure", e.measure == EntropyMeasure::kFiring ? "firing" : "per_input"},
+                  {"prune_utility", e.prune_utility},
+                  {"prune_min_age", e.prune_min_age}};
+  j["forgetting"] = config_.forgetting;
+  j["clock"] = clock_;
+  j["pruned"] = pruned_;
   const auto& a = config_.rates;
   j["rates"] = {{"centre", a.centre},
                 {"sigma", a.sigma},
@@ -207,7 +352,11 @@ nlohmann::json FuzzyModel::ToJson() const {
       c[static_cast<std::size_t>(i)] = rules_.centre(r, i);
       s[static_cast<std::size_t>(i)] = rules_.sigma(r, i);
     }
-    rules.push_back({{"centre", c}, {"sigma", s}, {"output_width", rules_.output_width(r)}});
+    rules.push_back({{"centre", c},
+                     {"sigma", s},
+                     {"output_width", rules_.output_width(r)},
+                     {"utility_sum", utility_sum_(r)},
+                     {"born", born_(r)}});
   }
   j["rules"] = rules;
   j["consequent"] = consequent_->ToJson();
@@ -236,12 +385,18 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
     cfg.rates.sigma = a.at("sigma").get<double>();
     cfg.rates.output_width = a.at("output_width").get<double>();
     cfg.rates.max_step = a.at("max_step").get<double>();
+    // Fields added after version 1 was first written default to what older models did.
+    cfg.entropy.prune_utility = e.value("prune_utility", 0.0);
+    cfg.entropy.prune_min_age = e.value("prune_min_age", cfg.entropy.prune_min_age);
     const auto& cons = j.at("consequent");
     cfg.consequent = ConsequentKindFromString(cons.at("kind").get<std::string>());
-    if (cfg.inputs < 1 || cfg.entropy.max_rules < 1) {
-      throw std::runtime_error("inputs and entropy.max_rules must be at least 1");
-    }
+    cfg.forgetting = j.value("forgetting", cons.value("forgetting", 1.0));
+    // Validate before anything is allocated: a hostile file may claim a huge cap.
+    const std::string problems = cfg.Problems();
+    if (!problems.empty()) throw std::runtime_error(problems);
     FuzzyModel model(cfg);
+    model.clock_ = j.value("clock", 0LL);
+    model.pruned_ = j.value("pruned", 0LL);
     const auto& rules = j.at("rules");
     if (static_cast<int>(rules.size()) > cfg.entropy.max_rules) {
       throw std::runtime_error("more rules than entropy.max_rules");
@@ -256,9 +411,12 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
         if (!std::isfinite(v)) throw std::runtime_error("a rule centre is not finite");
       for (double v : s)
         if (!std::isfinite(v) || v <= 0.0) throw std::runtime_error("a rule width is not positive");
+      const int k = model.rules_.rules();
       model.rules_.AddRule(Eigen::Map<const Eigen::VectorXd>(c.data(), cfg.inputs),
                            Eigen::Map<const Eigen::VectorXd>(s.data(), cfg.inputs),
                            rule.at("output_width").get<double>());
+      model.utility_sum_(k) = rule.value("utility_sum", 0.0);
+      model.born_(k) = rule.value("born", model.clock_);
     }
     model.consequent_ = ConsequentFromJson(cons, cfg.inputs, cfg.entropy.max_rules);
     if (model.consequent_->rules() != model.rules_.rules()) {
@@ -266,6 +424,8 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
     }
     return model;
   } catch (const nlohmann::json::exception& ex) {
+    throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
+  } catch (const std::invalid_argument& ex) {
     throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
   }
 }

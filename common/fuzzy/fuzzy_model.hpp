@@ -1,8 +1,10 @@
 #pragma once
 // The five-layer entropy fuzzy network: antecedents, consequents, structure and parameter
 // learning for one output, in scaled units (scaling lives in sysid::NarxModel).
+// docs/identifier.md §1–§6.
 
 #include <memory>
+#include <string>
 
 #include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>
@@ -13,7 +15,7 @@
 
 namespace odonata::fuzzy {
 
-/// Gradient-descent rates for the antecedents (identifier.md §2, "stability that works").
+/// Gradient-descent rates for the antecedents (docs/identifier.md §3).
 struct PremiseLearningRates {
   double centre = 0.02;       ///< α_c, scaled units.
   double sigma = 0.02;        ///< α_σ.
@@ -23,9 +25,14 @@ struct PremiseLearningRates {
 
 struct FuzzyModelConfig {
   int inputs = 1;
-  ConsequentKind consequent = ConsequentKind::kSingleton;
+  ConsequentKind consequent = ConsequentKind::kLinear;
   EntropyRuleConfig entropy;
   PremiseLearningRates rates;
+  /// RLS forgetting factor λ ∈ (0, 1] of linear consequents; 1 never forgets.
+  double forgetting = 1.0;
+
+  /// Every problem with the configuration, one per line ("" when valid).
+  std::string Problems() const;
 };
 
 /// What one online step did.
@@ -57,7 +64,7 @@ struct Gradients {
 /// Not thread-safe: Predict() reuses internal scratch space to stay allocation-free.
 class FuzzyModel {
  public:
-  /// @pre config.inputs ≥ 1, config.entropy.max_rules ≥ 1.
+  /// @throws std::invalid_argument listing every problem of config (see Problems()).
   explicit FuzzyModel(const FuzzyModelConfig& config);
   FuzzyModel(const FuzzyModel& other);
   FuzzyModel& operator=(const FuzzyModel& other);
@@ -69,18 +76,27 @@ class FuzzyModel {
   /// max_j H_j at x (0 with no rules).
   double MaxEntropy(const Eigen::Ref<const Eigen::VectorXd>& x) const;
 
-  /// One online step on the sample (x, y): maybe grow a rule, predict, then update.
+  /// One online step on the sample (x, y): maybe grow (or replace) a rule, predict, then update.
+  /// `premise_rate_scale` multiplies the premise rates (the offline trainer's adaptive step).
   LearnResult Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
-                    LearnMode mode = LearnMode::kGrowAndTune);
+                    LearnMode mode = LearnMode::kGrowAndTune, double premise_rate_scale = 1.0);
 
   /// Analytic gradients at (x, y) with the current parameters (for checks and tools).
   Gradients ComputeGradients(const Eigen::Ref<const Eigen::VectorXd>& x, double y) const;
 
+  /// Adds ∂J/∂c and ∂J/∂σ at (x, y) to gc and gs (rules × inputs), through the same kernel
+  /// Learn() steps with: the batch gradient of the offline premise step.
+  void AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
+                                 Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
+  /// Moves centres by dc and widths by ds (rules × inputs), widths floored at σ_min.
+  void StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds);
+
   /// The ANFIS forward pass: with the antecedents fixed, sets every consequent to the global
-  /// ridge-regularised least-squares optimum over the rows of X (samples × inputs) and Y.
-  /// `ridge` is relative to the mean diagonal of ΦᵀΦ.
-  void RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                         const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-8);
+  /// ridge-regularised least-squares optimum over the rows of X (samples × inputs) and Y, solved
+  /// on the weighted design matrix Φ by blockwise QR (BlockwiseLeastSquares). `ridge` is relative
+  /// to the mean squared column norm of Φ. @return false (model unchanged) if the solve failed.
+  bool RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                         const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10);
 
   int rules() const { return rules_.rules(); }
   int inputs() const { return config_.inputs; }
@@ -90,7 +106,16 @@ class FuzzyModel {
   const Consequent& consequent() const { return *consequent_; }
   Consequent& mutable_consequent() { return *consequent_; }
   /// Changes H̄ for later samples (an online control command); existing rules stay.
+  /// @throws std::invalid_argument outside [0, kMaxRuleEntropy].
   void set_entropy_threshold(double h);
+  /// Changes the RLS forgetting factor. @throws std::invalid_argument outside (0, 1].
+  void set_forgetting(double lambda);
+  /// Mean normalised firing of rule j since its creation (eTS+ utility); 1 for a rule born now.
+  double utility(int rule) const;
+  /// Samples seen in kGrowAndTune mode (the clock of rule ages).
+  long long age_clock() const { return clock_; }
+  /// Rules removed so far by pruning or replacement.
+  long long rules_pruned() const { return pruned_; }
 
   nlohmann::json ToJson() const;
   /// @throws std::runtime_error with the offending field on malformed content.
@@ -100,15 +125,28 @@ class FuzzyModel {
   FuzzyModelConfig config_;
   GaussianRuleBase rules_;
   std::unique_ptr<Consequent> consequent_;
-  EntropyRuleGenerator generator_;
   void AllocateScratch();
+  /// The one premise-gradient kernel (docs/identifier.md §3), used by Learn() and
+  /// ComputeGradients(): for input i over the first r rules, given g_j = e (y_j − ŷ) φ_j,
+  /// writes ∂J/∂c_ji into dc and ∂J/∂σ_ji into ds.
+  void PremiseGradientOfInput(int i, double xi, const Eigen::Ref<const Eigen::ArrayXd>& g,
+                              Eigen::Ref<Eigen::ArrayXd> dc, Eigen::Ref<Eigen::ArrayXd> ds) const;
+  void RemoveRule(int rule);
+  /// Index of the least useful rule old enough to go, or −1.
+  int LeastUsefulRule() const;
+
+  // Housekeeping for pruning (eTS+ utility): Σ φ_j since birth, and the birth time.
+  Eigen::ArrayXd utility_sum_;
+  Eigen::Array<long long, Eigen::Dynamic, 1> born_;
+  long long clock_ = 0;
+  long long pruned_ = 0;
 
   // Scratch space, sized once, so Predict() and Learn() never allocate.
   mutable Inference scratch_;
   mutable Eigen::ArrayXd rule_outputs_;
-  Eigen::ArrayXd gradient_factor_;  // g_j
-  Eigen::ArrayXd diff_;             // x_i − c_ji for one input
-  Eigen::ArrayXd scaled_diff_;      // g_j (x_i − c_ji) / (σ_ji² + ε)
+  mutable Eigen::ArrayXd gradient_factor_;  // g_j
+  mutable Eigen::ArrayXd grad_c_;           // ∂J/∂c_ji for one input
+  mutable Eigen::ArrayXd grad_s_;           // ∂J/∂σ_ji for one input
 };
 
 }  // namespace odonata::fuzzy

@@ -30,6 +30,21 @@ void GaussianRuleBase::AddRule(const Eigen::Ref<const Eigen::VectorXd>& centre,
   set_output_width(j, output_width);
 }
 
+void GaussianRuleBase::RemoveRule(int rule) {
+  assert(rule >= 0 && rule < rules_);
+  const int tail = rules_ - rule - 1;
+  if (tail > 0) {
+    centres_.middleRows(rule, tail) = centres_.middleRows(rule + 1, tail).eval();
+    sigmas_.middleRows(rule, tail) = sigmas_.middleRows(rule + 1, tail).eval();
+    inverse_variances_.middleRows(rule, tail) =
+        inverse_variances_.middleRows(rule + 1, tail).eval();
+    output_widths_.segment(rule, tail) = output_widths_.segment(rule + 1, tail).eval();
+    inverse_output_weights_.segment(rule, tail) =
+        inverse_output_weights_.segment(rule + 1, tail).eval();
+  }
+  --rules_;
+}
+
 void GaussianRuleBase::set_sigma(int rule, int input, double v) {
   sigmas_(rule, input) = v;
   inverse_variances_(rule, input) = 1.0 / (v * v + kEpsilon);

@@ -1,5 +1,5 @@
 #pragma once
-// Antecedents of the fuzzy network: layers 2–4 of the paper (identifier.md §1).
+// Antecedents of the fuzzy network: layers 2–4 of the paper (docs/identifier.md §1).
 
 #include <Eigen/Core>
 
@@ -39,6 +39,10 @@ class GaussianRuleBase {
   /// sum (log-sum-exp): φ is unchanged by the shift, and it never underflows to 0/0 far from
   /// every rule. Resizes `out` only when the rule count changed.
   void Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x, Inference* out) const;
+
+  /// Removes rule `rule`; later rules move up one place (their order is kept, so learning stays
+  /// deterministic). @pre 0 ≤ rule < rules().
+  void RemoveRule(int rule);
 
   double centre(int rule, int input) const { return centres_(rule, input); }
   double sigma(int rule, int input) const { return sigmas_(rule, input); }

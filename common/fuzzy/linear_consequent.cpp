@@ -44,22 +44,35 @@ void LinearConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, doubl
   ++rules_;
 }
 
+void LinearConsequent::RemoveRule(int rule) {
+  assert(rule >= 0 && rule < rules_);
+  const int tail = rules_ - rule - 1;
+  if (tail > 0) theta_.middleCols(rule, tail) = theta_.middleCols(rule + 1, tail).eval();
+  covariances_.erase(covariances_.begin() + rule);
+  --rules_;
+}
+
 void LinearConsequent::Update(const Eigen::Ref<const Eigen::VectorXd>& x,
                               const Eigen::Ref<const Eigen::ArrayXd>& phi, double, double target) {
   z_(0) = 1.0;
   z_.tail(inputs_) = x;
   for (int j = 0; j < rules_; ++j) {
     const double w = phi(j);
-    // A rule this far from the sample learns nothing measurable; skipping it saves most of the
-    // O(R N²) cost and is deterministic.
-    if (w < 1e-9) continue;
+    if (w < kActiveFiring) continue;
     auto& p = covariances_[static_cast<std::size_t>(j)];
     pz_.noalias() = p.selfadjointView<Eigen::Lower>() * z_;
     const double denom = 1.0 + w * z_.dot(pz_);
     const double local_error = target - theta_.col(j).dot(z_);
     theta_.col(j) += (w * local_error / denom) * pz_;
     p.selfadjointView<Eigen::Lower>().rankUpdate(pz_, -w / denom);
-    if (forgetting_ < 1.0) p /= forgetting_;
+    if (forgetting_ < 1.0) {
+      // Forgetting raises P; keep its trace at most the initial one so a long quiet spell cannot
+      // blow it up (a wound-up P turns the next sample into a violent step).
+      p.triangularView<Eigen::Lower>() /= 1.0 - w * (1.0 - forgetting_);
+      const double cap = initial_covariance_ * (inputs_ + 1);
+      const double trace = p.diagonal().sum();
+      if (trace > cap) p.triangularView<Eigen::Lower>() *= cap / trace;
+    }
   }
 }
 

@@ -7,8 +7,11 @@
 namespace odonata::fuzzy {
 
 /// First-order Takagi–Sugeno consequents y_j = θ_jᵀ z, z = [1, x]. Learns online by local
-/// φ-weighted recursive least squares per rule (eTS):
-///   P_j ← (P_j − φ_j P_j z zᵀ P_j / (1 + φ_j zᵀ P_j z)) / λ,  θ_j ← θ_j + φ_j P_j z (y − zᵀθ_j).
+/// φ-weighted recursive least squares per rule (eTS, docs/identifier.md §2):
+///   P_j ← (P_j − φ_j P_j z zᵀ P_j / (1 + φ_j zᵀ P_j z)) / λ_j,  θ_j ← θ_j + φ_j P_j z (y − zᵀθ_j),
+/// with λ_j = 1 − φ_j (1 − λ): a rule forgets in proportion to how much it fires, so a rule the
+/// data no longer visits keeps its covariance instead of winding it up. Only rules whose
+/// normalised firing reaches kActiveFiring learn: the others would move by less than rounding.
 /// Local (per-rule) rather than global RLS keeps each rule interpretable as a local linear model
 /// and the cost at O(R N²).
 class LinearConsequent final : public Consequent {
@@ -23,6 +26,8 @@ class LinearConsequent final : public Consequent {
                    Eigen::ArrayXd* out) const override;
   void AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
                const Eigen::Ref<const Eigen::ArrayXd>& phi_existing) override;
+  void RemoveRule(int rule) override;
+  void SetForgetting(double lambda) override { forgetting_ = lambda; }
   void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) override;
   Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -36,6 +41,10 @@ class LinearConsequent final : public Consequent {
   void SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) override;
   int rules() const override { return rules_; }
   nlohmann::json ToJson() const override;
+
+  /// Rules with a smaller normalised firing skip the RLS step (most of its O(R N²) cost).
+  static constexpr double kActiveFiring = 1e-3;
+  double forgetting() const { return forgetting_; }
 
   /// θ_j = [a_j0, a_j1 … a_jN] in scaled units.
   Eigen::VectorXd coefficients(int rule) const { return theta_.col(rule); }

@@ -24,6 +24,13 @@ void SingletonConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>&, doub
   centres_(rules_++) = target;
 }
 
+void SingletonConsequent::RemoveRule(int rule) {
+  assert(rule >= 0 && rule < rules_);
+  const int tail = rules_ - rule - 1;
+  if (tail > 0) centres_.segment(rule, tail) = centres_.segment(rule + 1, tail).eval();
+  --rules_;
+}
+
 void SingletonConsequent::Update(const Eigen::Ref<const Eigen::VectorXd>&,
                                  const Eigen::Ref<const Eigen::ArrayXd>& phi, double error,
                                  double) {

@@ -6,7 +6,7 @@ namespace odonata::fuzzy {
 
 /// The paper's consequents: one output centre b_j per rule. Learns by normalised LMS,
 /// b ← b − η e φ / (δ + ‖φ‖²), which is stable for 0 < η < 2 whatever the rule count
-/// (the plain gradient e φ_j of identifier.md §2 with a step normalised by ‖φ‖²).
+/// (the plain gradient e φ_j of docs/identifier.md §3 with a step normalised by ‖φ‖²).
 class SingletonConsequent final : public Consequent {
  public:
   SingletonConsequent(int capacity, double rate, double regulariser);
@@ -17,6 +17,7 @@ class SingletonConsequent final : public Consequent {
                    Eigen::ArrayXd* out) const override;
   void AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
                const Eigen::Ref<const Eigen::ArrayXd>& phi_existing) override;
+  void RemoveRule(int rule) override;
   void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) override;
   Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,

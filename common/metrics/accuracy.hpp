@@ -1,5 +1,5 @@
 #pragma once
-// Accuracy measures of a model output against the measured output (identifier.md §5).
+// Accuracy measures of a model output against the measured output (docs/identifier.md §8).
 
 #include <Eigen/Core>
 

@@ -171,24 +171,27 @@ PlantConfig DefaultPlantConfig() {
   c.ground = GroundSettings{true, 0.0};
   c.divergence = DivergenceSettings{DivergencePolicy::kStop, 1.3962634015954636, 60.0, 30.0};
   c.sources = {
-      {"mass_kg", "plant.md 40 g parameter set (Kok & Chahl's vehicle mass, paper section I)"},
-      {"inertia", "plant.md: self-consistent substitute for Kok & Chahl's unpublished geometry"},
+      {"mass_kg", "docs/plant.md 40 g parameter set (Kok & Chahl's vehicle mass, paper section I)"},
+      {"inertia",
+       "docs/plant.md: self-consistent substitute for Kok & Chahl's unpublished geometry"},
       {"gravity_mps2", "standard gravity, rounded"},
       {"air_density_kgpm3", "ISA sea level"},
       {"wing",
-       "plant.md (rectangular 0.19 m x 0.055 m wing, root 0.012 m out from the stroke axis: this "
-       "reading reproduces plant.md's 5.36 Hz translational hover; x0 = 0.25 chord, Sane & "
-       "Dickinson 2002); strips: plant.md asks 20-40"},
-      {"hinges_m", "plant.md hinge table"},
+       "docs/plant.md (rectangular 0.19 m x 0.055 m wing, root 0.012 m out from the stroke axis: "
+       "this "
+       "reading reproduces docs/plant.md's 5.36 Hz translational hover; x0 = 0.25 chord, Sane & "
+       "Dickinson 2002); strips: docs/plant.md asks 20-40"},
+      {"hinges_m", "docs/plant.md hinge table"},
       {"fore_hind_phase_rad", "Wang & Russell 2007: counter-stroking (pi) to hover"},
       {"nominal_command",
-       "plant.md nominal kinematics (phi0 60 deg, beta 0, theta_m 90 deg, theta0 45 deg); "
+       "docs/plant.md nominal kinematics (phi0 60 deg, beta 0, theta_m 90 deg, theta0 45 deg); "
        "freq_hz is only the trim finder's initial guess"},
       {"limits",
        "odonata choice: mechanically plausible ranges; freq max 8 Hz sets the RK4 step (>= 50 "
        "steps per beat)"},
       {"integration",
-       "plant.md: fixed-step RK4 >= 50 steps per wing beat, 100 Hz samples (paper section IV)"},
+       "docs/plant.md: fixed-step RK4 >= 50 steps per wing beat, 100 Hz samples (paper section "
+       "IV)"},
       {"ground", "odonata choice: flat ground at z = 0, inelastic sticking contact"},
       {"divergence",
        "odonata choice: tumbling past 80 deg, 60 rad/s or 30 m/s is treated as divergence"},
@@ -348,7 +351,7 @@ std::string ValidatePlantConfig(const PlantConfig& c) {
   if (c.limits.min(kStrokeAmplitude) < 0.0) p << "limits.amp_rad: min must be >= 0\n";
   positive(c.integration.sample_rate_hz, "integration.sample_rate_hz");
   if (c.integration.min_steps_per_beat < 4) {
-    p << "integration.min_steps_per_beat: must be >= 4 (plant.md asks >= 50)\n";
+    p << "integration.min_steps_per_beat: must be >= 4 (docs/plant.md asks >= 50)\n";
   }
   positive(c.divergence.max_tilt_rad, "divergence.max_tilt_rad");
   positive(c.divergence.max_rate_radps, "divergence.max_rate_radps");

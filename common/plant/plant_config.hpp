@@ -80,7 +80,7 @@ struct PlantConfig {
   bool operator!=(const PlantConfig& other) const { return !(*this == other); }
 };
 
-/// The 40 g parameter set of plant.md, identical to common/plant/config/dimav_40g.json.
+/// The 40 g parameter set of docs/plant.md §10, identical to common/plant/config/dimav_40g.json.
 PlantConfig DefaultPlantConfig();
 
 /// Parses a JSON configuration. Every key is required; unknown keys are errors (they are usually

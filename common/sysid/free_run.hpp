@@ -1,5 +1,5 @@
 #pragma once
-// Parallel (free-run) simulation: the model fed its own past predictions (identifier.md §4).
+// Parallel (free-run) simulation: the model fed its own past predictions (docs/identifier.md §7).
 
 #include <functional>
 

@@ -1,16 +1,60 @@
 #include "sysid/narx_model.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "metrics/accuracy.hpp"
+#include "sysid/free_run.hpp"
+
 namespace odonata::sysid {
 namespace {
 constexpr int kFormatVersion = 1;
-}
+
+/// iRprop− state for one output's centres and widths: a step size per parameter that grows while
+/// the gradient keeps its sign and shrinks when it flips.
+struct RpropState {
+  static constexpr double kInitialStep = 0.01;  // scaled units
+  static constexpr double kLargestStep = 0.2;
+  static constexpr double kSmallestStep = 1e-7;
+  Eigen::ArrayXXd step_c, step_s, last_c, last_s;
+
+  void Reset(int rules, int inputs) {
+    step_c = step_s = Eigen::ArrayXXd::Constant(rules, inputs, kInitialStep);
+    last_c = last_s = Eigen::ArrayXXd::Zero(rules, inputs);
+  }
+  /// After a rejected pass: smaller steps, and no sign memory of the rejected gradient.
+  void Backtrack() {
+    step_c *= 0.5;
+    step_s *= 0.5;
+    last_c.setZero();
+    last_s.setZero();
+  }
+  /// The move for gradient g; updates the step sizes and the remembered gradient.
+  static Eigen::ArrayXXd Step(const Eigen::ArrayXXd& g, Eigen::ArrayXXd* step,
+                              Eigen::ArrayXXd* last, double scale) {
+    Eigen::ArrayXXd move(g.rows(), g.cols());
+    for (Eigen::Index k = 0; k < g.size(); ++k) {
+      const double agree = g(k) * (*last)(k);
+      double gk = g(k);
+      if (agree > 0.0) {
+        (*step)(k) = std::min((*step)(k)*1.2, kLargestStep);
+      } else if (agree < 0.0) {
+        (*step)(k) = std::max((*step)(k)*0.5, kSmallestStep);
+        gk = 0.0;  // iRprop−: skip this parameter once after a sign change
+      }
+      move(k) = gk > 0.0 ? -(*step)(k)*scale : (gk < 0.0 ? (*step)(k)*scale : 0.0);
+      (*last)(k) = gk;
+    }
+    return move;
+  }
+};
+}  // namespace
 
 NarxModel::NarxModel(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base) : spec_(spec) {
   const std::string problems = spec.Problems();
@@ -38,7 +82,24 @@ void NarxModel::SetScaling(const Scaling& scaling) {
   scaling_ = scaling;
 }
 
-void NarxModel::Train(const Series& train, const TrainOptions& options) {
+double NarxModel::Ndei(const Series& series, bool free_run) const {
+  const Predictor predict = [this](const Eigen::VectorXd& x) { return Predict(x); };
+  const Eigen::Index t0 = spec_.first_target();
+  bool diverged = false;
+  const Eigen::MatrixXd yhat = free_run && spec_.output_lags > 0
+                                   ? SimulateFreeRun(spec_, series, predict, &diverged)
+                                   : PredictOneStep(spec_, series, predict);
+  if (diverged) return std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (int o = 0; o < outputs(); ++o) {
+    const Eigen::VectorXd y = series.outputs.col(o).tail(series.samples() - t0);
+    sum += metrics::Score(y, yhat.col(o)).ndei;
+  }
+  const double ndei = sum / outputs();
+  return std::isfinite(ndei) ? ndei : std::numeric_limits<double>::infinity();
+}
+
+TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   const RegressionData d = BuildRegression(spec_, train);
   if (options.fit_scaling) scaling_ = Scaling::FromData(d.x, d.y);
   const Eigen::Index rows = d.x.rows();
@@ -48,24 +109,101 @@ void NarxModel::Train(const Series& train, const TrainOptions& options) {
     xs.row(r) = scaling_.ScaleRegressor(d.x.row(r).transpose()).transpose();
     for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, d.y(r, o));
   }
+  // Training loss (scaled units, summed over outputs) and one-step FIT, mean over outputs.
+  auto evaluate = [&](double* fit) {
+    double loss = 0.0, fit_sum = 0.0;
+    for (int o = 0; o < outputs(); ++o) {
+      const auto& m = models_[static_cast<std::size_t>(o)];
+      Eigen::VectorXd yhat(rows);
+      for (Eigen::Index r = 0; r < rows; ++r) yhat(r) = m.Predict(xs.row(r).transpose());
+      loss += (yhat - ys.col(o)).squaredNorm();
+      fit_sum += metrics::Score(ys.col(o), yhat).fit_percent;
+    }
+    *fit = fit_sum / outputs();
+    return std::isfinite(loss) ? loss : std::numeric_limits<double>::infinity();
+  };
+  TrainReport report;
+  double rate_scale = 1.0;
+  double best_loss = std::numeric_limits<double>::infinity();
+  double best_holdout = std::numeric_limits<double>::infinity();
+  std::vector<fuzzy::FuzzyModel> kept_holdout;  // the parameters of the best hold-out epoch
+  int since_improvement = 0;
+  std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
   for (int epoch = 0; epoch < options.epochs; ++epoch) {
     fuzzy::LearnMode mode = epoch == 0 ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kTune;
     // Once least squares owns the consequents, later passes only move the antecedents: an online
     // consequent update would only pull them away from the optimum just solved.
     if (epoch > 0 && options.refine_least_squares) mode = fuzzy::LearnMode::kTunePremises;
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const Eigen::VectorXd x = xs.row(r).transpose();
-      for (int o = 0; o < outputs(); ++o)
-        models_[static_cast<std::size_t>(o)].Learn(x, ys(r, o), mode);
-      if (options.progress && (r % 1024 == 0 || r + 1 == rows))
-        options.progress(epoch, r + 1, rows);
-    }
-    if (options.refine_least_squares) {
+    std::vector<fuzzy::FuzzyModel> before;
+    if (epoch > 0) before = models_;
+    if (epoch > 0 && options.refine_least_squares) {
+      // The hybrid rule's premise half, offline: one batch-gradient step per pass with a
+      // per-parameter step size (iRprop−, Igel & Hüsken 2000), then the least-squares solve.
       for (int o = 0; o < outputs(); ++o) {
-        models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge);
+        auto& m = models_[static_cast<std::size_t>(o)];
+        auto& st = rprop[static_cast<std::size_t>(o)];
+        const int r = m.rules();
+        if (st.step_c.rows() != r) st.Reset(r, spec_.size());
+        Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, spec_.size());
+        Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, spec_.size());
+        for (Eigen::Index k = 0; k < rows; ++k) {
+          m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k, o), &gc, &gs);
+          if (options.progress && (k % 1024 == 0 || k + 1 == rows))
+            options.progress(epoch, k + 1, rows);
+        }
+        m.StepPremises(st.Step(gc, &st.step_c, &st.last_c, 1.0),
+                       st.Step(gs, &st.step_s, &st.last_s, 1.0));
+      }
+    } else {
+      for (Eigen::Index r = 0; r < rows; ++r) {
+        const Eigen::VectorXd x = xs.row(r).transpose();
+        for (int o = 0; o < outputs(); ++o)
+          models_[static_cast<std::size_t>(o)].Learn(x, ys(r, o), mode, rate_scale);
+        if (options.progress && (r % 1024 == 0 || r + 1 == rows))
+          options.progress(epoch, r + 1, rows);
       }
     }
+    if (options.refine_least_squares) {
+      for (int o = 0; o < outputs(); ++o)
+        models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge);
+    }
+    EpochRecord rec;
+    rec.epoch = epoch + 1;
+    rec.rate_scale = rate_scale;
+    const double loss = evaluate(&rec.train_fit);
+    if (epoch > 0 && !(loss <= best_loss)) {
+      // Backtracking: undo the pass and retry with half the premise step.
+      models_ = std::move(before);
+      rec.accepted = false;
+      rate_scale *= 0.5;
+      for (auto& st : rprop) st.Backtrack();
+      evaluate(&rec.train_fit);
+    } else {
+      best_loss = loss;
+      if (epoch > 0) rate_scale *= 1.1;
+    }
+    rec.rules = total_rules();
+    if (rec.accepted) report.kept_epoch = rec.epoch;
+    if (options.holdout != nullptr) {
+      rec.holdout_ndei = Ndei(*options.holdout, options.holdout_free_run);
+      if (rec.accepted && rec.holdout_ndei < best_holdout) {
+        best_holdout = rec.holdout_ndei;
+        kept_holdout = models_;
+        since_improvement = 0;
+      } else {
+        ++since_improvement;
+      }
+    }
+    report.epochs.push_back(rec);
+    if (options.holdout != nullptr && options.patience > 0 && since_improvement >= options.patience)
+      break;
   }
+  if (options.holdout != nullptr && !kept_holdout.empty()) {
+    models_ = std::move(kept_holdout);
+    for (const auto& e : report.epochs)
+      if (e.accepted && e.holdout_ndei == best_holdout) report.kept_epoch = e.epoch;
+  }
+  return report;
 }
 
 std::vector<fuzzy::LearnResult> NarxModel::Learn(const Eigen::VectorXd& regressor,

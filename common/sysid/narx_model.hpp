@@ -2,6 +2,7 @@
 // A NARX entropy fuzzy model in raw units: regressor spec + scaling + one fuzzy model per output.
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,16 +19,41 @@ namespace odonata::sysid {
 using ProgressCallback = std::function<void(int epoch, long sample, long total)>;
 
 struct TrainOptions {
-  /// Passes over the data: the first grows rules, later ones only tune.
+  /// Passes over the data: the first grows rules, later ones only tune. From the second on, a
+  /// pass that raises the training loss is rejected (parameters restored, premise rate halved);
+  /// an accepted one raises the rate by 10 % (docs/identifier.md §6.2).
   int epochs = 1;
   /// After each pass, solve every consequent by global least squares with the antecedents
   /// fixed (ANFIS's hybrid rule). Offline only: the online identifier cannot revisit the past.
   bool refine_least_squares = true;
-  double ridge = 1e-6;
+  /// Least-squares ridge, relative to the mean squared column norm of the design.
+  double ridge = 1e-10;
   /// Derive the scaling from the training data (offline default). False keeps the scaling set
   /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
   bool fit_scaling = true;
+  /// Optional hold-out slice of the training data: the epoch with the lowest hold-out NDEI is the
+  /// one kept. Free-run NDEI when the model has output lags and holdout_free_run is set, else
+  /// one-step.
+  const Series* holdout = nullptr;
+  bool holdout_free_run = true;
+  /// With a hold-out: stop after this many passes without a hold-out improvement (0: never).
+  int patience = 0;
   ProgressCallback progress;
+};
+
+/// What one training pass did.
+struct EpochRecord {
+  int epoch = 0;            ///< 1-based
+  bool accepted = true;     ///< false: the pass raised the training loss and was undone
+  double rate_scale = 1.0;  ///< premise-rate multiplier the pass ran with
+  double train_fit = 0.0;   ///< one-step training FIT % (mean over outputs) after the pass
+  double holdout_ndei = std::numeric_limits<double>::quiet_NaN();  ///< when a hold-out is given
+  int rules = 0;
+};
+
+struct TrainReport {
+  std::vector<EpochRecord> epochs;
+  int kept_epoch = 0;  ///< the epoch whose parameters the model holds (1-based)
 };
 
 /// One or several outputs identified over one shared regressor.
@@ -42,9 +68,12 @@ class NarxModel {
   /// Scaling declared up front (online use, where the data is not known in advance).
   void SetScaling(const Scaling& scaling);
 
-  /// Offline training: FitScaling (unless options.fit_scaling is false), then `epochs` online
-  /// passes (+ least squares if asked).
-  void Train(const Series& train, const TrainOptions& options);
+  /// Offline training: FitScaling (unless options.fit_scaling is false), then up to `epochs`
+  /// passes (+ least squares if asked), each accepted only if it lowers the training loss.
+  TrainReport Train(const Series& train, const TrainOptions& options);
+  /// Mean over outputs of the NDEI on `series` (free run if asked and there are output lags,
+  /// else one step); +∞ when the simulation diverges.
+  double Ndei(const Series& series, bool free_run) const;
 
   /// One online step on a raw regressor and the raw targets (one per output).
   std::vector<fuzzy::LearnResult> Learn(const Eigen::VectorXd& regressor,

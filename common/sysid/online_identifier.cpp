@@ -18,6 +18,10 @@ void OnlineIdentifier::ReplaceModel(NarxModel model) {
   RestartHistory();
 }
 
+void OnlineIdentifier::SetForgetting(double lambda) {
+  for (int o = 0; o < model_.outputs(); ++o) model_.mutable_model(o).set_forgetting(lambda);
+}
+
 void OnlineIdentifier::SetEntropyThreshold(double h) {
   for (int o = 0; o < model_.outputs(); ++o) model_.mutable_model(o).set_entropy_threshold(h);
 }

@@ -51,7 +51,10 @@ class OnlineIdentifier {
   void RestartHistory();
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts.
   void ReplaceModel(NarxModel model);
+  /// @throws std::invalid_argument (model unchanged) outside the fuzzy core's range.
   void SetEntropyThreshold(double h);
+  /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].
+  void SetForgetting(double lambda);
 
   const NarxModel& model() const { return model_; }
   int64_t samples_learned() const { return samples_learned_; }

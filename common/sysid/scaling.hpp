@@ -1,5 +1,5 @@
 #pragma once
-// Affine scaling kept inside the model (identifier.md §4): regressors to [−1, 1], outputs
+// Affine scaling kept inside the model (docs/identifier.md §7): regressors to [−1, 1], outputs
 // standardised, so learning rates and widths mean the same for every experiment.
 
 #include <Eigen/Core>

@@ -1,6 +1,6 @@
 #pragma once
 // Declared signal ranges, for online identification where the data is not known in advance
-// (identifier.md §4). The same file drives odonata-fit --ranges, so offline and online models
+// (docs/identifier.md §7). The same file drives odonata-fit --ranges, so offline and online models
 // use identical scaling.
 
 #include <map>

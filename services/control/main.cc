@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       {"freeze", odonata::control_t::FREEZE},
       {"resume", odonata::control_t::RESUME},
       {"set-entropy-threshold", odonata::control_t::SET_ENTROPY_THRESHOLD},
+      {"set-forgetting", odonata::control_t::SET_FORGETTING},
       {"save-model", odonata::control_t::SAVE_MODEL},
       {"publish-snapshot", odonata::control_t::PUBLISH_SNAPSHOT},
       {"shutdown", odonata::control_t::SHUTDOWN}};
@@ -23,10 +24,13 @@ int main(int argc, char** argv) {
   double value = 0;
   CLI::App app{
       "Sends a command to odonata services on ODONATA_CONTROL: reset, freeze, resume, "
-      "set-entropy-threshold VALUE, save-model [--path FILE], publish-snapshot, shutdown."};
+      "set-entropy-threshold --value H, set-forgetting --value LAMBDA, save-model [--path FILE], "
+      "publish-snapshot, shutdown."};
   app.add_option("command", command, "what to do")->required()->transform(CLI::IsMember(commands));
   app.add_option("--target", target, "instance or service name (default: every service)");
-  app.add_option("--value", value, "the new entropy threshold (set-entropy-threshold)");
+  app.add_option(
+      "--value", value,
+      "the new entropy threshold (set-entropy-threshold) or forgetting factor (set-forgetting)");
   app.add_option("--path", path, "file (save-model) or preset (reset of the plant)");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--channel", channel, "control channel")->capture_default_str();

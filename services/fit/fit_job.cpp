@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "io/csv_table.hpp"
+#include "io/csv_writer.hpp"
 #include "metrics/accuracy.hpp"
 #include "metrics/accuracy_json.hpp"
 #include "progress_bar.hpp"
@@ -78,6 +79,44 @@ nlohmann::json EvaluatePersistence(const sysid::RegressorSpec& spec, const sysid
   return j;
 }
 
+nlohmann::json CandidateToJson(const sysid::Candidate& c) {
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  return {{"consequent", fuzzy::ToString(c.consequent)},
+          {"entropy_threshold", c.threshold},
+          {"kappa", c.kappa},
+          {"epochs", c.epochs},
+          {"rules", c.rules},
+          {"at_cap", c.at_cap},
+          {"holdout_one_step_ndei", num(c.holdout_one_step_ndei)},
+          {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
+          {"score", num(c.score)}};
+}
+
+/// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
+void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
+                      const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
+                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx) {
+  io::CsvWriter out(path, {"set", "sample", "measured", "fuzzy_one_step", "fuzzy_free_run",
+                           "arx_one_step", "arx_free_run"});
+  double set_index = 0;
+  for (const auto& [name, s] : sets) {
+    const Eigen::Index t0 = spec.first_target();
+    const Eigen::MatrixXd f1 = sysid::PredictOneStep(spec, *s, fuzzy);
+    const Eigen::MatrixXd a1 = sysid::PredictOneStep(spec, *s, arx);
+    const bool lags = spec.output_lags > 0;
+    const Eigen::MatrixXd fr = lags ? sysid::SimulateFreeRun(spec, *s, fuzzy) : f1;
+    const Eigen::MatrixXd ar = lags ? sysid::SimulateFreeRun(spec, *s, arx) : a1;
+    for (Eigen::Index r = 0; r < f1.rows(); ++r) {
+      out.WriteRow({set_index, double(t0 + r), s->outputs(t0 + r, 0), f1(r, 0), fr(r, 0), a1(r, 0),
+                    ar(r, 0)});
+    }
+    ++set_index;
+  }
+  out.Close();
+}
+
 }  // namespace
 
 nlohmann::json RunFitJob(const FitJobOptions& o) {
@@ -91,42 +130,71 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     spec.inputs = o.inputs;
     const std::string problems = spec.Problems();
     if (!problems.empty()) throw std::runtime_error("invalid model structure: " + problems);
+    const std::string config_problems = o.model.Problems();
+    if (!config_problems.empty()) throw std::runtime_error(config_problems);
   }
   const std::string output = spec.outputs.at(0);
   std::optional<sysid::Series> train, validate;
   if (!o.train_csv.empty()) train = LoadSeries(o.train_csv, output, spec.inputs, spec);
   if (!o.validate_csv.empty()) validate = LoadSeries(o.validate_csv, output, spec.inputs, spec);
   if (!train && !model) throw std::runtime_error("nothing to do: give --train or --load-model");
-  if (o.sweep && !validate)
-    throw std::runtime_error("--sweep needs --validate data to score against");
 
   nlohmann::json report;
+  nlohmann::json warnings = nlohmann::json::array();
   ProgressBar bar(o.progress);
   fuzzy::FuzzyModelConfig cfg = o.model;
-  if (o.sweep && train) {
-    const auto sweep = sysid::SweepEntropyThreshold(
-        spec, cfg, o.train, *train, *validate, o.sweep_options,
-        [&bar](const sysid::SweepPoint& p, std::size_t k, std::size_t n) {
-          char label[64];
-          std::snprintf(label, sizeof label, "sweep H=%.4g: %d rules", p.threshold, p.rules);
+  sysid::TrainOptions topt = o.train;
+  std::optional<sysid::Scaling> declared;
+  if (!model && !o.ranges.empty()) {
+    std::ifstream in(o.ranges);
+    if (!in) throw std::runtime_error(o.ranges + ": cannot open ranges file");
+    nlohmann::json j;
+    try {
+      in >> j;
+      declared = sysid::ScalingFromRanges(spec, sysid::RangesFromJson(j));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(o.ranges + ": " + e.what());
+    }
+    topt.fit_scaling = false;
+  }
+  const bool search = !model && o.select &&
+                      !(o.consequent_given && o.threshold_given && o.kappa_given && o.epochs_given);
+  if (search) {
+    sysid::SelectionOptions so = o.selection;
+    if (o.consequent_given) so.consequents = {cfg.consequent};
+    if (o.threshold_given) so.thresholds = {cfg.entropy.threshold};
+    if (o.kappa_given) so.kappas = {cfg.entropy.kappa};
+    if (o.epochs_given) {
+      so.max_epochs = o.train.epochs;
+      so.patience = 0;
+    }
+    // Candidates learn with the declared scaling when there is one, as the final model will.
+    sysid::TrainOptions candidate_options = topt;
+    std::optional<sysid::NarxModel> scaled_base;
+    const auto sel = sysid::SelectModel(
+        spec, cfg, candidate_options, *train, so,
+        [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
+          char label[96];
+          std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",
+                        fuzzy::ToString(c.consequent), c.threshold, c.kappa, c.rules);
           bar.Update(label, double(k) / double(n));
         });
-    nlohmann::json points = nlohmann::json::array();
-    for (const auto& p : sweep.points) {
-      points.push_back(
-          {{"entropy_threshold", p.threshold},
-           {"rules", p.rules},
-           {"validate_one_step_fit", p.validation_one_step_fit_percent},
-           {"validate_free_run_fit", std::isfinite(p.validation_free_run_fit_percent)
-                                         ? nlohmann::json(p.validation_free_run_fit_percent)
-                                         : nlohmann::json(nullptr)}});
-    }
-    report["sweep"] = {{"criterion", o.sweep_options.free_run_criterion ? "free_run" : "one_step"},
-                       {"tolerance_percent", o.sweep_options.tolerance_percent},
-                       {"points", points},
-                       {"best_index", sweep.best},
-                       {"chosen_index", sweep.chosen}};
-    cfg.entropy.threshold = sweep.points[sweep.chosen].threshold;
+    nlohmann::json cands = nlohmann::json::array();
+    for (const auto& c : sel.candidates) cands.push_back(CandidateToJson(c));
+    report["selection"] = {{"criterion", sel.free_run_criterion ? "free_run" : "one_step"},
+                           {"relative_tolerance", so.relative_tolerance},
+                           {"absolute_tolerance", so.absolute_tolerance},
+                           {"fit_samples", sel.fit_samples},
+                           {"holdout_samples", sel.holdout_samples},
+                           {"candidates", cands},
+                           {"best_index", sel.best},
+                           {"chosen_index", sel.chosen}};
+    for (const auto& w : sel.warnings) warnings.push_back(w);
+    const auto& c = sel.candidates[sel.chosen];
+    cfg.consequent = c.consequent;
+    cfg.entropy.threshold = c.threshold;
+    cfg.entropy.kappa = c.kappa;
+    if (!o.epochs_given) topt.epochs = std::max(1, c.epochs);
   }
   if (!o.save_ranges.empty() && train) {
     std::ofstream out(o.save_ranges);
@@ -134,25 +202,21 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     if (!out) throw std::runtime_error(o.save_ranges + ": cannot write");
   }
   if (!model) {
+    // The chosen settings, refitted on the whole training file (the hold-out included).
     model.emplace(spec, cfg);
-    sysid::TrainOptions topt = o.train;
-    if (!o.ranges.empty()) {
-      std::ifstream in(o.ranges);
-      if (!in) throw std::runtime_error(o.ranges + ": cannot open ranges file");
-      nlohmann::json j;
-      try {
-        in >> j;
-        model->SetScaling(sysid::ScalingFromRanges(spec, sysid::RangesFromJson(j)));
-      } catch (const std::exception& e) {
-        throw std::runtime_error(o.ranges + ": " + e.what());
-      }
-      topt.fit_scaling = false;
-    }
+    if (declared) model->SetScaling(*declared);
     topt.progress = [&bar, &topt](int epoch, long sample, long total) {
       bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(topt.epochs),
                  (epoch + double(sample) / double(total)) / topt.epochs);
     };
-    model->Train(*train, topt);
+    const sysid::TrainReport tr = model->Train(*train, topt);
+    nlohmann::json hist = nlohmann::json::array();
+    for (const auto& e : tr.epochs)
+      hist.push_back({{"epoch", e.epoch},
+                      {"accepted", e.accepted},
+                      {"train_fit", e.train_fit},
+                      {"rules", e.rules}});
+    report["epoch_history"] = hist;
   }
   bar.Finish();
   const sysid::Predictor predict = [&model](const Eigen::VectorXd& x) { return model->Predict(x); };
@@ -166,9 +230,10 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   report["delay"] = spec.delay;
   report["rules"] = fm.rules();
   report["entropy_threshold"] = fm.config().entropy.threshold;
+  report["kappa"] = fm.config().entropy.kappa;
   report["max_rules"] = fm.config().entropy.max_rules;
   report["consequent"] = fuzzy::ToString(fm.consequent().kind());
-  report["epochs"] = o.load_model.empty() ? o.train.epochs : 0;
+  report["epochs"] = o.load_model.empty() ? topt.epochs : 0;
   report["least_squares_refinement"] = o.load_model.empty() && o.train.refine_least_squares;
   report["seed"] = o.seed;
   if (train) report["train"] = Evaluate(spec, *train, predict);
@@ -183,8 +248,32 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     if (validate) {
       report["baselines"]["arx"]["validate"] = Evaluate(spec, *validate, arx_predict);
       report["baselines"]["persistence"]["validate"] = EvaluatePersistence(spec, *validate);
+      // Warnings only: the validation data informs the reader, never a choice.
+      const auto& v = report["validate"];
+      for (const char* base : {"arx", "persistence"}) {
+        for (const char* mode : {"one_step", "free_run"}) {
+          const auto& b = report["baselines"][base]["validate"];
+          if (!v.contains(mode) || !b.contains(mode)) continue;
+          const auto& fz = v[mode]["fit"];
+          const auto& bf = b[mode]["fit"];
+          if (fz.is_number() && bf.is_number() && fz.get<double>() < bf.get<double>()) {
+            char line[160];
+            std::snprintf(line, sizeof line,
+                          "the model loses to %s on validation (%s FIT %.2f %% < %.2f %%)", base,
+                          mode, fz.get<double>(), bf.get<double>());
+            warnings.push_back(line);
+          }
+        }
+      }
+    }
+    if (!o.predictions.empty()) {
+      std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};
+      if (validate) sets.emplace_back("validate", &*validate);
+      WritePredictions(o.predictions, spec, sets, predict, arx_predict);
+      report["predictions_file"] = o.predictions;
     }
   }
+  report["warnings"] = warnings;
   report["rule_text"] = sysid::DescribeRules(*model, 0);
   if (!o.save_model.empty()) {
     model->Save(o.save_model);
@@ -199,20 +288,27 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
   out << "odonata-fit: " << r["target"].get<std::string>() << " from";
   for (const auto& name : r["regressors"]) out << ' ' << name.get<std::string>();
   out << "\n  " << r["rules"].get<int>() << " rules (" << r["consequent"].get<std::string>()
-      << " consequents), entropy threshold H = " << r["entropy_threshold"].get<double>() << ", cap "
+      << " consequents), entropy threshold H = " << r["entropy_threshold"].get<double>()
+      << ", kappa " << r["kappa"].get<double>() << ", " << r["epochs"].get<int>() << " epochs, cap "
       << r["max_rules"].get<int>() << "\n";
-  if (r.contains("sweep")) {
-    out << "\n  entropy sweep (" << r["sweep"]["criterion"].get<std::string>()
-        << " validation FIT, tolerance " << r["sweep"]["tolerance_percent"].get<double>()
-        << " %):\n      H        rules   one-step FIT   free-run FIT\n";
+  if (r.contains("selection")) {
+    const auto& sel = r["selection"];
+    out << "\n  model selection on the last " << sel["holdout_samples"].get<long>()
+        << " training samples (" << sel["criterion"].get<std::string>()
+        << " NDEI; fewest rules within " << 100 * sel["relative_tolerance"].get<double>()
+        << " % or " << sel["absolute_tolerance"].get<double>()
+        << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
+           "free-run NDEI\n";
     std::size_t k = 0;
-    for (const auto& p : r["sweep"]["points"]) {
-      const bool chosen = k == r["sweep"]["chosen_index"].get<std::size_t>();
-      const double fr =
-          p["validate_free_run_fit"].is_null() ? NAN : p["validate_free_run_fit"].get<double>();
-      std::snprintf(line, sizeof line, "    %s %-9.4g %5d   %10.2f %%   %10.2f %%\n",
-                    chosen ? "*" : " ", p["entropy_threshold"].get<double>(), p["rules"].get<int>(),
-                    p["validate_one_step_fit"].get<double>(), fr);
+    auto num = [](const nlohmann::json& v) { return v.is_null() ? NAN : v.get<double>(); };
+    for (const auto& c : sel["candidates"]) {
+      const bool chosen = k == sel["chosen_index"].get<std::size_t>();
+      const bool best = k == sel["best_index"].get<std::size_t>();
+      std::snprintf(line, sizeof line, "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s\n",
+                    chosen ? "*" : " ", c["consequent"].get<std::string>().c_str(),
+                    c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
+                    c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
+                    num(c["holdout_free_run_ndei"]), best ? "  (best)" : "");
       out << line;
       ++k;
     }
@@ -242,6 +338,12 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
     int k = 1;
     for (const auto& s : r["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";
   }
+  if (r.contains("warnings")) {
+    for (const auto& w : r["warnings"]) out << "\n  warning: " << w.get<std::string>();
+    if (!r["warnings"].empty()) out << "\n";
+  }
+  if (r.contains("predictions_file"))
+    out << "\n  predictions written to " << r["predictions_file"].get<std::string>() << "\n";
   if (r.contains("model_file"))
     out << "\n  model saved to " << r["model_file"].get<std::string>() << "\n";
   return out.str();

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
-#include "sysid/entropy_sweep.hpp"
+#include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 
 namespace odonata::fit {
@@ -24,8 +24,15 @@ struct FitJobOptions {
   unsigned long seed = 0;  ///< shuffles nothing today; recorded for reproducibility
   std::string save_model;  ///< optional path
   std::string load_model;  ///< optional: evaluate this model instead of training
-  bool sweep = false;
-  sysid::SweepOptions sweep_options;
+  /// Settings the user fixed; the others are chosen on a hold-out slice of the training data
+  /// (unless select is false, which keeps the defaults).
+  bool select = true;
+  bool consequent_given = false;
+  bool threshold_given = false;
+  bool kappa_given = false;
+  bool epochs_given = false;
+  sysid::SelectionOptions selection;
+  std::string predictions;  ///< optional CSV of measured, fuzzy and ARX predictions
   bool progress = false;    ///< draw a progress bar on stderr
   std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;  ///< optional: write the training data's ranges (JSON)

@@ -10,18 +10,21 @@
 
 int main(int argc, char** argv) {
   odonata::fit::FitJobOptions o;
-  std::string consequent = "singleton";
+  std::string consequent = odonata::fuzzy::ToString(o.model.consequent);
   std::string measure = "firing";
-  std::string criterion = "one_step";
+  std::string criterion = "auto";
   double learning_rate = o.model.rates.centre;
-  bool json = false, rules = false, no_ls = false;
+  double tolerance_percent = 100 * o.selection.relative_tolerance;
+  bool json = false, rules = false, no_ls = false, no_select = false;
   o.spec.output_lags = 1;
   o.spec.input_lags = 1;
   o.spec.delay = 1;
 
   CLI::App app{
       "Fits an entropy fuzzy model (series-parallel NARX) on CSV data: header row, one sample per "
-      "row. Reports FIT/VAF/RMSE one-step and free-run, beside linear ARX and persistence."};
+      "row. Settings not given (consequent, entropy threshold, kappa, epochs) are chosen on the "
+      "last part of the training file by simulation accuracy; the validation file is only "
+      "scored. Reports FIT/VAF/RMSE one-step and free-run, beside linear ARX and persistence."};
   app.add_option("--train", o.train_csv, "training CSV")->check(CLI::ExistingFile);
   app.add_option("--validate", o.validate_csv, "validation CSV (a different excitation)")
       ->check(CLI::ExistingFile);
@@ -36,44 +39,78 @@ int main(int argc, char** argv) {
   app.add_option("--delay", o.spec.delay, "input delay: 1 predicts y(k+1) (eq. 7), 0 predicts y(k)")
       ->capture_default_str()
       ->check(CLI::IsMember({0, 1}));
-  app.add_option("--entropy-threshold", o.model.entropy.threshold,
-                 "H̄: a rule is created when max entropy ≤ H̄ (lower ⇒ fewer rules)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.531));
+  auto* threshold = app.add_option(
+      "--entropy-threshold", o.model.entropy.threshold,
+      "H̄ in [0, 0.5307]: a rule is created when max entropy ≤ H̄ (lower ⇒ fewer rules); "
+      "chosen when not given");
+  threshold->capture_default_str();
   app.add_option("--max-rules", o.model.entropy.max_rules, "hard cap on the rule count")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  app.add_option("--epochs", o.train.epochs, "passes over the data (first grows rules, later tune)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
+      ->capture_default_str();
+  auto* epochs = app.add_option("--epochs", o.train.epochs,
+                                "passes over the data (first grows rules, later tune); chosen "
+                                "when not given")
+                     ->capture_default_str()
+                     ->check(CLI::Range(1, 100000));
   app.add_option("--learning-rate", learning_rate,
-                 "gradient rate for centres and widths (scaled units)")
+                 "online gradient rate for centres and widths (scaled units)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10.0));
-  app.add_option("--consequent", consequent,
-                 "singleton (paper, readable) or linear (Takagi–Sugeno)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"singleton", "linear"}));
+  auto* kind = app.add_option("--consequent", consequent,
+                              "linear (Takagi–Sugeno) or singleton (the paper's, readable); "
+                              "chosen when not given")
+                   ->capture_default_str()
+                   ->check(CLI::IsMember({"singleton", "linear"}));
   app.add_option("--entropy-measure", measure, "firing (paper) or per_input")
       ->capture_default_str()
       ->check(CLI::IsMember({"firing", "per_input"}));
-  app.add_option("--kappa", o.model.entropy.kappa, "new width = kappa · distance to nearest centre")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  auto* kappa =
+      app.add_option("--kappa", o.model.entropy.kappa,
+                     "new width = kappa · RMS distance to the nearest rule centre; chosen "
+                     "when not given")
+          ->capture_default_str();
   app.add_option("--sigma-min", o.model.entropy.sigma_min, "smallest width (scaled units)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--ridge", o.train.ridge, "least-squares ridge, relative to the mean diagonal")
+      ->capture_default_str();
+  app.add_option("--forgetting", o.model.forgetting,
+                 "RLS forgetting factor of linear consequents, (0, 1]; 1 never forgets")
+      ->capture_default_str();
+  app.add_option("--prune-utility", o.model.entropy.prune_utility,
+                 "remove a rule whose mean normalised firing falls below this (0: never)")
+      ->capture_default_str();
+  app.add_option("--ridge", o.train.ridge, "least-squares ridge, relative to the design's scale")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-least-squares", no_ls,
                "skip the global least-squares consequent solve after each pass (pure online "
                "learning, as the online identifier does)");
+  app.add_flag("--no-select", no_select,
+               "use the defaults for every setting not given instead of choosing them");
+  app.add_option("--select-criterion", criterion,
+                 "what the choice minimises on the hold-out: auto (free-run NDEI when ny > 0, "
+                 "else one-step), free_run or one_step (integrating loops)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "free_run", "one_step"}));
+  app.add_option("--select-tolerance", tolerance_percent,
+                 "keep the fewest rules within this many percent of the best hold-out NDEI")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--holdout", o.selection.holdout_fraction,
+                 "fraction of the training file (its end) held out for the choice")
+      ->capture_default_str()
+      ->check(CLI::Range(0.05, 0.5));
+  app.add_option("--select-thresholds", o.selection.thresholds, "H̄ values to try")->delimiter(',');
+  app.add_option("--select-kappas", o.selection.kappas, "kappa values to try")->delimiter(',');
+  app.add_option("--max-epochs", o.selection.max_epochs,
+                 "most epochs a candidate trains (the best hold-out epoch is kept)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   app.add_option("--seed", o.seed, "recorded in the report; the learning itself uses no randomness")
       ->capture_default_str();
   app.add_option("--save-model", o.save_model, "write the model as JSON");
   app.add_option("--load-model", o.load_model, "evaluate a saved model instead of training")
       ->check(CLI::ExistingFile);
+  app.add_option("--predictions", o.predictions,
+                 "write a CSV: set (0 train, 1 validate), sample, measured, fuzzy_one_step, "
+                 "fuzzy_free_run, arx_one_step, arx_free_run");
   app.add_option("--ranges", o.ranges,
                  "JSON {signal: [min, max]}: fixes the scaling instead of deriving it from the "
                  "training data (what the online identifier uses)")
@@ -81,19 +118,6 @@ int main(int argc, char** argv) {
   app.add_option("--save-ranges", o.save_ranges, "write the training data's signal ranges as JSON");
   app.add_flag("--rules", rules, "list the rules as sentences");
   app.add_flag("--json", json, "print one JSON object on stdout");
-  app.add_flag("--sweep", o.sweep,
-               "sweep H̄, print validation accuracy against rule count, and fit with the smallest "
-               "model within --sweep-tolerance of the best");
-  app.add_option("--sweep-thresholds", o.sweep_options.thresholds,
-                 "H̄ values to sweep (default 12, log-spaced 0.001–0.45)")
-      ->delimiter(',');
-  app.add_option("--sweep-tolerance", o.sweep_options.tolerance_percent,
-                 "FIT points below the best still acceptable")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--sweep-criterion", criterion, "score by one_step or free_run validation FIT")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"one_step", "free_run"}));
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
@@ -107,7 +131,21 @@ int main(int argc, char** argv) {
     o.model.rates.centre = learning_rate;
     o.model.rates.sigma = learning_rate;
     o.train.refine_least_squares = !no_ls;
-    o.sweep_options.free_run_criterion = criterion == "free_run";
+    o.select = !no_select;
+    o.consequent_given = kind->count() > 0;
+    o.threshold_given = threshold->count() > 0;
+    o.kappa_given = kappa->count() > 0;
+    o.epochs_given = epochs->count() > 0;
+    o.selection.relative_tolerance = tolerance_percent / 100.0;
+    o.selection.criterion = criterion == "auto" ? odonata::sysid::SelectionCriterion::kAuto
+                            : criterion == "free_run"
+                                ? odonata::sysid::SelectionCriterion::kFreeRun
+                                : odonata::sysid::SelectionCriterion::kOneStep;
+    // Without least squares (the online learner), only one pass means anything online.
+    if (no_ls && !o.epochs_given) {
+      o.train.epochs = 1;
+      o.epochs_given = true;
+    }
     o.progress = odonata::fit::StderrIsTerminal();
     const auto report = odonata::fit::RunFitJob(o);
     if (json) {
@@ -115,6 +153,9 @@ int main(int argc, char** argv) {
     } else {
       std::cout << odonata::fit::FormatReport(report, rules);
     }
+    if (json)
+      for (const auto& w : report["warnings"])
+        std::cerr << "odonata-fit: warning: " << w.get<std::string>() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "odonata-fit: error: " << e.what() << std::endl;
     return 1;

@@ -214,9 +214,10 @@ void IdentifierNode::OnControl(const odonata::control_t& msg) {
       core_.ReplaceModel(EmptyModel());
       break;
     case odonata::control_t::SET_ENTROPY_THRESHOLD:
-      if (!(msg.value >= 0 && msg.value < 1))
-        throw std::invalid_argument("entropy threshold out of range");
-      core_.SetEntropyThreshold(msg.value);
+      core_.SetEntropyThreshold(msg.value);  // the fuzzy core checks the range
+      break;
+    case odonata::control_t::SET_FORGETTING:
+      core_.SetForgetting(msg.value);
       break;
     case odonata::control_t::SAVE_MODEL:
       SaveModel(msg.path.empty() ? save_model_path_ : msg.path);

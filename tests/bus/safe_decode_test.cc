@@ -75,6 +75,8 @@ odonata::fuzzy_rules_t Rules(int rules, int inputs, int coefficients, int covari
   r.entropy_threshold = 0.01;
   r.entropy_measure = "rule";
   r.rls_forgetting = 1.0;
+  r.utility_sums.assign(rules, 3.5);
+  r.born.assign(rules, 7);
   return r;
 }
 

@@ -9,7 +9,7 @@
 namespace odonata::experiments {
 namespace {
 
-// identifier.md §6.
+// docs/identifier.md §10.
 const std::map<std::string, double> kPaperEntropy = {
     {"actuator_fz", 0.007}, {"actuator_fx", 0.002}, {"vertical_velocity", 0.05},
     {"roll", 0.01},         {"pitch", 0.001},       {"yaw", 0.25}};

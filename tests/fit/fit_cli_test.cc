@@ -49,21 +49,28 @@ TEST(FitCli, HelpDescribesTheContract) {
   const ProcessResult r = Exec("--help");
   EXPECT_EQ(r.status, 0);
   for (const char* flag :
-       {"--train", "--validate", "--output", "--input", "--ny", "--nu", "--delay",
-        "--entropy-threshold", "--max-rules", "--epochs", "--learning-rate", "--consequent",
-        "--seed", "--save-model", "--rules", "--json", "--sweep"}) {
+       {"--train",       "--validate",   "--output",        "--input",
+        "--ny",          "--nu",         "--delay",         "--entropy-threshold",
+        "--max-rules",   "--epochs",     "--learning-rate", "--consequent",
+        "--seed",        "--save-model", "--rules",         "--json",
+        "--predictions", "--forgetting", "--no-select",     "--select-criterion",
+        "--holdout"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   }
 }
 
 TEST(FitCli, JsonReportHasTheContractFields) {
-  const ProcessResult r = Exec("--train " + Example("train.csv") + " --validate " +
-                                   Example("validate.csv") + " --output y --input u --json",
-                               false);
+  const ProcessResult r =
+      Exec("--train " + Example("train.csv") + " --validate " + Example("validate.csv") +
+               " --output y --input u --entropy-threshold 0.05 --kappa 1 "
+               "--epochs 3 --consequent linear --json",
+           false);
   ASSERT_EQ(r.status, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_GT(j["rules"].get<int>(), 0);
   EXPECT_DOUBLE_EQ(j["entropy_threshold"].get<double>(), 0.05);
+  EXPECT_FALSE(j.contains("selection")) << "every setting was given: nothing to choose";
+  EXPECT_TRUE(j["warnings"].is_array());
   for (const char* data : {"train", "validate"}) {
     for (const char* mode : {"one_step", "free_run"}) {
       for (const char* m : {"fit", "vaf", "rmse"})
@@ -134,15 +141,74 @@ TEST(FitCli, SameSeedAndDataGiveTheSameModelFile) {
   EXPECT_EQ(s1, s2);
 }
 
-TEST(FitCli, SweepAndRulesAreReadable) {
+TEST(FitCli, SelectionAndRulesAreReadable) {
   const ProcessResult r =
       Exec("--train " + Example("train.csv") + " --validate " + Example("validate.csv") +
-           " --output y --input u --sweep --sweep-thresholds 0.01,0.05,0.2 --rules");
+           " --output y --input u --consequent singleton --select-kappas 1 "
+           "--select-thresholds 0.3,0.45 --max-epochs 3 --rules");
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("entropy sweep"), std::string::npos);
+  EXPECT_NE(r.out.find("model selection on the last 1000 training samples"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("1. IF y(k) is "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("THEN y(k+1) is ≈"), std::string::npos);
   EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
+}
+
+TEST(FitCli, SelectionNeverReadsTheValidationFile) {
+  // The same training file with two different validation files: the same choice, same model.
+  const std::string base = "--train " + Example("train.csv") +
+                           " --output y --input u --consequent linear --select-kappas 0.5,1 "
+                           "--select-thresholds 0.3,0.45 --max-epochs 4 --json --validate ";
+  const ProcessResult a = Exec(base + Example("validate.csv"), false);
+  const ProcessResult b = Exec(base + Example("train.csv"), false);
+  ASSERT_EQ(a.status, 0) << a.out;
+  ASSERT_EQ(b.status, 0) << b.out;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(ja["selection"], jb["selection"]);
+  EXPECT_EQ(ja["rule_text"], jb["rule_text"]);
+  EXPECT_EQ(ja["train"], jb["train"]);
+}
+
+TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
+  const std::string out = Dir() + "/pred.csv";
+  const ProcessResult r =
+      Exec("--train " + Example("train.csv") + " --validate " + Example("validate.csv") +
+               " --output y --input u --entropy-threshold 0.45 --kappa 1 "
+               "--epochs 2 --consequent linear --json --predictions " +
+               out,
+           false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::ifstream in(out);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "set,sample,measured,fuzzy_one_step,fuzzy_free_run,arx_one_step,arx_free_run");
+  // Recompute the validation one-step FIT from the file: it must be the report's.
+  std::vector<double> y, yh;
+  long rows = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::vector<double> v;
+    std::size_t pos = 0;
+    for (int c = 0; c < 7; ++c) {
+      const std::size_t next = line.find(',', pos);
+      v.push_back(std::stod(line.substr(pos, next - pos)));
+      pos = next + 1;
+    }
+    if (v[0] == 1.0) {
+      y.push_back(v[2]);
+      yh.push_back(v[3]);
+    }
+  }
+  EXPECT_EQ(rows, 4999 + 999);
+  ASSERT_EQ(y.size(), 999u);
+  double mean = 0, se = 0, sv = 0;
+  for (double v : y) mean += v / double(y.size());
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    se += (y[k] - yh[k]) * (y[k] - yh[k]);
+    sv += (y[k] - mean) * (y[k] - mean);
+  }
+  EXPECT_NEAR(100 * (1 - std::sqrt(se / sv)), j["validate"]["one_step"]["fit"].get<double>(), 1e-6);
 }
 
 TEST(FitCli, ProgressBarOnlyOnATerminal) {
@@ -193,7 +259,10 @@ TEST(FitCli, BadInputGivesAClearErrorNamingFileLineAndColumn) {
   ExpectError("--load-model " + Write("foreign.json", "{\"a\":1}") + " --validate " + good,
               "not an odonata model");
   ExpectError("--train " + good + " --output y --input u --consequent cubic", "cubic");
-  ExpectError("--train " + good + " --output y --input u --sweep", "--sweep needs --validate");
+  ExpectError("--train " + good + " --output y --input u --entropy-threshold 0.9",
+              "entropy threshold");
+  ExpectError("--train " + good + " --output y --input u --forgetting 1.5", "forgetting");
+  ExpectError("--train " + good + " --output y --input u --max-rules 2000000000", "max_rules");
   ExpectError("--output y --input u", "--train is required");
 }
 

@@ -14,7 +14,8 @@ FuzzyModel Trained(ConsequentKind kind) {
   FuzzyModelConfig cfg;
   cfg.inputs = 2;
   cfg.consequent = kind;
-  cfg.entropy.threshold = 0.2;
+  cfg.entropy.threshold = 0.52;
+  cfg.entropy.kappa = 0.3;
   cfg.rates.output_width = 0.01;
   FuzzyModel m(cfg);
   for (int k = 0; k < 3000; ++k) {
@@ -119,6 +120,65 @@ TEST(FuzzyModel, RefineConsequentsSolvesTheLeastSquaresProblem) {
   const double before = sse();
   m.RefineConsequents(x, y, 1e-12);
   EXPECT_LT(sse(), before);
+}
+
+TEST(FuzzyModel, PruningKeepsALongRunBelowTheCapAndKeepsLearning) {
+  // A slowly drifting operating point visits new regions for ever: without pruning the rule base
+  // fills up and its structure freezes; with pruning old, unused rules make room.
+  FuzzyModelConfig cfg;
+  cfg.inputs = 1;
+  cfg.entropy.threshold = 0.45;
+  cfg.entropy.kappa = 0.5;
+  cfg.entropy.sigma_init = 0.1;
+  cfg.entropy.sigma_min = 0.05;
+  cfg.entropy.sigma_max = 0.15;
+  cfg.entropy.max_rules = 10;
+  cfg.entropy.prune_utility = 0.01;
+  cfg.entropy.prune_min_age = 200;
+  FuzzyModel pruned(cfg);
+  cfg.entropy.prune_utility = 0.0;
+  FuzzyModel capped(cfg);
+  double late_error_pruned = 0, late_error_capped = 0;
+  for (int k = 0; k < 40000; ++k) {
+    const double centre = -1.0 + 2.0 * k / 40000.0 * 3.0;  // drifts from −1 to 5 (scaled units)
+    const double x = centre + 0.1 * std::sin(0.37 * k);
+    const double y = std::sin(2 * x);
+    const auto a = pruned.Learn(Eigen::VectorXd::Constant(1, x), y);
+    const auto b = capped.Learn(Eigen::VectorXd::Constant(1, x), y);
+    if (k >= 36000) {
+      late_error_pruned += a.error * a.error;
+      late_error_capped += b.error * b.error;
+    }
+    ASSERT_LE(pruned.rules(), 10);
+  }
+  EXPECT_GT(pruned.rules_pruned(), 0);
+  EXPECT_EQ(capped.rules(), 10);
+  EXPECT_LT(late_error_pruned, 0.25 * late_error_capped);
+}
+
+TEST(FuzzyModel, ForgettingTracksAChangedPlant) {
+  FuzzyModelConfig cfg;
+  cfg.inputs = 1;
+  cfg.consequent = ConsequentKind::kLinear;
+  FuzzyModel remember(cfg);
+  cfg.forgetting = 0.99;
+  FuzzyModel forget(cfg);
+  double err_remember = 0, err_forget = 0;
+  for (int k = 0; k < 6000; ++k) {
+    const double x = std::sin(0.05 * k);
+    const double gain = k < 3000 ? 1.0 : 0.7;  // a wing loses 30 % of its authority
+    const auto a = remember.Learn(Eigen::VectorXd::Constant(1, x), gain * x);
+    const auto b = forget.Learn(Eigen::VectorXd::Constant(1, x), gain * x);
+    if (k >= 3500) {
+      err_remember += a.error * a.error;
+      err_forget += b.error * b.error;
+    }
+  }
+  EXPECT_LT(err_forget, 0.1 * err_remember);
+  EXPECT_THROW(forget.set_forgetting(0.0), std::invalid_argument);
+  EXPECT_THROW(forget.set_forgetting(1.01), std::invalid_argument);
+  forget.set_forgetting(0.95);
+  EXPECT_DOUBLE_EQ(FuzzyModel::FromJson(forget.ToJson()).config().forgetting, 0.95);
 }
 
 }  // namespace

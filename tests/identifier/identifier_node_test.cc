@@ -170,10 +170,16 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
   EXPECT_DOUBLE_EQ(node_->core().model().model(0).config().entropy.threshold, 0.3);
   EXPECT_GT(bus_->stats().dropped + bus_->stats().decode_errors, dropped);
 
+  Control(odonata::control_t::SET_FORGETTING, 0.98);
+  EXPECT_DOUBLE_EQ(node_->core().model().model(0).config().forgetting, 0.98);
+  Control(odonata::control_t::SET_FORGETTING, 1.5);  // out of range: refused by the core
+  EXPECT_DOUBLE_EQ(node_->core().model().model(0).config().forgetting, 0.98);
+
   snapshots_.clear();
   Control(odonata::control_t::PUBLISH_SNAPSHOT);
   ASSERT_EQ(snapshots_.size(), 1u);
   const sysid::NarxModel from_bus = bus::DecodeSnapshot(snapshots_[0]);
+  // Everything, the forgetting factor and the pruning bookkeeping included.
   EXPECT_EQ(from_bus.ToJson(), node_->core().model().ToJson());
 
   char path[] = "/tmp/odonata_identifier_node_XXXXXX";

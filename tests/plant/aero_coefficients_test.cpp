@@ -10,7 +10,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadPerDeg = kPi / 180.0;
 
-// plant.md check points, quoted to two decimals.
+// docs/plant.md §3 check points, quoted to two decimals.
 TEST(AeroCoefficients, MatchesPlantMdCheckPoints) {
   EXPECT_NEAR(LiftCoefficient(45.0 * kRadPerDeg), 1.80, 0.005);
   EXPECT_NEAR(DragCoefficient(45.0 * kRadPerDeg), 1.70, 0.005);

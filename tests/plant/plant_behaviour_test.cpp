@@ -1,8 +1,8 @@
-// The behaviours plant.md quotes from Kok & Chahl, within ±25 %.
+// The behaviours the paper quotes from Kok & Chahl (docs/plant.md §11), within ±25 %.
 //
-// Two readings are tested. The paper's figures are undamped (plant.md: "≈ +1° of amplitude with
-// these inertias, undamped"): they follow from the wing-beat mean loads of the vehicle at rest,
-// integrated over two beats, with plant.md's step sizes (+10 % f, +1° left φ₀, −5° left β).
+// Two readings are tested. The paper's figures are undamped (docs/plant.md §11): they follow
+// from the wing-beat mean loads of the vehicle at rest, integrated over two beats, with the step
+// sizes stated there (+10 % f, +1° left φ₀, −5° left β).
 // The full simulation keeps ω_b and V_b in the blade velocities, i.e. aerodynamic damping, which
 // is strong for these big wings; the step sizes that give the paper's rates in free flight are
 // larger and are stated below (+12 % f, +3.5° left φ₀, −30° left β).
@@ -54,7 +54,7 @@ class PlantBehaviour : public ::testing::Test {
   double two_beats_s_{};
 };
 
-// --- Undamped (wing-beat mean loads at rest), plant.md's step sizes. ---
+// --- Undamped (wing-beat mean loads at rest), the step sizes of docs/plant.md §11. ---
 
 TEST_F(PlantBehaviour, UndampedTenPercentFrequencyGivesTwoMetresPerSecondSquared) {
   CommandMatrix c = trim_.command;

@@ -16,7 +16,7 @@ TEST(TrimFinder, HoverTrimIsBetweenFiveAndSixHertz) {
   EXPECT_LT(std::fabs(t.mean_load.force_n.x()), 1e-12);
 }
 
-// plant.md: from translational forces alone, hover at ≈ 5.36 Hz with 0.098 N per wing.
+// docs/plant.md §9: from translational forces alone, hover at ≈ 5.36 Hz with 0.098 N per wing.
 TEST(TrimFinder, TranslationalOnlyHoverMatchesPlantMd) {
   PlantConfig c = DefaultPlantConfig();
   c.integration.rotational_forces = false;

@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
     rules.centres = {{0.1, 0.2}};
     rules.sigmas = {{0.3, 0.3}};
     rules.output_widths = {1.0};
+    rules.utility_sums = {0.0};
+    rules.born = {0};
     rules.consequent = "singleton";
     rules.num_coefficients = 1;
     rules.coefficients = {{0.5}};

@@ -1,6 +1,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include <limits>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -130,6 +132,50 @@ TEST(FreeRun, UsesOwnPredictionsAndMeasuredInitialConditions) {
   const Eigen::MatrixXd held = SimulateFreeRun(spec, s, nan, &diverged);
   EXPECT_TRUE(diverged);
   EXPECT_TRUE(held.allFinite());
+}
+
+TEST(NarxModel, TrainingFitNeverFallsFromOneEpochToTheNext) {
+  for (auto kind : {fuzzy::ConsequentKind::kLinear, fuzzy::ConsequentKind::kSingleton}) {
+    fuzzy::FuzzyModelConfig cfg;
+    cfg.consequent = kind;
+    cfg.entropy.threshold = 0.5;
+    cfg.entropy.kappa = 0.5;
+    NarxModel m(testing::NarendraSpec(), cfg);
+    TrainOptions o;
+    o.epochs = 25;
+    o.ridge = 0.0;
+    const TrainReport r = m.Train(testing::NarendraTrain(1500), o);
+    ASSERT_EQ(r.epochs.size(), 25u);
+    for (std::size_t k = 1; k < r.epochs.size(); ++k)
+      EXPECT_GE(r.epochs[k].train_fit, r.epochs[k - 1].train_fit) << ToString(kind) << " " << k;
+    EXPECT_GT(r.epochs.back().train_fit, r.epochs.front().train_fit);
+  }
+}
+
+TEST(NarxModel, HoldoutKeepsTheBestEpoch) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.entropy.threshold = 0.5;
+  cfg.entropy.kappa = 0.5;
+  NarxModel m(testing::NarendraSpec(), cfg);
+  const Series all = testing::NarendraTrain(2000);
+  Series fit, hold;
+  fit.outputs = all.outputs.topRows(1600);
+  fit.inputs = all.inputs.topRows(1600);
+  hold.outputs = all.outputs.bottomRows(400);
+  hold.inputs = all.inputs.bottomRows(400);
+  TrainOptions o;
+  o.epochs = 15;
+  o.holdout = &hold;
+  const TrainReport r = m.Train(fit, o);
+  double best = std::numeric_limits<double>::infinity();
+  int best_epoch = 0;
+  for (const auto& e : r.epochs)
+    if (e.accepted && e.holdout_ndei < best) {
+      best = e.holdout_ndei;
+      best_epoch = e.epoch;
+    }
+  EXPECT_EQ(r.kept_epoch, best_epoch);
+  EXPECT_NEAR(m.Ndei(hold, true), best, 1e-12);
 }
 
 }  // namespace
