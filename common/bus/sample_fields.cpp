@@ -61,6 +61,14 @@ const std::vector<std::string>& AppliedFieldNames() {
   return names;
 }
 
+std::optional<int> BeatStateOffset(const std::string& name) {
+  for (const auto& n : BeatFieldNames())
+    if (n == name) return 0;
+  for (const auto& n : AppliedFieldNames())
+    if (n == name) return 1;
+  return std::nullopt;
+}
+
 const std::vector<std::string>& StateFieldNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n(std::begin(kStateNames), std::end(kStateNames));

@@ -24,6 +24,11 @@ const std::vector<std::string>& BeatFieldNames();
 /// "u_pitch_applied_rad", "u_yaw_applied_rad". Beat state k + 1 carries the command applied over
 /// [t_k, t_k+1), so they belong with sample k's command (as in odonata-sim's row k).
 const std::vector<std::string>& AppliedFieldNames();
+/// Which beat state holds a beat-state signal of sample k, as an offset from k: 0 for the beat
+/// averages (BeatFieldNames(): beat state k, up to t_k, like state k), 1 for the applied-command
+/// channels (AppliedFieldNames(): beat state k + 1, the command applied over [t_k, t_k+1)).
+/// nullopt when `name` is neither.
+std::optional<int> BeatStateOffset(const std::string& name);
 
 /// The value of a named command field or excitation; nullopt when the name is unknown.
 std::optional<double> CommandField(const odonata::wing_command_t& msg, const std::string& name);
