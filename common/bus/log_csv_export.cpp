@@ -110,10 +110,12 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     for (double v : cmd->second.excitations) row.push_back(v);
     if (summary.beat_columns) {
       // Averages up to t_k from beat state k; the command applied over [t_k, t_k+1) from beat
-      // state k + 1, which answers the same command as state k + 1.
+      // state k + 1, which answers the same command as state k + 1. The identifier pairs them
+      // the same way (pipeline/sample_pairer.hpp).
       const auto beat = run.beats.find(it->first);
       const auto applied = run.beats.find(it->first + 1);
       if (beat == run.beats.end() || applied == run.beats.end() ||
+          beat->second.command_seq != it->second.command_seq ||
           applied->second.command_seq != next->second.command_seq) {
         ++summary.incomplete;
         continue;
