@@ -10,8 +10,9 @@
 //   - beat state k + 1: the command applied over [t_k, t_k+1) (`u_*_applied_rad`); its
 //     command_seq must equal state k + 1's.
 // exactly as odonata-logger export writes row k (bus/log_csv_export.hpp). Sample k is complete
-// once state k + 1 and every other message it needs (PairingNeeds) have arrived; a state whose
-// sample still lacks a message waits (up to kMaxPendingStates states), then the sample is lost.
+// once state k + 1, its command and the beat states it needs (PairingNeeds) have arrived; a state
+// whose sample still lacks a message waits (up to kMaxPendingStates states), then the sample is
+// lost.
 //
 // Seq rules: a state or beat state whose seq is negative or leaps too far ahead
 // (sequence_window.hpp), an older state or beat state than the newest (duplicate or out of
@@ -38,9 +39,11 @@
 
 namespace odonata::pipeline {
 
-/// The messages a sample needs besides its two states, from the signals the model uses.
+/// The beat states a sample needs besides its two states and its command, from the signals the
+/// model uses. The command is always needed, whatever the signals: a sample is the plant's
+/// answer to a command, so states published without one (a real-time plant idling before its
+/// run) make no sample, as they make no row of odonata-logger export.
 struct PairingNeeds {
-  bool command = true;     ///< the command answered by state k + 1
   bool beat = false;       ///< beat state k (beat averages)
   bool next_beat = false;  ///< beat state k + 1 (the command applied over [t_k, t_k+1))
 };
@@ -60,9 +63,9 @@ class SamplePairer {
       kRestart,  ///< the plant restarted its run: restart the history
     };
     Kind kind = Kind::kSample;
-    int64_t index = -1;  ///< kSample: k
-    State state{};       ///< kSample: state k
-    std::optional<Command> command;
+    int64_t index = -1;             ///< kSample: k
+    State state{};                  ///< kSample: state k
+    Command command{};              ///< the command state k + 1 answers
     std::optional<Beat> beat;       ///< beat state k
     std::optional<Beat> next_beat;  ///< beat state k + 1
     int64_t lost = 0;               ///< kGap
@@ -208,15 +211,13 @@ class SamplePairer {
       e.kind = Event::Kind::kSample;
       e.index = k;
       std::string what, why;
-      if (needs_.command) {
-        const auto cmd = commands_.find(s.command_seq);
-        if (cmd != commands_.end()) {
-          e.command = cmd->second;
-        } else {
-          what = "missing command";
-          why = "no command seq " + std::to_string(s.command_seq) + " for state seq " +
-                std::to_string(s.seq);
-        }
+      const auto cmd = commands_.find(s.command_seq);
+      if (cmd != commands_.end()) {
+        e.command = cmd->second;
+      } else {
+        what = "missing command";
+        why = "no command seq " + std::to_string(s.command_seq) + " for state seq " +
+              std::to_string(s.seq);
       }
       if (what.empty() && needs_.beat) {
         e.beat = FindBeat(k, previous_->command_seq);

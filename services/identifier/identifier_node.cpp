@@ -107,17 +107,12 @@ void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
 
 pipeline::PairingNeeds IdentifierNode::Needs(const sysid::RegressorSpec& spec) {
   pipeline::PairingNeeds needs;
-  needs.command = false;
-  auto need = [&needs](const std::string& name, bool is_input) {
+  auto need = [&needs](const std::string& name) {
     const auto offset = bus::BeatStateOffset(name);
-    if (offset) {
-      (*offset == 0 ? needs.beat : needs.next_beat) = true;
-    } else if (is_input) {
-      needs.command = true;  // a command field or excitation (else a state field, as before)
-    }
+    if (offset) (*offset == 0 ? needs.beat : needs.next_beat) = true;
   };
-  for (const auto& o : spec.outputs) need(o, false);
-  for (const auto& i : spec.inputs) need(i, true);
+  for (const auto& o : spec.outputs) need(o);
+  for (const auto& i : spec.inputs) need(i);
   return needs;
 }
 
@@ -149,7 +144,7 @@ void IdentifierNode::FormSample(const Pairer::Event& paired) {
   }
   for (std::size_t i = 0; i < spec.inputs.size(); ++i) {
     auto v = BeatSignal(paired, spec.inputs[i]);
-    if (!v && paired.command) v = bus::CommandField(*paired.command, spec.inputs[i]);
+    if (!v) v = bus::CommandField(paired.command, spec.inputs[i]);
     if (!v) v = bus::StateField(state, spec.inputs[i]);
     if (!v) throw std::invalid_argument("no command or state signal '" + spec.inputs[i] + "'");
     sample.inputs(static_cast<Eigen::Index>(i)) = *v;

@@ -37,9 +37,9 @@ class IdentifierNode {
   using Pairer = pipeline::SamplePairer<odonata::plant_state_t, odonata::wing_command_t,
                                         odonata::beat_state_t>;
 
-  /// The messages the model's signals need: beat state k for a beat average (`*_avg`), beat
-  /// state k + 1 for an applied-command channel (`u_*_applied_rad`), the command for any other
-  /// input.
+  /// The beat states the model's signals need: beat state k for a beat average (`*_avg`), beat
+  /// state k + 1 for an applied-command channel (`u_*_applied_rad`). (The command is always
+  /// needed.)
   static pipeline::PairingNeeds Needs(const sysid::RegressorSpec& spec);
 
  private:

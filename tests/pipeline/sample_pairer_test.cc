@@ -69,14 +69,13 @@ TEST(SamplePairer, SampleKIsStateKWithTheCommandStateKPlusOneAnswers) {
   ASSERT_EQ(log.Samples(), (std::vector<int64_t>{0}));
   const auto& e = log.events.back();
   EXPECT_EQ(e.state.seq, 0);
-  ASSERT_TRUE(e.command);
-  EXPECT_EQ(e.command->seq, 0);
+  EXPECT_EQ(e.command.seq, 0);
   EXPECT_FALSE(e.beat);
   EXPECT_FALSE(e.next_beat);
 }
 
 TEST(SamplePairer, BeatAveragesFromBeatStateKAppliedCommandFromBeatStateKPlusOne) {
-  Pairer p(PairingNeeds{true, true, true});
+  Pairer p(PairingNeeds{true, true});
   Log log;
   for (int64_t k = 0; k < 5; ++k) Step(p, log, k, true);
   log.Add(p.OnState(S(5)));
@@ -85,15 +84,15 @@ TEST(SamplePairer, BeatAveragesFromBeatStateKAppliedCommandFromBeatStateKPlusOne
   log.Add(p.OnBeat(B(5)));
   ASSERT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2, 3, 4}));
   for (const auto& e : log.events) {
-    ASSERT_TRUE(e.beat && e.next_beat && e.command);
+    ASSERT_TRUE(e.beat && e.next_beat);
     EXPECT_EQ(e.beat->seq, e.index);
     EXPECT_EQ(e.next_beat->seq, e.index + 1);
-    EXPECT_EQ(e.next_beat->command_seq, e.command->seq);
+    EXPECT_EQ(e.next_beat->command_seq, e.command.seq);
   }
 }
 
 TEST(SamplePairer, ANeededMessageThatArrivesLateCompletesTheSample) {
-  Pairer p(PairingNeeds{true, false, true});
+  Pairer p(PairingNeeds{false, true});
   Log log;
   log.Add(p.OnState(S(0)));
   log.Add(p.OnCommand(C(0)));
@@ -108,19 +107,20 @@ TEST(SamplePairer, ANeededMessageThatArrivesLateCompletesTheSample) {
   EXPECT_EQ(p.pending_states(), 0u);  // nothing waits but state 2, for state 3
 }
 
-TEST(SamplePairer, WithoutCommandSignalsOnlyTheBeatStatesAreNeeded) {
-  Pairer p(PairingNeeds{false, false, true});
+TEST(SamplePairer, StatesWithoutACommandMakeNoSampleWhateverTheSignals) {
+  // A real-time plant flies before the generator's first command: its states answer none.
+  Pairer p(PairingNeeds{true, true});
   Log log;
-  for (int64_t k = 0; k < 4; ++k) {
-    log.Add(p.OnState(S(k)));
-    log.Add(p.OnBeat(B(k)));
+  for (int64_t k = 0; k < 6; ++k) {
+    log.Add(p.OnState(State{k, -1}));
+    log.Add(p.OnBeat(Beat{k, -1}));
   }
-  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2}));
-  EXPECT_FALSE(log.events.front().command);
+  EXPECT_TRUE(log.Samples().empty());
+  EXPECT_EQ(log.Lost(), 0);  // still waiting: nothing is lost before the limit
 }
 
 TEST(SamplePairer, AMissingBeatStateIsAGapNeverBridged) {
-  Pairer p(PairingNeeds{true, true, true});
+  Pairer p(PairingNeeds{true, true});
   Log log;
   const int64_t n = 20 + static_cast<int64_t>(Pairer::kMaxPendingStates);
   for (int64_t k = 0; k < n; ++k) {
@@ -141,7 +141,7 @@ TEST(SamplePairer, AMissingBeatStateIsAGapNeverBridged) {
     }
   }
   // Until the limit, the pairer waits: a lost beat state stops the samples after it too.
-  Pairer q(PairingNeeds{true, false, true});
+  Pairer q(PairingNeeds{false, true});
   Log held;
   for (int64_t k = 0; k < 12; ++k) {
     held.Add(q.OnState(S(k)));
@@ -153,7 +153,7 @@ TEST(SamplePairer, AMissingBeatStateIsAGapNeverBridged) {
 }
 
 TEST(SamplePairer, ABeatStateAnsweringAnotherCommandIsNotPaired) {
-  Pairer p(PairingNeeds{true, false, true});
+  Pairer p(PairingNeeds{false, true});
   Log log;
   log.Add(p.OnState(S(0)));
   log.Add(p.OnBeat(B(0)));
@@ -173,7 +173,7 @@ TEST(SamplePairer, AGapInStatesIsReportedWithItsLength) {
 }
 
 TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
-  Pairer p(PairingNeeds{true, true, true});
+  Pairer p(PairingNeeds{true, true});
   Log log;
   for (int64_t k = 0; k < 3; ++k) Step(p, log, k, true);
   log.Add(p.OnState(S(2)));  // a lockstep resend of the latest state …
@@ -197,7 +197,7 @@ TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
 
 TEST(SamplePairer, APlantRestartForgetsTheOldRunWhicheverStreamRestartsFirst) {
   for (bool beat_first : {false, true}) {
-    Pairer p(PairingNeeds{true, true, true});
+    Pairer p(PairingNeeds{true, true});
     Log log;
     for (int64_t k = 0; k < 6; ++k) Step(p, log, k, true);
     if (beat_first) log.Add(p.OnBeat(B(0)));
