@@ -8,7 +8,8 @@ namespace odonata::bus {
 
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
-  for (std::string* s : {&command, &state, &prediction, &model, &accuracy, &heartbeat, &control})
+  for (std::string* s :
+       {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat, &control})
     *s += "_" + suffix;
 }
 
@@ -16,6 +17,7 @@ void ChannelConfig::Override(const nlohmann::json& j) {
   for (const auto& [key, value] : j.items()) {
     std::string* target = key == "command"      ? &command
                           : key == "state"      ? &state
+                          : key == "beat_state" ? &beat_state
                           : key == "prediction" ? &prediction
                           : key == "model"      ? &model
                           : key == "accuracy"   ? &accuracy

@@ -12,6 +12,7 @@ namespace odonata::bus {
 struct ChannelConfig {
   std::string command = "DIMAV_COMMAND";
   std::string state = "DIMAV_STATE";
+  std::string beat_state = "DIMAV_BEAT_STATE";  ///< beat averages and applied command (plant)
   std::string prediction = "ODONATA_PREDICTION";
   std::string model = "ODONATA_MODEL";
   std::string accuracy = "ODONATA_ACCURACY";

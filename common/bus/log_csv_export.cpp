@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 #include "io/csv_writer.hpp"
+#include "odonata/beat_state_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/prediction_t.hpp"
 #include "odonata/wing_command_t.hpp"
@@ -25,6 +26,7 @@ namespace {
 struct Run {
   std::map<int64_t, odonata::plant_state_t> states;     // by seq, first copy kept
   std::map<int64_t, odonata::wing_command_t> commands;  // by seq, first copy kept
+  std::map<int64_t, odonata::beat_state_t> beats;       // by seq, first copy kept
 };
 
 }  // namespace
@@ -56,6 +58,13 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
           continue;
         }
         runs.back().commands.emplace(c.seq, c);
+      } else if (ev->channel == options.beat_state_channel) {
+        odonata::beat_state_t b;
+        if (!SafeDecode(&b, ev->data, ev->datalen) || !AllFinite(b)) {
+          ++summary.undecodable;
+          continue;
+        }
+        runs.back().beats.emplace(b.seq, b);
       }
     }
   }
@@ -77,6 +86,11 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
   for (const auto& n : CommandFieldNames()) header.push_back(n);
   for (const auto& n : StateFieldNames()) header.push_back(n);
   for (const auto& n : first_command.excitation_names) header.push_back(n);
+  summary.beat_columns = !run.beats.empty();
+  if (summary.beat_columns) {
+    for (const auto& n : BeatFieldNames()) header.push_back(n);
+    for (const auto& n : AppliedFieldNames()) header.push_back(n);
+  }
   io::CsvWriter out(csv_path, header);
   for (auto it = run.states.begin(); it != run.states.end(); ++it) {
     const auto next = run.states.find(it->first + 1);
@@ -94,6 +108,21 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     for (const auto& n : CommandFieldNames()) row.push_back(*CommandField(cmd->second, n));
     for (const auto& n : StateFieldNames()) row.push_back(*StateField(it->second, n));
     for (double v : cmd->second.excitations) row.push_back(v);
+    if (summary.beat_columns) {
+      // Averages up to t_k from beat state k; the command applied over [t_k, t_k+1) from beat
+      // state k + 1, which answers the same command as state k + 1. The identifier pairs them
+      // the same way (pipeline/sample_pairer.hpp).
+      const auto beat = run.beats.find(it->first);
+      const auto applied = run.beats.find(it->first + 1);
+      if (beat == run.beats.end() || applied == run.beats.end() ||
+          beat->second.command_seq != it->second.command_seq ||
+          applied->second.command_seq != next->second.command_seq) {
+        ++summary.incomplete;
+        continue;
+      }
+      for (const auto& n : BeatFieldNames()) row.push_back(*BeatStateField(beat->second, n));
+      for (const auto& n : AppliedFieldNames()) row.push_back(*BeatStateField(applied->second, n));
+    }
     out.WriteRow(row);
     ++summary.rows;
   }

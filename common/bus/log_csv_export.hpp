@@ -1,6 +1,8 @@
 #pragma once
 // Turns a recorded event log into the CSV odonata-sim writes (and odonata-fit reads): row k
-// joins state k with the command the plant applied next (state k+1's command_seq).
+// joins state k with the command the plant applied next (state k+1's command_seq) and, when the
+// log holds beat states, beat state k's averages and beat state k+1's applied-command channels
+// (the command applied over [t_k, t_k+1)).
 
 #include <string>
 #include <vector>
@@ -10,6 +12,7 @@ namespace odonata::bus {
 struct ExportOptions {
   std::string command_channel = "DIMAV_COMMAND";
   std::string state_channel = "DIMAV_STATE";
+  std::string beat_state_channel = "DIMAV_BEAT_STATE";  ///< optional: older logs have none
   int run = -1;  ///< which run (a plant reset starts a new one); negative counts from the end
 };
 
@@ -17,11 +20,15 @@ struct ExportSummary {
   int runs = 0;           ///< runs found in the log(s)
   int exported_run = -1;  ///< the run written
   long rows = 0;
-  long undecodable = 0;  ///< events on the two channels that did not decode (skipped)
-  long incomplete = 0;   ///< states without a following state or matching command (gaps)
+  long undecodable = 0;       ///< events on the three channels that did not decode (skipped)
+  bool beat_columns = false;  ///< the log had beat states: _avg and _applied_ columns written
+  long incomplete = 0;        ///< states without a following state or matching command (gaps)
 };
 
-/// Reads the logs in order (a rotated log's files, oldest first) and writes `csv_path`.
+/// Reads the logs in order (a rotated log's files, oldest first) and writes `csv_path`. Columns:
+/// t_s, the 24 commands received, the state, the excitations, and, if the run has beat states,
+/// BeatFieldNames() and AppliedFieldNames() (odonata-sim's names; a sample missing either beat
+/// state is then incomplete).
 /// @throws std::runtime_error naming the file on unreadable logs, no samples, or write errors.
 ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const std::string& csv_path,
                              const ExportOptions& options);

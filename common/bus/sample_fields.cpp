@@ -44,6 +44,31 @@ const std::vector<std::string>& CommandFieldNames() {
   return names;
 }
 
+const std::vector<std::string>& BeatFieldNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (int i = 0; i < 9; ++i) n.push_back(std::string(kStateNames[i]) + "_avg");
+    n.push_back("fx_total_n_avg");
+    n.push_back("fz_total_n_avg");
+    return n;
+  }();
+  return names;
+}
+
+const std::vector<std::string>& AppliedFieldNames() {
+  static const std::vector<std::string> names = {"u_vertical_applied_rad", "u_roll_applied_rad",
+                                                 "u_pitch_applied_rad", "u_yaw_applied_rad"};
+  return names;
+}
+
+std::optional<int> BeatStateOffset(const std::string& name) {
+  for (const auto& n : BeatFieldNames())
+    if (n == name) return 0;
+  for (const auto& n : AppliedFieldNames())
+    if (n == name) return 1;
+  return std::nullopt;
+}
+
 const std::vector<std::string>& StateFieldNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n(std::begin(kStateNames), std::end(kStateNames));
@@ -81,6 +106,21 @@ std::optional<double> StateField(const odonata::plant_state_t& m, const std::str
   return std::nullopt;
 }
 
+std::optional<double> BeatStateField(const odonata::beat_state_t& m, const std::string& name) {
+  const double* blocks[3] = {m.velocity_mps, m.rate_radps, m.attitude_rad};
+  for (int i = 0; i < 9; ++i)
+    if (name == BeatFieldNames()[i]) return blocks[i / 3][i % 3];
+  const double applied[4] = {m.u_vertical_applied_rad, m.u_roll_applied_rad, m.u_pitch_applied_rad,
+                             m.u_yaw_applied_rad};
+  for (int i = 0; i < 4; ++i)
+    if (name == AppliedFieldNames()[i]) return applied[i];
+  if (name == "fx_total_n_avg") return m.fx_total_n;
+  if (name == "fz_total_n_avg") return m.fz_total_n;
+  if (name == "window_s") return m.window_s;
+  if (name == "t_s") return m.t_s;
+  return std::nullopt;
+}
+
 bool AllFinite(const odonata::wing_command_t& m) {
   for (int f = 0; f < 6; ++f)
     if (!Finite(CommandArray(m, f), 4)) return false;
@@ -92,6 +132,22 @@ bool AllFinite(const odonata::plant_state_t& m) {
   return std::isfinite(m.t_s) && Finite(m.velocity_mps, 3) && Finite(m.rate_radps, 3) &&
          Finite(m.attitude_rad, 3) && Finite(m.position_m, 3) && Finite(m.fx_n, 4) &&
          Finite(m.fz_n, 4);
+}
+
+bool AllFinite(const odonata::beat_state_t& m) {
+  const double scalars[] = {m.t_s,
+                            m.window_s,
+                            m.fx_total_n,
+                            m.fz_total_n,
+                            m.u_vertical_applied_rad,
+                            m.u_roll_applied_rad,
+                            m.u_pitch_applied_rad,
+                            m.u_yaw_applied_rad};
+  return Finite(scalars, 8) && Finite(m.velocity_mps, 3) && Finite(m.rate_radps, 3) &&
+         Finite(m.attitude_rad, 3) && Finite(m.applied_beta_rad, 4) &&
+         Finite(m.applied_freq_hz, 4) && Finite(m.applied_amp_rad, 4) &&
+         Finite(m.applied_pitch_mean_rad, 4) && Finite(m.applied_pitch_amp_rad, 4) &&
+         Finite(m.applied_phase_rad, 4);
 }
 
 std::string CountProblems(const odonata::wing_command_t& m) {

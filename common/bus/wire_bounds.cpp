@@ -104,6 +104,14 @@ bool CountsFit(const odonata::plant_state_t*, const void* data, int64_t size) {
   return w.ok();
 }
 
+bool CountsFit(const odonata::beat_state_t*, const void* data, int64_t size) {
+  WireCursor w(data, size);
+  // utime, seq, command_seq; t_s, window_s, 3 × 3 means, 2 forces, 24 applied commands,
+  // 4 channels; attitude_hold. No arrays of variable length.
+  w.Skip(kFingerprint + 3 * kI64 + (2 + 9 + 2 + 24 + 4) * kF64 + kI8);
+  return w.ok();
+}
+
 bool CountsFit(const odonata::prediction_t*, const void* data, int64_t size) {
   WireCursor w(data, size);
   w.Skip(kFingerprint + 3 * kI64);

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "odonata/accuracy_t.hpp"
+#include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
@@ -25,6 +26,7 @@ namespace odonata::bus {
 /// The pointer argument only selects the type.
 bool CountsFit(const odonata::wing_command_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::plant_state_t*, const void* data, int64_t size);
+bool CountsFit(const odonata::beat_state_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::prediction_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::accuracy_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::model_snapshot_t*, const void* data, int64_t size);

@@ -1,5 +1,6 @@
 #include "experiments/experiment_preset.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -36,11 +37,22 @@ constexpr int kRight[2] = {2, 3};
 constexpr int kFront[2] = {0, 3};
 constexpr int kBack[2] = {1, 2};
 
+std::uint32_t PhaseStreamId(Phase phase) {
+  switch (phase) {
+    case Phase::kTrain:
+      return 1;
+    case Phase::kValidate:
+      return 2;
+    case Phase::kSelect:
+      return 3;
+  }
+  return 0;
+}
+
 // Independent random stream per (seed, phase, purpose).
 std::mt19937_64 Stream(std::uint64_t seed, Phase phase, std::uint64_t purpose) {
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
-                    static_cast<std::uint32_t>(phase == Phase::kTrain ? 1 : 2),
-                    static_cast<std::uint32_t>(purpose)};
+                    PhaseStreamId(phase), static_cast<std::uint32_t>(purpose)};
   return std::mt19937_64(seq);
 }
 
@@ -56,9 +68,31 @@ std::uint64_t NoiseSeed(std::uint64_t seed, Phase phase) {
 
 double Clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
+// Mean of a command entry over a pair of wings (exact when the two are equal).
+double PairMean(const CommandMatrix& c, const int (&wings)[2], int input) {
+  return 0.5 * (c(wings[0], input) + c(wings[1], input));
+}
+
+// One signal per phase, the selection and validation signals of the same family as training's.
+template <class Train, class Select, class Validate>
+double ByPhase(Phase phase, const Train& train, const Select& select, const Validate& validate,
+               double t_s) {
+  switch (phase) {
+    case Phase::kTrain:
+      return train.Value(t_s);
+    case Phase::kSelect:
+      return select.Value(t_s);
+    case Phase::kValidate:
+      break;
+  }
+  return validate.Value(t_s);
+}
+
 // Builds a run where `fill(k, t_s, command, u)` writes sample k's command (starting from the trim
-// command) and its scalar excitation u. Commands are clamped; u is recomputed by `applied` from the
-// clamped command so the excitation column always matches what the wings did.
+// command) and its scalar excitation u. Commands are clamped; u is recomputed by `applied` (one of
+// the *ChannelRad readers) from the clamped command, so the excitation column is exactly the
+// designed command's channel. What the wings did also holds the attitude hold's correction: that
+// is the *_applied_* column odonata-sim writes from the command it applies.
 struct Builder {
   const plant::PlantConfig& config;
   const plant::TrimResult& trim;
@@ -109,6 +143,7 @@ ExperimentPreset Actuator(const std::string& name, const std::string& output,
   p.paper_accuracy_text = accuracy;
   p.train_duration_s = 30.0;
   p.validate_duration_s = 30.0;
+  p.select_duration_s = 30.0;
   p.clamped_body = true;
   p.start_altitude_m = kStartAltitudeM;
   return p;
@@ -130,6 +165,7 @@ ExperimentPreset Attitude(const std::string& name, const std::string& output,
   p.paper_accuracy_text = accuracy;
   p.train_duration_s = 30.0;
   p.validate_duration_s = 30.0;
+  p.select_duration_s = 30.0;
   p.clamped_body = false;
   p.start_altitude_m = kStartAltitudeM;
   p.attitude_hold = true;
@@ -148,6 +184,9 @@ std::vector<ExperimentPreset> MakePresets() {
     p.validate_excitation =
         "all wings: f = 6.0 + 1.0 log-chirp(0.03->0.8 Hz) Hz (5-7 Hz); phi0 = 50 deg + 25 deg "
         "log-chirp(0.1->8 Hz)";
+    p.select_excitation =
+        "all wings: f = 6.0 + 0.75 chirp(0.025->0.65 Hz) Hz (5.25-6.75 Hz); phi0 = 50 deg + 28 "
+        "deg linear chirp(0.07->6.5 Hz)";
     v.push_back(p);
   }
   {
@@ -158,14 +197,16 @@ std::vector<ExperimentPreset> MakePresets() {
         "wing-beat mean horizontal force of one wing on a test stand, varying beta, f and phi0";
     p.train_excitation = "as actuator_fz training, plus beta = 10 deg chirp(0.02->1 Hz)";
     p.validate_excitation = "as actuator_fz validation, plus beta = 8 deg log-chirp(0.03->2 Hz)";
+    p.select_excitation = "as actuator_fz selection, plus beta = 9 deg chirp(0.025->1.5 Hz)";
     v.push_back(p);
   }
   {
-    ExperimentPreset p = Attitude("vertical_velocity", "vz_mps", "u_vertical_rad", 0.05, "0.05", 41,
-                                  "good (figure only)");
+    ExperimentPreset p = Attitude("vertical_velocity", "vz_mps", "u_vertical_applied_rad", 0.05,
+                                  "0.05", 41, "good (figure only)");
     p.ny = 2;
     p.train_duration_s = 40.0;
     p.validate_duration_s = 40.0;
+    p.select_duration_s = 40.0;
     p.description = "body vertical velocity under the same phi0 on all four wings";
     p.train_excitation =
         "all wings: phi0 = phi0c + u, u = 0.19 rad linear chirp(0.05->5 Hz) + Gaussian noise "
@@ -173,39 +214,69 @@ std::vector<ExperimentPreset> MakePresets() {
     p.validate_excitation =
         "all wings: phi0 = phi0c + u, u = 0.17 rad log-chirp(0.05->6 Hz) + Gaussian noise 0.01 W "
         "cut at 2.5 sigma (other stream); f = trim; attitude hold on";
+    p.select_excitation =
+        "all wings: phi0 = phi0c + u, u = 0.18 rad linear chirp(0.06->5.5 Hz) + Gaussian noise "
+        "0.01 W cut at 2.5 sigma (a third stream); f = trim; attitude hold on";
     v.push_back(p);
   }
   {
     ExperimentPreset p =
-        Attitude("roll", "roll_rad", "u_roll_rad", 0.01, "0.01", 6, "92.5 % validation");
-    p.description = "roll under inverse phi0 chirps, left (1, 2) against right (3, 4)";
+        Attitude("roll", "roll_rad", "u_roll_applied_rad", 0.01, "0.01", 6, "92.5 % validation");
+    p.description =
+        "roll under inverse phi0 chirps, left (1, 2) against right (3, 4); input: the applied "
+        "differential, hold included (open loop)";
     p.train_excitation =
         "phi0 = trim +/- u (left +, right -), u = 3 deg linear chirp(0.1->3 Hz), 1 s fades; "
         "attitude hold on";
     p.validate_excitation =
         "phi0 = trim +/- u (left +, right -), u = 5 deg log-chirp(0.15->4 Hz), 1 s fades; "
         "attitude hold on";
+    p.select_excitation =
+        "phi0 = trim +/- u (left +, right -), u = 4 deg linear chirp(0.12->3.5 Hz), 1 s fades; "
+        "attitude hold on";
     v.push_back(p);
   }
   {
-    ExperimentPreset p =
-        Attitude("pitch", "pitch_rad", "u_pitch_rad", 0.001, "0.001", 3, "\"reasonably good\"");
-    p.description = "pitch under front (1, 4) against back (2, 3) differences in amplitude";
+    ExperimentPreset p = Attitude("pitch", "pitch_rad", "u_pitch_applied_rad", 0.001, "0.001", 3,
+                                  "\"reasonably good\"");
+    p.description =
+        "pitch under front (1, 4) against back (2, 3) differences in amplitude; input: the "
+        "applied differential, hold included (open loop)";
     p.train_excitation =
         "front: phi0 = trim + u; back: phi0 = trim - u; u = 1 deg linear chirp(0.1->3 Hz), 1 s "
         "fades; attitude hold on (no f differential: it drifts the fore/hind phase)";
     p.validate_excitation =
         "same mapping, u = 1.5 deg log-chirp(0.15->4 Hz), 1 s fades; attitude hold on";
+    p.select_excitation =
+        "same mapping, u = 1.25 deg linear chirp(0.12->3.5 Hz), 1 s fades; attitude hold on";
     v.push_back(p);
   }
   {
-    ExperimentPreset p = Attitude("yaw", "yaw_rad", "u_yaw_rad", 0.25, "0.25", 34, "about 98 %");
+    ExperimentPreset p =
+        Attitude("yaw", "yaw_rad", "u_yaw_applied_rad", 0.25, "0.25", 34, "about 98 %");
     p.description =
-        "yaw under opposite stroke-plane angles, left (1, 2) -u against right (3, 4) +u";
+        "yaw under opposite stroke-plane angles, left (1, 2) -u against right (3, 4) +u; input: "
+        "the applied differential (the hold does not act on beta)";
     p.train_excitation =
         "beta = -u left, +u right, u = 20 deg linear chirp(0.2->4 Hz), 1 s fades; attitude hold on";
     p.validate_excitation =
         "beta = -u left, +u right, u = 15 deg log-chirp(0.3->5 Hz), 1 s fades; attitude hold on";
+    p.select_excitation =
+        "beta = -u left, +u right, u = 17.5 deg linear chirp(0.25->4.5 Hz), 1 s fades; attitude "
+        "hold on";
+    v.push_back(p);
+  }
+  // The held vehicle: the same runs, identified from the excitation before the hold adds its
+  // correction (the model then includes the hold). Yaw and vertical velocity have no such
+  // variant: the hold acts on neither channel, so their excitation is what the wings did.
+  for (const char* base : {"roll", "pitch"}) {
+    ExperimentPreset p = *std::find_if(
+        v.begin(), v.end(), [base](const ExperimentPreset& q) { return q.name == base; });
+    p.name += "_held";
+    p.input_columns = {std::string("u_") + base + "_rad"};
+    p.held_vehicle = true;
+    p.description = std::string("HELD VEHICLE (closed loop, attitude hold inside the model): ") +
+                    base + " from the excitation before the hold; runs as " + base;
     v.push_back(p);
   }
   return v;
@@ -231,21 +302,83 @@ std::string PresetNames() {
   return names;
 }
 
-const char* PhaseName(Phase phase) { return phase == Phase::kTrain ? "train" : "validate"; }
+const char* PhaseName(Phase phase) {
+  switch (phase) {
+    case Phase::kTrain:
+      return "train";
+    case Phase::kSelect:
+      return "select";
+    case Phase::kValidate:
+      break;
+  }
+  return "validate";
+}
+
+std::optional<Phase> ParsePhase(const std::string& name) {
+  for (const Phase phase : {Phase::kTrain, Phase::kSelect, Phase::kValidate}) {
+    if (name == PhaseName(phase)) return phase;
+  }
+  return std::nullopt;
+}
+
+const std::vector<std::string>& PhaseNames() {
+  static const std::vector<std::string> kNames = {"train", "select", "validate"};
+  return kNames;
+}
+
+double PhaseDurationS(const ExperimentPreset& preset, Phase phase) {
+  switch (phase) {
+    case Phase::kTrain:
+      return preset.train_duration_s;
+    case Phase::kSelect:
+      return preset.select_duration_s;
+    case Phase::kValidate:
+      break;
+  }
+  return preset.validate_duration_s;
+}
+
+double VerticalChannelRad(const CommandMatrix& c, double trim_amp_rad) {
+  return 0.5 * (PairMean(c, kLeft, kStrokeAmplitude) + PairMean(c, kRight, kStrokeAmplitude)) -
+         trim_amp_rad;
+}
+
+double RollChannelRad(const CommandMatrix& c) {
+  return 0.5 * (PairMean(c, kLeft, kStrokeAmplitude) - PairMean(c, kRight, kStrokeAmplitude));
+}
+
+double PitchChannelRad(const CommandMatrix& c) {
+  return 0.5 * (PairMean(c, kFront, kStrokeAmplitude) - PairMean(c, kBack, kStrokeAmplitude));
+}
+
+double YawChannelRad(const CommandMatrix& c) {
+  return 0.5 * (PairMean(c, kRight, kStrokePlaneAngle) - PairMean(c, kLeft, kStrokePlaneAngle));
+}
+
+const std::vector<std::string>& AppliedChannelNames() {
+  static const std::vector<std::string> kNames = {"u_vertical_applied_rad", "u_roll_applied_rad",
+                                                  "u_pitch_applied_rad", "u_yaw_applied_rad"};
+  return kNames;
+}
+
+std::vector<double> AppliedChannelValues(const CommandMatrix& applied, double trim_amp_rad) {
+  return {VerticalChannelRad(applied, trim_amp_rad), RollChannelRad(applied),
+          PitchChannelRad(applied), YawChannelRad(applied)};
+}
 
 ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, std::uint64_t seed,
                                  double duration_s, const plant::PlantConfig& config) {
   const plant::TrimResult trim = plant::FindHoverTrim(config);
   const double dt_s = 1.0 / config.integration.sample_rate_hz;
-  const double t_end_s = duration_s > 0.0 ? duration_s
-                                          : (phase == Phase::kTrain ? preset.train_duration_s
-                                                                    : preset.validate_duration_s);
+  const double t_end_s = duration_s > 0.0 ? duration_s : PhaseDurationS(preset, phase);
   const std::size_t samples = static_cast<std::size_t>(std::llround(t_end_s / dt_s));
-  const bool train = phase == Phase::kTrain;
   const double a0 = trim.amp_rad;
   const double phase0 = RandomPhaseRad(seed, phase, 1);
   const double phase1 = RandomPhaseRad(seed, phase, 2);
   const double phase2 = RandomPhaseRad(seed, phase, 3);
+  // A held-vehicle variant flies exactly the runs of the preset it varies.
+  std::string name = preset.name;
+  if (preset.held_vehicle) name.resize(name.size() - std::string("_held").size());
 
   Builder b{config, trim, {}};
   b.run.trim = trim;
@@ -253,98 +386,107 @@ ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, st
   b.run.initial.prior_command = trim.command;
   b.run.initial.clamped_body = preset.clamped_body;
   b.run.attitude_hold = preset.attitude_hold;
+  b.run.record_applied = preset.attitude_hold;
   b.run.hold_gains = DefaultAttitudeHoldGains();
   b.run.initial.state.position_m = Eigen::Vector3d(0.0, 0.0, preset.start_altitude_m);
 
   const auto fade = [&](double t) { return signals::TukeyEnvelope(t, t_end_s, kRampS); };
 
-  if (preset.name == "actuator_fz" || preset.name == "actuator_fx") {
-    const bool with_beta = preset.name == "actuator_fx";
+  if (name == "actuator_fz" || name == "actuator_fx") {
+    const bool with_beta = name == "actuator_fx";
     // The slow frequency sweep and the faster amplitude sweep of the paper's Fig. 4 and 6.
     const signals::LinearChirp f_train(0.02, 0.5, 0.5, t_end_s, phase0);
+    const signals::LinearChirp f_select(0.025, 0.65, 0.75, t_end_s, phase0);
     const signals::LogChirp f_val(0.03, 0.8, 1.0, t_end_s, phase0);
     const signals::LinearChirp a_train(0.05, 5.0, 30.0 * kRadPerDeg, t_end_s, phase1);
+    const signals::LinearChirp a_select(0.07, 6.5, 28.0 * kRadPerDeg, t_end_s, phase1);
     const signals::LogChirp a_val(0.1, 8.0, 25.0 * kRadPerDeg, t_end_s, phase1);
     const signals::LinearChirp beta_train(0.02, 1.0, 10.0 * kRadPerDeg, t_end_s, phase2);
+    const signals::LinearChirp beta_select(0.025, 1.5, 9.0 * kRadPerDeg, t_end_s, phase2);
     const signals::LogChirp beta_val(0.03, 2.0, 8.0 * kRadPerDeg, t_end_s, phase2);
     b.Fill(
         samples, dt_s,
         [&](double t, CommandMatrix* c) {
-          const double f = 6.0 + (train ? f_train.Value(t) : f_val.Value(t));
-          const double a = 50.0 * kRadPerDeg + (train ? a_train.Value(t) : a_val.Value(t));
+          const double f = 6.0 + ByPhase(phase, f_train, f_select, f_val, t);
+          const double a = 50.0 * kRadPerDeg + ByPhase(phase, a_train, a_select, a_val, t);
           c->col(kFlapFrequency).setConstant(f);
           c->col(kStrokeAmplitude).setConstant(a);
           if (with_beta) {
-            c->col(kStrokePlaneAngle).setConstant(train ? beta_train.Value(t) : beta_val.Value(t));
+            c->col(kStrokePlaneAngle)
+                .setConstant(ByPhase(phase, beta_train, beta_select, beta_val, t));
           }
         },
         nullptr, "");
     return b.run;
   }
 
-  if (preset.name == "vertical_velocity") {
+  if (name == "vertical_velocity") {
     // φ₀ ≈ 1.03 rad at the centre, 1.48 rad (85°) at the limit: the chirp and the noise, cut at
     // ±2.5σ (0.26 rad at 0.01 W), must share the 0.45 rad between.
-    const double amplitude_rad = train ? 0.19 : 0.17;
+    const double amplitude_rad =
+        phase == Phase::kTrain ? 0.19 : (phase == Phase::kSelect ? 0.18 : 0.17);
     // Lift ∝ φ₀²: centring on φ₀c = √(φ₀² − E[u²]) keeps the mean lift at the weight.
     const double mean_square = 0.5 * amplitude_rad * amplitude_rad + kNoisePowerW;
     const double centre_rad = std::sqrt(a0 * a0 - mean_square);
     const signals::LinearChirp c_train(0.05, 5.0, amplitude_rad, t_end_s, phase0);
+    const signals::LinearChirp c_select(0.06, 5.5, amplitude_rad, t_end_s, phase0);
     const signals::LogChirp c_val(0.05, 6.0, amplitude_rad, t_end_s, phase0);
     signals::GaussianNoise noise(kNoisePowerW, NoiseSeed(seed, phase), kNoiseClipSigmas);
     b.Fill(
         samples, dt_s,
         [&](double t, CommandMatrix* c) {
-          const double u = (train ? c_train.Value(t) : c_val.Value(t)) + noise.Next();
+          const double u = ByPhase(phase, c_train, c_select, c_val, t) + noise.Next();
           c->col(kStrokeAmplitude).setConstant(centre_rad + u);
         },
-        [&](const CommandMatrix& c) { return c(0, kStrokeAmplitude) - a0; }, "u_vertical_rad");
+        [&](const CommandMatrix& c) { return VerticalChannelRad(c, a0); }, "u_vertical_rad");
     return b.run;
   }
 
-  if (preset.name == "roll" || preset.name == "pitch") {
+  if (name == "roll" || name == "pitch") {
     // Bands stay well below the wing beat (≈ 5.4 Hz): a φ₀ modulation near f beats with the
     // stroke's odd harmonics and rectifies into a steady moment the wing-beat-mean model cannot
     // represent (it tumbled the vehicle in simulation).
-    const bool roll = preset.name == "roll";
-    const double amplitude_rad = (roll ? (train ? 3.0 : 5.0) : (train ? 1.0 : 1.5)) * kRadPerDeg;
+    const bool roll = name == "roll";
+    const double train_deg = roll ? 3.0 : 1.0, select_deg = roll ? 4.0 : 1.25,
+                 val_deg = roll ? 5.0 : 1.5;
+    const double amplitude_rad =
+        (phase == Phase::kTrain ? train_deg : (phase == Phase::kSelect ? select_deg : val_deg)) *
+        kRadPerDeg;
     const signals::LinearChirp c_train(0.1, 3.0, amplitude_rad, t_end_s, phase0);
+    const signals::LinearChirp c_select(0.12, 3.5, amplitude_rad, t_end_s, phase0);
     const signals::LogChirp c_val(0.15, 4.0, amplitude_rad, t_end_s, phase0);
     const int* plus = roll ? kLeft : kFront;
     const int* minus = roll ? kRight : kBack;
     b.Fill(
         samples, dt_s,
         [&](double t, CommandMatrix* c) {
-          const double u = fade(t) * (train ? c_train.Value(t) : c_val.Value(t));
+          const double u = fade(t) * ByPhase(phase, c_train, c_select, c_val, t);
           for (int i = 0; i < 2; ++i) {
             (*c)(plus[i], kStrokeAmplitude) = a0 + u;
             (*c)(minus[i], kStrokeAmplitude) = a0 - u;
           }
         },
-        [&](const CommandMatrix& c) {
-          return 0.5 * (c(plus[0], kStrokeAmplitude) - c(minus[0], kStrokeAmplitude));
-        },
+        [roll](const CommandMatrix& c) { return roll ? RollChannelRad(c) : PitchChannelRad(c); },
         roll ? "u_roll_rad" : "u_pitch_rad");
     return b.run;
   }
 
-  if (preset.name == "yaw") {
-    const double amplitude_rad = (train ? 20.0 : 15.0) * kRadPerDeg;
+  if (name == "yaw") {
+    const double amplitude_rad =
+        (phase == Phase::kTrain ? 20.0 : (phase == Phase::kSelect ? 17.5 : 15.0)) * kRadPerDeg;
     const signals::LinearChirp c_train(0.2, 4.0, amplitude_rad, t_end_s, phase0);
+    const signals::LinearChirp c_select(0.25, 4.5, amplitude_rad, t_end_s, phase0);
     const signals::LogChirp c_val(0.3, 5.0, amplitude_rad, t_end_s, phase0);
     b.Fill(
         samples, dt_s,
         [&](double t, CommandMatrix* c) {
-          const double u = fade(t) * (train ? c_train.Value(t) : c_val.Value(t));
+          const double u = fade(t) * ByPhase(phase, c_train, c_select, c_val, t);
           for (int i = 0; i < 2; ++i) {
             (*c)(kLeft[i], kStrokePlaneAngle) = -u;
             (*c)(kRight[i], kStrokePlaneAngle) = u;
           }
         },
-        [&](const CommandMatrix& c) {
-          return 0.5 * (c(kRight[0], kStrokePlaneAngle) - c(kLeft[0], kStrokePlaneAngle));
-        },
-        "u_yaw_rad");
+        YawChannelRad, "u_yaw_rad");
     return b.run;
   }
   throw std::runtime_error("BuildExperimentRun: no excitation defined for preset " + preset.name);

@@ -2,6 +2,7 @@
 // The paper's six identification experiments (section IV) as reproducible presets.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,10 @@
 
 namespace odonata::experiments {
 
-/// Training data or the (different) validation data of an experiment.
-enum class Phase { kTrain, kValidate };
+/// The three excitations of an experiment, all different signals and random streams:
+/// training (the model learns from it), selection (every choice — H̄, widths, model order — is
+/// scored on it) and validation (the final score, never used for a choice).
+enum class Phase { kTrain, kValidate, kSelect };
 
 /// What an experiment excites and what the identifier should do with the data.
 struct ExperimentPreset {
@@ -34,12 +37,36 @@ struct ExperimentPreset {
   // Run.
   double train_duration_s{};
   double validate_duration_s{};
+  double select_duration_s{};
   bool clamped_body{};              ///< test stand (actuator experiments) instead of free flight
   double start_altitude_m{};        ///< world z of the centre of mass at t = 0 (free flight)
   bool attitude_hold{};             ///< fly with the slow roll/pitch hold (see attitude_hold.hpp)
   std::string train_excitation;     ///< human-readable training excitation
   std::string validate_excitation;  ///< human-readable validation excitation
+  std::string select_excitation;    ///< human-readable selection excitation
+  /// The input is the excitation before the onboard attitude hold adds its correction, so the
+  /// model is of the held (closed-loop) vehicle; the name ends in "_held". Otherwise the input
+  /// is what the wings did (an *_applied_* column, or a command on the test stand).
+  bool held_vehicle{};
 };
+
+/// The scalar command channels of the free-flight presets (plant.md's actuator mappings), read
+/// from any command matrix. Excitation columns are these channels of the designed command;
+/// *_applied_* columns the same channels of the command actually applied (hold added, clamped).
+/// Vertical: mean φ₀ of the four wings minus the trim φ₀ (rad).
+double VerticalChannelRad(const plant::CommandMatrix& c, double trim_amp_rad);
+/// Roll: half the mean φ₀ of the left wings (1, 2) minus that of the right wings (3, 4) (rad).
+double RollChannelRad(const plant::CommandMatrix& c);
+/// Pitch: half the mean φ₀ of the front wings (1, 4) minus that of the back wings (2, 3) (rad).
+double PitchChannelRad(const plant::CommandMatrix& c);
+/// Yaw: half the mean β of the right wings (3, 4) minus that of the left wings (1, 2) (rad).
+double YawChannelRad(const plant::CommandMatrix& c);
+
+/// The applied-command columns, in this order: "u_vertical_applied_rad", "u_roll_applied_rad",
+/// "u_pitch_applied_rad", "u_yaw_applied_rad".
+const std::vector<std::string>& AppliedChannelNames();
+/// The four channels of `applied` in AppliedChannelNames() order.
+std::vector<double> AppliedChannelValues(const plant::CommandMatrix& applied, double trim_amp_rad);
 
 /// Commands and excitation of one run, sampled at the plant's sample rate.
 struct ExperimentRun {
@@ -48,7 +75,10 @@ struct ExperimentRun {
   std::vector<std::vector<double>> excitation_values;  ///< [column][sample]
   plant::InitialCondition initial{};                   ///< start state (hover trim, in the air)
   plant::TrimResult trim{};                            ///< the hover trim used
-  bool attitude_hold{};            ///< close the slow roll/pitch hold around the plant
+  bool attitude_hold{};  ///< close the slow roll/pitch hold around the plant
+  /// Write the applied-command columns (AppliedChannelNames()) beside the excitation: set for
+  /// the free-flight presets, whose applied command differs from the designed one by the hold.
+  bool record_applied{};
   AttitudeHoldGains hold_gains{};  ///< its gains (free-flight presets)
   double sample_period_s{};
   /// Samples whose designed command left the actuator limits and was clamped: a well-designed
@@ -60,7 +90,8 @@ struct ExperimentRun {
 };
 
 /// The six presets, in the paper's order: actuator_fz, actuator_fx, vertical_velocity, roll,
-/// pitch, yaw.
+/// pitch, yaw; then the held-vehicle variants roll_held and pitch_held (the same runs, identified
+/// from the excitation before the hold).
 const std::vector<ExperimentPreset>& Presets();
 
 /// The preset called `name`, or nullptr.
@@ -69,12 +100,19 @@ const ExperimentPreset* FindPreset(const std::string& name);
 /// Comma-separated preset names, for error messages.
 std::string PresetNames();
 
-/// "train" / "validate".
+/// "train" / "validate" / "select".
 const char* PhaseName(Phase phase);
+/// The phase called `name` ("train", "select", "validate"), or nullopt.
+std::optional<Phase> ParsePhase(const std::string& name);
+/// The phase names for command-line checks, in run order: train, select, validate.
+const std::vector<std::string>& PhaseNames();
+/// The preset's default duration (s) of `phase`.
+double PhaseDurationS(const ExperimentPreset& preset, Phase phase);
 
 /// Builds the command sequence of a run around hover trim, clamped to the actuator limits.
 /// Deterministic: the same (preset, phase, seed, duration, config) gives bit-identical commands.
-/// Training and validation use different signals and different random streams for any seed.
+/// Training, selection and validation use different signals and different random streams for
+/// any seed.
 /// @param duration_s ≤ 0 selects the preset's default for the phase.
 /// @throws std::runtime_error if the configuration has no hover trim within the limits.
 ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, std::uint64_t seed,

@@ -11,10 +11,13 @@ namespace odonata::pipeline {
 namespace {
 
 bool Finite(const plant::PlantOutput& o) {
+  const plant::BeatAverages& b = o.beat;
   return std::isfinite(o.time_s) && o.velocity_body_mps.allFinite() &&
          o.rate_body_radps.allFinite() && std::isfinite(o.roll_rad) && std::isfinite(o.pitch_rad) &&
          std::isfinite(o.yaw_rad) && o.position_m.allFinite() && o.force_x_n.allFinite() &&
-         o.force_z_n.allFinite();
+         o.force_z_n.allFinite() && std::isfinite(b.window_s) && b.velocity_body_mps.allFinite() &&
+         b.rate_body_radps.allFinite() && std::isfinite(b.roll_rad) && std::isfinite(b.pitch_rad) &&
+         std::isfinite(b.yaw_rad) && std::isfinite(b.force_x_n) && std::isfinite(b.force_z_n);
 }
 
 SampleStatus StatusOf(const plant::PlantOutput& o) {
@@ -34,7 +37,7 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
   newest_seq_.reset();
   held_command_ = setup_.trim_command;
   held_seq_ = -1;
-  last_ = PlantSample{0, -1, plant_.output(), StatusOf(plant_.output())};
+  last_ = PlantSample{0, -1, plant_.output(), StatusOf(plant_.output()), plant_.applied_command()};
   return last_;
 }
 
@@ -46,7 +49,7 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
                                                       setup_.hold_gains, command, plant_.output())
                                                 : command);
   const plant::StepStatus status = plant_.Step(applied);
-  PlantSample next{last_.seq + 1, command_seq, plant_.output(), StatusOf(plant_.output())};
+  PlantSample next{last_.seq + 1, command_seq, plant_.output(), StatusOf(plant_.output()), applied};
   if (status == plant::StepStatus::kReset) next.status = SampleStatus::kReset;
   if (status == plant::StepStatus::kStopped) next.status = SampleStatus::kDiverged;
   if (!Finite(next.output)) {

@@ -31,6 +31,11 @@ struct PlantSample {
   int64_t command_seq{-1};  ///< the command this state answers, -1 for none (initial or trim)
   plant::PlantOutput output{};
   SampleStatus status{SampleStatus::kOk};
+  /// The command the wings flapped with over [t_(seq-1), t_seq), in answer to command_seq: the
+  /// received command with the onboard hold's correction added, clamped (for state 0, the
+  /// command they flapped with before t = 0). Published on DIMAV_BEAT_STATE, as the hold lives
+  /// in this process and the generator never sees it.
+  plant::CommandMatrix applied_command{plant::CommandMatrix::Zero()};
 };
 
 /// How a submitted command was handled.

@@ -1,5 +1,6 @@
 #include "plant/dimav_plant.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -28,6 +29,13 @@ double WrapPhase(double phase_rad) {
   const double wrapped = std::fmod(phase_rad, kTwoPi);
   return wrapped < 0.0 ? wrapped + kTwoPi : wrapped;
 }
+
+// Into (−π, π] for a difference of two angles in (−π, π] (one turn at most).
+double WrapDifference(double d_rad) {
+  if (d_rad > kPi) d_rad -= kTwoPi;
+  if (d_rad < -kPi) d_rad += kTwoPi;
+  return d_rad;
+}
 }  // namespace
 
 Eigen::Vector4d InitialStrokePhases(const PlantConfig& config) {
@@ -44,7 +52,8 @@ DimavPlant::DimavPlant(const PlantConfig& config)
       sample_period_s_(1.0 / config.integration.sample_rate_hz),
       steps_per_sample_(StepsPerSample(config)),
       step_s_(sample_period_s_ / steps_per_sample_),
-      averager_(step_s_, kMaxAveragingWindowS) {
+      averager_(step_s_, kMaxAveragingWindowS),
+      beat_averager_(step_s_, kMaxAveragingWindowS) {
   wings_.reserve(kWingCount);
   for (int w = 0; w < kWingCount; ++w) {
     wings_.emplace_back(config.wing, config.air_density_kgpm3, config.integration.rotational_forces,
@@ -68,6 +77,8 @@ void DimavPlant::Reset(const InitialCondition& initial) {
   phase_rad_ = InitialStrokePhases(config_);
   applied_command_ = ClampToLimits(initial.prior_command);
   time_s_ = 0.0;
+  previous_raw_roll_rad_ = RollPitchYaw(state_.attitude).x();
+  unwrapped_roll_rad_ = previous_raw_roll_rad_;
   previous_raw_yaw_rad_ = RollPitchYaw(state_.attitude).z();
   unwrapped_yaw_rad_ = previous_raw_yaw_rad_;
   on_ground_ = false;
@@ -96,8 +107,10 @@ WingLoad DimavPlant::ComputeLoads(const CommandMatrix& command,
 
 void DimavPlant::PrimeForceHistory(const CommandMatrix& command) {
   // Replays the last kMaxAveragingWindowS of flapping with the body held at its initial state, so
-  // the averages are wing-beat means from the first sample on.
+  // the averages are wing-beat means from the first sample on (the body's own averages are then
+  // its initial state, with the replayed forces).
   averager_.Clear();
+  beat_averager_.Clear();
   const int steps = static_cast<int>(std::ceil(kMaxAveragingWindowS / step_s_));
   Eigen::Matrix<double, kWingCount, 3> per_wing;
   for (int k = steps; k >= 1; --k) {
@@ -111,7 +124,23 @@ void DimavPlant::PrimeForceHistory(const CommandMatrix& command) {
     xz.col(0) = per_wing.col(0);
     xz.col(1) = per_wing.col(2);
     averager_.Push(xz);
+    beat_averager_.Push(BeatSignals(xz));
   }
+}
+
+BeatVector DimavPlant::BeatSignals(const WingForceXz& step_mean_force_n) const {
+  // Roll and yaw continue the unwrapped angles of the last sample, so a mean across ±π is the
+  // mean of a continuous angle; the last step of a sample ends where the sample's output does.
+  const Eigen::Vector3d rpy = RollPitchYaw(state_.attitude);
+  BeatVector v;
+  v.segment<3>(kBeatVx) = state_.velocity_body_mps;
+  v.segment<3>(kBeatP) = state_.rate_body_radps;
+  v(kBeatRoll) = unwrapped_roll_rad_ + WrapDifference(rpy.x() - previous_raw_roll_rad_);
+  v(kBeatPitch) = rpy.y();
+  v(kBeatYaw) = unwrapped_yaw_rad_ + WrapDifference(rpy.z() - previous_raw_yaw_rad_);
+  v(kBeatFx) = step_mean_force_n.col(0).sum();
+  v(kBeatFz) = step_mean_force_n.col(1).sum();
+  return v;
 }
 
 void DimavPlant::AdvanceOneStep(const CommandMatrix& command) {
@@ -136,6 +165,7 @@ void DimavPlant::AdvanceOneStep(const CommandMatrix& command) {
   on_ground_ = !clamped && ApplyGroundContact(config_.ground, &state_);
   for (int w = 0; w < kWingCount; ++w) phase_rad_(w) += omega_radps(w) * step_s_;
   averager_.Push(step_mean);
+  beat_averager_.Push(BeatSignals(step_mean));
 }
 
 StepStatus DimavPlant::Step(const CommandMatrix& command) {
@@ -178,11 +208,10 @@ StepStatus DimavPlant::Step(const CommandMatrix& command) {
 
 void DimavPlant::UpdateOutput() {
   const Eigen::Vector3d rpy = RollPitchYaw(state_.attitude);
-  double dyaw = rpy.z() - previous_raw_yaw_rad_;
-  if (dyaw > kPi) dyaw -= kTwoPi;
-  if (dyaw < -kPi) dyaw += kTwoPi;
-  unwrapped_yaw_rad_ += dyaw;
+  unwrapped_yaw_rad_ += WrapDifference(rpy.z() - previous_raw_yaw_rad_);
   previous_raw_yaw_rad_ = rpy.z();
+  unwrapped_roll_rad_ += WrapDifference(rpy.x() - previous_raw_roll_rad_);
+  previous_raw_roll_rad_ = rpy.x();
 
   Eigen::Vector4d window_s;
   for (int w = 0; w < kWingCount; ++w) {
@@ -201,6 +230,21 @@ void DimavPlant::UpdateOutput() {
   output_.force_x_n = mean.col(0);
   output_.force_z_n = mean.col(1);
   output_.on_ground = on_ground_;
+
+  const double mean_frequency_hz = applied_command_.col(kFlapFrequency).mean();
+  const double beat_s =
+      mean_frequency_hz > 0.0 ? 1.0 / mean_frequency_hz : beat_averager_.max_window_s();
+  const BeatVector beat = beat_averager_.Average(beat_s);
+  BeatAverages& b = output_.beat;
+  b.window_s = std::min(beat_s, beat_averager_.max_window_s());
+  b.velocity_body_mps = beat.segment<3>(kBeatVx);
+  b.rate_body_radps = beat.segment<3>(kBeatP);
+  b.roll_rad = std::remainder(beat(kBeatRoll), kTwoPi);
+  if (b.roll_rad <= -kPi) b.roll_rad += kTwoPi;  // (−π, π] like RollPitchYaw()
+  b.pitch_rad = beat(kBeatPitch);
+  b.yaw_rad = beat(kBeatYaw);
+  b.force_x_n = beat(kBeatFx);
+  b.force_z_n = beat(kBeatFz);
 }
 
 }  // namespace odonata::plant

@@ -27,6 +27,20 @@ struct InitialCondition {
   CommandMatrix prior_command{CommandMatrix::Zero()};
 };
 
+/// Trailing means over the vehicle's last complete wing beat: the window is 1/f̄ (f̄ the mean
+/// applied flapping frequency of the four wings, capped at 0.5 s) and ends at the sample time.
+/// They remove the ripple at the flapping frequency and its harmonics from the flight dynamics.
+struct BeatAverages {
+  double window_s{};                                           ///< averaging window 1/f̄
+  Eigen::Vector3d velocity_body_mps{Eigen::Vector3d::Zero()};  ///< mean V_b
+  Eigen::Vector3d rate_body_radps{Eigen::Vector3d::Zero()};    ///< mean ω_b
+  double roll_rad{};   ///< mean of the continuous roll, wrapped back into (−π, π]
+  double pitch_rad{};  ///< mean pitch
+  double yaw_rad{};    ///< mean of the unwrapped yaw (continuous like PlantOutput::yaw_rad)
+  double force_x_n{};  ///< mean total force of the four wings along body x
+  double force_z_n{};  ///< mean total force of the four wings along body z
+};
+
 /// One output sample. Body frame FLU (x forward, y left, z up); world z up.
 struct PlantOutput {
   double time_s{};
@@ -39,6 +53,7 @@ struct PlantOutput {
   Eigen::Vector4d force_x_n{Eigen::Vector4d::Zero()};   ///< per wing, wing-beat mean, body x
   Eigen::Vector4d force_z_n{Eigen::Vector4d::Zero()};   ///< per wing, wing-beat mean, body z
   bool on_ground{false};
+  BeatAverages beat{};  ///< the same signals averaged over the last wing beat
 };
 
 /// Result of one Step().
@@ -93,6 +108,8 @@ class DimavPlant {
 
  private:
   void AdvanceOneStep(const CommandMatrix& command);
+  /// This step's body signals for the beat averages (angles continuous from the last sample).
+  BeatVector BeatSignals(const WingForceXz& step_mean_force_n) const;
   void PrimeForceHistory(const CommandMatrix& command);
   void UpdateOutput();
 
@@ -103,12 +120,15 @@ class DimavPlant {
   int steps_per_sample_{};
   double step_s_{};
   WingBeatAverager averager_;
+  BeatSignalAverager beat_averager_;
 
   InitialCondition initial_{};
   RigidBodyState state_{};
   Eigen::Vector4d phase_rad_{Eigen::Vector4d::Zero()};
   CommandMatrix applied_command_{CommandMatrix::Zero()};
   double time_s_{};
+  double previous_raw_roll_rad_{};  // roll at the last sample, and its continuous (unwrapped)
+  double unwrapped_roll_rad_{};     // track: the beat average of roll is taken on it
   double previous_raw_yaw_rad_{};
   double unwrapped_yaw_rad_{};
   bool on_ground_{false};

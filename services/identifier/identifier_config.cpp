@@ -93,7 +93,9 @@ std::string ExampleIdentifierConfig() {
   nlohmann::ordered_json j;
   j["instance"] = "identifier";
   j["outputs"] = {"roll_rad"};
-  j["inputs"] = {"u_roll_rad"};
+  // The open-loop roll loop of the roll preset: the command the wings applied (the excitation
+  // plus the onboard hold's correction), from DIMAV_BEAT_STATE.
+  j["inputs"] = {"u_roll_applied_rad"};
   j["ny"] = 1;
   j["nu"] = 1;
   j["delay"] = 1;
@@ -107,11 +109,12 @@ std::string ExampleIdentifierConfig() {
   j["forgetting"] = d.forgetting;
   j["prune_utility"] = d.entropy.prune_utility;
   j["prune_min_age"] = d.entropy.prune_min_age;
-  j["ranges"] = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_rad", {-0.27, 0.27}}};
+  j["ranges"] = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_applied_rad", {-0.27, 0.27}}};
   j["snapshot_period_s"] = 1.0;
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
-  j["channels"] = {{"command", "DIMAV_COMMAND"}, {"state", "DIMAV_STATE"}};
+  j["channels"] = {
+      {"command", "DIMAV_COMMAND"}, {"state", "DIMAV_STATE"}, {"beat_state", "DIMAV_BEAT_STATE"}};
   return j.dump(2) + "\n";
 }
 

@@ -6,23 +6,22 @@
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
 #include "odonata/prediction_t.hpp"
-#include "pipeline/sequence_window.hpp"
 
 namespace odonata::identifier {
-namespace {
-constexpr std::size_t kMaxCommands = 4096;     // commands kept for pairing with states
-constexpr std::size_t kMaxPendingStates = 64;  // states waiting for a command before giving up
-}  // namespace
 
 IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                                std::optional<sysid::NarxModel> initial, std::string save_model_path)
     : bus_(bus),
       config_(std::move(config)),
       save_model_path_(std::move(save_model_path)),
-      core_(initial ? *initial : EmptyModel()) {
+      core_(initial ? *initial : EmptyModel()),
+      pairer_(Needs(core_.model().spec())) {
   const auto& ch = config_.channels;
   bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
+  if (pairer_.needs().beat || pairer_.needs().next_beat) {
+    bus_.Subscribe<odonata::beat_state_t>(ch.beat_state, [this](const auto& m) { OnBeatState(m); });
+  }
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
   bus_.Subscribe<odonata::model_snapshot_t>(ch.model, [this](const auto& m) { OnSnapshot(m); });
   if (initial || config_.resume_wait_s <= 0) {
@@ -76,93 +75,76 @@ void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
   const std::string count = bus::CountProblems(msg);
   if (!count.empty()) throw std::invalid_argument("command: " + count);
-  const int64_t newest_command = commands_.empty() ? -1 : commands_.rbegin()->first;
-  if (!pipeline::SeqWithinWindow(msg.seq, newest_command))
-    throw std::invalid_argument("command seq " + std::to_string(msg.seq) +
-                                " is negative or leaps past the newest, " +
-                                std::to_string(newest_command));
-  // A generator that restarted counts from 0 again: forget the old run's commands.
-  if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < newest_command)
-    commands_.clear();
-  // The first command of a seq wins: a resend carries the same values, and a later message
-  // reusing the seq (a stale or forged one) must not change a sample after the fact.
-  if (!commands_.emplace(msg.seq, msg).second) {
-    if (msg.source == commands_.at(msg.seq).source) return;  // a lockstep resend: not a problem
-    throw std::invalid_argument("a second command with seq " + std::to_string(msg.seq) + " from '" +
-                                msg.source + "'");
-  }
-  while (commands_.size() > kMaxCommands) commands_.erase(commands_.begin());
-  Process();
+  Handle(pairer_.OnCommand(msg));
 }
 
 void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
-  const int64_t newest = !pending_states_.empty() ? pending_states_.back().seq
-                         : previous_state_        ? previous_state_->seq
-                                                  : -1;
-  if (!pipeline::SeqWithinWindow(msg.seq, newest))
-    throw std::invalid_argument("state seq " + std::to_string(msg.seq) +
-                                " is negative or leaps past the newest, " + std::to_string(newest));
-  if (newest >= 0 && msg.seq <= newest) {
-    if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
-      previous_state_.reset();
-      pending_states_.clear();
-      commands_.clear();
-      core_.RestartHistory();
-    } else if (msg.seq == newest) {
-      return;  // the plant re-published its latest state (lockstep resend, or waiting at 0)
-    } else {
-      throw std::invalid_argument("duplicate or out-of-order state seq " + std::to_string(msg.seq));
-    }
-  }
-  pending_states_.push_back(msg);
-  Process();
+  Handle(pairer_.OnState(msg));
 }
 
-void IdentifierNode::Process() {
-  while (!pending_states_.empty()) {
-    const odonata::plant_state_t s = pending_states_.front();
-    if (!previous_state_ || s.seq != previous_state_->seq + 1) {
-      if (previous_state_ && s.seq > previous_state_->seq + 1) {
-        bus_.stats().gaps += s.seq - previous_state_->seq - 1;
-        bus_.Report("gap in states", "missing state seq " +
-                                         std::to_string(previous_state_->seq + 1) + " … " +
-                                         std::to_string(s.seq - 1));
-      }
-      previous_state_ = s;
-      pending_states_.pop_front();
-      continue;
+void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
+  if (!bus::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
+  Handle(pairer_.OnBeat(msg));
+}
+
+void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
+  for (const auto& e : events) {
+    switch (e.kind) {
+      case Pairer::Event::Kind::kRestart:
+        core_.RestartHistory();
+        break;
+      case Pairer::Event::Kind::kGap:
+        bus_.stats().gaps += e.lost;
+        bus_.Report(e.what, e.message);
+        break;
+      case Pairer::Event::Kind::kSample:
+        if (started_) FormSample(e);
+        break;
     }
-    const auto cmd = commands_.find(s.command_seq);
-    if (cmd == commands_.end()) {
-      if (pending_states_.size() < kMaxPendingStates) return;  // the command may still come
-      ++bus_.stats().gaps;
-      bus_.Report("missing command", "no command seq " + std::to_string(s.command_seq) +
-                                         " for state seq " + std::to_string(s.seq));
-      previous_state_ = s;
-      pending_states_.pop_front();
-      continue;
-    }
-    if (started_) FormSample(*previous_state_, cmd->second);
-    previous_state_ = s;
-    pending_states_.pop_front();
   }
 }
 
-void IdentifierNode::FormSample(const odonata::plant_state_t& state,
-                                const odonata::wing_command_t& command) {
+pipeline::PairingNeeds IdentifierNode::Needs(const sysid::RegressorSpec& spec) {
+  pipeline::PairingNeeds needs;
+  auto need = [&needs](const std::string& name) {
+    const auto offset = bus::BeatStateOffset(name);
+    if (offset) (*offset == 0 ? needs.beat : needs.next_beat) = true;
+  };
+  for (const auto& o : spec.outputs) need(o);
+  for (const auto& i : spec.inputs) need(i);
+  return needs;
+}
+
+namespace {
+// A signal of sample k from beat state k (averages) or k + 1 (applied command), or nullopt when
+// `name` is no beat-state signal.
+std::optional<double> BeatSignal(const IdentifierNode::Pairer::Event& e, const std::string& name) {
+  const auto offset = bus::BeatStateOffset(name);
+  if (!offset) return std::nullopt;
+  const auto& beat = *offset == 0 ? e.beat : e.next_beat;
+  // Only a model replaced by one with other signals can get here without its beat state.
+  if (!beat) throw std::invalid_argument("no beat state paired for '" + name + "'");
+  return bus::BeatStateField(*beat, name);
+}
+}  // namespace
+
+void IdentifierNode::FormSample(const Pairer::Event& paired) {
   const auto& spec = core_.model().spec();
+  const odonata::plant_state_t& state = paired.state;
   sysid::Sample sample;
-  sample.index = state.seq;
+  sample.index = paired.index;
   sample.outputs.resize(static_cast<Eigen::Index>(spec.outputs.size()));
   sample.inputs.resize(static_cast<Eigen::Index>(spec.inputs.size()));
   for (std::size_t o = 0; o < spec.outputs.size(); ++o) {
-    const auto v = bus::StateField(state, spec.outputs[o]);
+    auto v = BeatSignal(paired, spec.outputs[o]);
+    if (!v) v = bus::StateField(state, spec.outputs[o]);
     if (!v) throw std::invalid_argument("the state has no signal '" + spec.outputs[o] + "'");
     sample.outputs(static_cast<Eigen::Index>(o)) = *v;
   }
   for (std::size_t i = 0; i < spec.inputs.size(); ++i) {
-    auto v = bus::CommandField(command, spec.inputs[i]);
+    auto v = BeatSignal(paired, spec.inputs[i]);
+    if (!v) v = bus::CommandField(paired.command, spec.inputs[i]);
     if (!v) v = bus::StateField(state, spec.inputs[i]);
     if (!v) throw std::invalid_argument("no command or state signal '" + spec.inputs[i] + "'");
     sample.inputs(static_cast<Eigen::Index>(i)) = *v;

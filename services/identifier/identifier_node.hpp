@@ -2,22 +2,25 @@
 // odonata-identifier's process shell: turns command and state messages into samples for the
 // OnlineIdentifier core and publishes what it says. All learning lives in the core.
 //
-// Inputs:  DIMAV_COMMAND (wing_command_t), DIMAV_STATE (plant_state_t),
-//          ODONATA_CONTROL (control_t), ODONATA_MODEL (model_snapshot_t, only to resume)
+// Inputs:  DIMAV_COMMAND (wing_command_t), DIMAV_STATE (plant_state_t), DIMAV_BEAT_STATE
+//          (beat_state_t, only when the model uses a beat average or an applied-command
+//          channel), ODONATA_CONTROL (control_t), ODONATA_MODEL (model_snapshot_t, only to resume)
+// Which messages make sample k is pipeline::SamplePairer's rule.
 // Outputs: ODONATA_PREDICTION (prediction_t, one per sample), ODONATA_MODEL (periodic and on
 //          request), ODONATA_HEARTBEAT (via BusNode)
 
-#include <deque>
-#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bus/bus_node.hpp"
 #include "identifier_config.hpp"
+#include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
+#include "pipeline/sample_pairer.hpp"
 #include "sysid/online_identifier.hpp"
 
 namespace odonata::identifier {
@@ -31,14 +34,23 @@ class IdentifierNode {
 
   const sysid::OnlineIdentifier& core() const { return core_; }
 
+  using Pairer = pipeline::SamplePairer<odonata::plant_state_t, odonata::wing_command_t,
+                                        odonata::beat_state_t>;
+
+  /// The beat states the model's signals need: beat state k for a beat average (`*_avg`), beat
+  /// state k + 1 for an applied-command channel (`u_*_applied_rad`). (The command is always
+  /// needed.)
+  static pipeline::PairingNeeds Needs(const sysid::RegressorSpec& spec);
+
  private:
   void OnCommand(const odonata::wing_command_t& msg);
   void OnState(const odonata::plant_state_t& msg);
+  void OnBeatState(const odonata::beat_state_t& msg);
   void OnControl(const odonata::control_t& msg);
   void OnSnapshot(const odonata::model_snapshot_t& msg);
   void StartLearning(const std::string& how);
-  void Process();
-  void FormSample(const odonata::plant_state_t& state, const odonata::wing_command_t& command);
+  void Handle(std::vector<Pairer::Event> events);
+  void FormSample(const Pairer::Event& paired);
   void PublishSnapshot();
   void SaveModel(const std::string& path);
   sysid::NarxModel EmptyModel() const;
@@ -48,9 +60,7 @@ class IdentifierNode {
   std::string save_model_path_;
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
-  std::map<int64_t, odonata::wing_command_t> commands_;  // by seq, bounded
-  std::optional<odonata::plant_state_t> previous_state_;
-  std::deque<odonata::plant_state_t> pending_states_;  // waiting for their command
+  Pairer pairer_;
   int64_t prediction_seq_ = 0;
   int64_t snapshot_seq_ = 0;
 };

@@ -1,5 +1,5 @@
-// odonata-identifier: learns an entropy fuzzy model online from the plant's command and state
-// messages and publishes its predictions and model snapshots.
+// odonata-identifier: learns an entropy fuzzy model online from the plant's command, state and
+// beat-state messages and publishes its predictions and model snapshots.
 
 #include <cstdio>
 #include <iostream>
@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
   bool print_config = false;
   double resume_wait_s = -1;
   CLI::App app{
-      "Online entropy fuzzy identifier. Pairs DIMAV_COMMAND and DIMAV_STATE by sequence number, "
+      "Online entropy fuzzy identifier. Pairs DIMAV_COMMAND, DIMAV_STATE and (for beat averages "
+      "*_avg and applied-command channels u_*_applied_rad) DIMAV_BEAT_STATE by sequence number, "
       "learns from every sample, publishes ODONATA_PREDICTION per sample and ODONATA_MODEL "
       "snapshots; obeys ODONATA_CONTROL (freeze, resume, reset, set H, save, snapshot)."};
   app.add_option("--config", config_path,

@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
   exp->add_option("--output,-o", csv, "CSV file to write")->required();
   exp->add_option("--command-channel", ex.command_channel)->capture_default_str();
   exp->add_option("--state-channel", ex.state_channel)->capture_default_str();
+  exp->add_option("--beat-state-channel", ex.beat_state_channel,
+                  "beat averages and applied command (columns *_avg, *_applied_rad when present)")
+      ->capture_default_str();
   std::string predictions_csv, snapshots_json;
   exp->add_option("--predictions", predictions_csv, "also write ODONATA_PREDICTION as CSV here");
   exp->add_option("--snapshots", snapshots_json, "also write ODONATA_MODEL snapshots as JSON here");

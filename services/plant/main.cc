@@ -1,5 +1,6 @@
 // odonata-plant: the DI-MAV simulator as a vehicle on the bus. Answers DIMAV_COMMAND with
-// DIMAV_STATE, stepping once per command (lockstep) or on a 100 Hz clock (real time), and obeys
+// DIMAV_STATE (and, beside it, DIMAV_BEAT_STATE: beat averages and the command applied), stepping
+// once per command (lockstep) or on a 100 Hz clock (real time), and obeys
 // RESET and SHUTDOWN on ODONATA_CONTROL. Exit codes: 0 ok, 1 runtime error, 2 bad arguments.
 
 #include <cstdio>
@@ -16,8 +17,10 @@ int main(int argc, char** argv) {
   std::string mode = "lockstep", preset, config_path, lcm_url, instance;
   CLI::App app{
       "odonata-plant: the DI-MAV plant as a process. State k is published before command k is "
-      "applied; the answer to command k is state k+1 (command_seq k). Free-flight presets fly "
-      "with the onboard attitude hold, as odonata-sim does."};
+      "applied; the answer to command k is state k+1 (command_seq k). Beside every state, "
+      "DIMAV_BEAT_STATE (same seq) carries its wing-beat averages and the command applied over "
+      "the preceding sample, hold included. Free-flight presets fly with the onboard attitude "
+      "hold, as odonata-sim does."};
   app.add_option("--mode", mode, "lockstep (one step per command) or realtime (100 Hz clock)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   app.add_option("--preset", preset,

@@ -49,6 +49,43 @@ odonata::plant_state_t ToStateMessage(const pipeline::PlantSample& sample) {
   return m;
 }
 
+odonata::beat_state_t ToBeatStateMessage(const pipeline::PlantSample& sample,
+                                         const pipeline::VehicleSetup& setup) {
+  const plant::BeatAverages& b = sample.output.beat;
+  const plant::CommandMatrix& c = sample.applied_command;
+  odonata::beat_state_t m{};
+  m.utime = bus::NowUtime();
+  m.seq = sample.seq;
+  m.command_seq = sample.command_seq;
+  m.t_s = sample.output.time_s;
+  m.window_s = b.window_s;
+  for (int i = 0; i < 3; ++i) {
+    m.velocity_mps[i] = b.velocity_body_mps(i);
+    m.rate_radps[i] = b.rate_body_radps(i);
+  }
+  m.attitude_rad[0] = b.roll_rad;
+  m.attitude_rad[1] = b.pitch_rad;
+  m.attitude_rad[2] = b.yaw_rad;
+  m.fx_total_n = b.force_x_n;
+  m.fz_total_n = b.force_z_n;
+  for (int w = 0; w < plant::kWingCount; ++w) {
+    m.applied_beta_rad[w] = c(w, plant::kStrokePlaneAngle);
+    m.applied_freq_hz[w] = c(w, plant::kFlapFrequency);
+    m.applied_amp_rad[w] = c(w, plant::kStrokeAmplitude);
+    m.applied_pitch_mean_rad[w] = c(w, plant::kPitchMean);
+    m.applied_pitch_amp_rad[w] = c(w, plant::kPitchAmplitude);
+    m.applied_phase_rad[w] = c(w, plant::kPitchPhase);
+  }
+  const std::vector<double> u =
+      experiments::AppliedChannelValues(c, setup.trim_command(0, plant::kStrokeAmplitude));
+  m.u_vertical_applied_rad = u[0];
+  m.u_roll_applied_rad = u[1];
+  m.u_pitch_applied_rad = u[2];
+  m.u_yaw_applied_rad = u[3];
+  m.attitude_hold = setup.attitude_hold ? 1 : 0;
+  return m;
+}
+
 plant::CommandMatrix ToCommandMatrix(const odonata::wing_command_t& msg) {
   plant::CommandMatrix c;
   for (int w = 0; w < plant::kWingCount; ++w) {
@@ -152,6 +189,8 @@ void PlantNode::Publish(const pipeline::PlantSample& sample) {
     bus_.SetState("error");
   }
   bus_.Publish(bus_.channels().state, ToStateMessage(sample));
+  // Beside it, never instead of it: consumers of DIMAV_STATE are untouched.
+  bus_.Publish(bus_.channels().beat_state, ToBeatStateMessage(sample, session_.setup()));
 }
 
 }  // namespace odonata::plant_service

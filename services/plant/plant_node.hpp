@@ -4,13 +4,15 @@
 // the core (pipeline/plant_session.hpp).
 //
 // Inputs:  DIMAV_COMMAND (wing_command_t), ODONATA_CONTROL (control_t: RESET, SHUTDOWN)
-// Outputs: DIMAV_STATE (plant_state_t), ODONATA_HEARTBEAT (via BusNode)
+// Outputs: DIMAV_STATE (plant_state_t), DIMAV_BEAT_STATE (beat_state_t, one per state, same seq),
+//          ODONATA_HEARTBEAT (via BusNode)
 
 #include <chrono>
 #include <map>
 #include <string>
 
 #include "bus/bus_node.hpp"
+#include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
@@ -28,6 +30,11 @@ inline constexpr std::chrono::milliseconds kInitialStatePeriodMs{200};
 
 /// Converts a state to its message (utime = now).
 odonata::plant_state_t ToStateMessage(const pipeline::PlantSample& sample);
+
+/// Converts a state's beat averages and applied command to their message (utime = now). The
+/// applied channels are read around the set-up's hover trim amplitude.
+odonata::beat_state_t ToBeatStateMessage(const pipeline::PlantSample& sample,
+                                         const pipeline::VehicleSetup& setup);
 
 /// The 24 commands of a message as a matrix (rows = wings).
 plant::CommandMatrix ToCommandMatrix(const odonata::wing_command_t& msg);

@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
       "carries the 24 wing commands, the preset's excitation(s), t_s and its source."};
   auto* preset_opt = app.add_option("--preset", preset,
                                     "experiment preset: " + odonata::experiments::PresetNames());
-  app.add_option("--phase", phase, "train or validate (with --preset)")
-      ->check(CLI::IsMember({"train", "validate"}));
+  app.add_option("--phase", phase, "train, select or validate (with --preset)")
+      ->check(CLI::IsMember(odonata::experiments::PhaseNames()));
   app.add_option("--seed", seed, "random seed (with --preset), as odonata-sim's");
   app.add_option("--duration", duration_s, "duration in s (default: the preset's or the file's)")
       ->check(CLI::PositiveNumber);
@@ -79,10 +79,7 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("unknown preset '" + preset +
                                     "'; known presets: " + odonata::experiments::PresetNames());
       }
-      schedule = odonata::pipeline::PresetSchedule(*p,
-                                                   phase == "train"
-                                                       ? odonata::experiments::Phase::kTrain
-                                                       : odonata::experiments::Phase::kValidate,
+      schedule = odonata::pipeline::PresetSchedule(*p, *odonata::experiments::ParsePhase(phase),
                                                    seed, duration_s, config);
     } else {
       schedule = odonata::pipeline::FileSchedule(commands_path, config, duration_s);

@@ -26,8 +26,9 @@ void ListPresets() {
     std::printf(", ny %d nu %d delay %d, H %.3g (paper %s, %d MFs, %s)\n", p.ny, p.nu, p.delay,
                 p.entropy_threshold, p.paper_entropy_text.c_str(), p.paper_mf_count,
                 p.paper_accuracy_text.c_str());
-    std::printf("  train %.0f s: %s\n  validate %.0f s: %s\n", p.train_duration_s,
-                p.train_excitation.c_str(), p.validate_duration_s, p.validate_excitation.c_str());
+    std::printf("  train %.0f s: %s\n  select %.0f s: %s\n  validate %.0f s: %s\n",
+                p.train_duration_s, p.train_excitation.c_str(), p.select_duration_s,
+                p.select_excitation.c_str(), p.validate_duration_s, p.validate_excitation.c_str());
   }
 }
 
@@ -48,10 +49,13 @@ void ListPresetsJson() {
                    {"paper_accuracy", p.paper_accuracy_text},
                    {"train_duration_s", p.train_duration_s},
                    {"validate_duration_s", p.validate_duration_s},
+                   {"select_duration_s", p.select_duration_s},
+                   {"held_vehicle", p.held_vehicle},
                    {"clamped_body", p.clamped_body},
                    {"attitude_hold", p.attitude_hold},
                    {"train_excitation", p.train_excitation},
-                   {"validate_excitation", p.validate_excitation}});
+                   {"validate_excitation", p.validate_excitation},
+                   {"select_excitation", p.select_excitation}});
   }
   std::printf("%s\n", all.dump(1).c_str());
 }
@@ -69,8 +73,10 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "With --list-presets: print them as JSON");
   auto* preset_opt =
       app.add_option("--preset", preset_name, "Experiment preset (see --list-presets)");
-  app.add_option("--phase", phase_name, "train or validate (with --preset)")
-      ->check(CLI::IsMember({"train", "validate"}));
+  app.add_option("--phase", phase_name,
+                 "train, select (for choices: H, widths, order) or validate (never for a "
+                 "choice); with --preset")
+      ->check(CLI::IsMember(odonata::experiments::PhaseNames()));
   app.add_option("--seed", seed, "Random seed (with --preset)");
   app.add_option("--duration", duration_s, "Duration in s (default: the preset's)")
       ->check(CLI::PositiveNumber);
@@ -89,6 +95,11 @@ int main(int argc, char** argv) {
   app.add_option("--damage-frequency", damage.frequency_scale,
                  "delivered flapping frequency / commanded (a sagging battery)")
       ->capture_default_str();
+  int decimate = 1;
+  app.add_option("--decimate", decimate,
+                 "write one row per N samples: outputs (and their _avg) at the block's first "
+                 "sample, inputs averaged over the block (N = 19 is about one wing beat at hover)")
+      ->check(CLI::Range(1, 1000000));
   preset_opt->excludes(commands_opt);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (list) {
@@ -119,8 +130,7 @@ int main(int argc, char** argv) {
                      preset_name.c_str(), odonata::experiments::PresetNames().c_str());
         return 2;
       }
-      const auto phase = phase_name == "train" ? odonata::experiments::Phase::kTrain
-                                               : odonata::experiments::Phase::kValidate;
+      const auto phase = *odonata::experiments::ParsePhase(phase_name);
       run = odonata::experiments::BuildExperimentRun(*preset, phase, seed, duration_s, config);
     } else {
       run = odonata::sim::ReadCommandFile(commands_path, config, altitude_m);
@@ -134,7 +144,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     run.damage = damage;
-    const odonata::sim::SimResult result = odonata::sim::RunAndWrite(config, run, output_path);
+    const odonata::sim::SimResult result =
+        odonata::sim::RunAndWrite(config, run, output_path, decimate);
     for (const std::string& m : result.messages)
       std::fprintf(stderr, "odonata-sim: %s\n", m.c_str());
     if (result.stopped) {

@@ -8,7 +8,16 @@
 
 namespace odonata::sim {
 
-std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns) {
+const std::vector<std::string>& BeatColumnNames() {
+  static const std::vector<std::string> kNames = {"vx_mps_avg",     "vy_mps_avg",    "vz_mps_avg",
+                                                  "p_radps_avg",    "q_radps_avg",   "r_radps_avg",
+                                                  "roll_rad_avg",   "pitch_rad_avg", "yaw_rad_avg",
+                                                  "fx_total_n_avg", "fz_total_n_avg"};
+  return kNames;
+}
+
+std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns,
+                                   bool applied_columns) {
   std::vector<std::string> h = {"t_s"};
   for (int w = 0; w < plant::kWingCount; ++w) {
     for (int i = 0; i < plant::kCommandsPerWing; ++i) h.push_back(plant::CommandColumnName(w, i));
@@ -20,17 +29,38 @@ std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns
   for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fx" + std::to_string(w) + "_n");
   for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fz" + std::to_string(w) + "_n");
   h.insert(h.end(), extra_columns.begin(), extra_columns.end());
+  h.insert(h.end(), BeatColumnNames().begin(), BeatColumnNames().end());
+  if (applied_columns) {
+    const std::vector<std::string>& applied = experiments::AppliedChannelNames();
+    h.insert(h.end(), applied.begin(), applied.end());
+  }
   return h;
 }
 
 SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::ExperimentRun& run,
-                      const std::string& output_path) {
+                      const std::string& output_path, int decimate) {
   plant::DimavPlant plant(config);
   plant.Reset(run.initial);
-  const std::vector<std::string> header = CsvHeader(run.excitation_names);
+  const std::vector<std::string> header = CsvHeader(run.excitation_names, run.record_applied);
   io::CsvWriter writer(output_path, header);
   SimResult result;
   std::vector<double> row(header.size());
+  // Decimation: inputs (commands, excitation, applied channels) are averaged over a block, the
+  // rest is taken at the block's first sample.
+  std::vector<bool> is_input(header.size(), false);
+  const std::size_t commands = plant::kWingCount * plant::kCommandsPerWing;
+  const std::size_t first_excitation = 1 + commands + 12 + 2 * plant::kWingCount;  // after fz4_n
+  for (std::size_t c = 1; c <= commands; ++c) is_input[c] = true;
+  for (std::size_t e = 0; e < run.excitation_names.size(); ++e)
+    is_input[first_excitation + e] = true;
+  if (run.record_applied) {
+    for (std::size_t c = header.size() - experiments::AppliedChannelNames().size();
+         c < header.size(); ++c) {
+      is_input[c] = true;
+    }
+  }
+  std::vector<double> block(header.size());
+  int in_block = 0;
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const plant::PlantOutput& o = plant.output();
     // The command actually applied (clamped) is what the wings did, so that is what is written.
@@ -51,8 +81,35 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
     for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_x_n(w);
     for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_z_n(w);
     for (const std::vector<double>& values : run.excitation_values) row[c++] = values[k];
-    writer.WriteRow(row);
-    ++result.rows_written;
+    const plant::BeatAverages& b = o.beat;
+    for (int i = 0; i < 3; ++i) row[c++] = b.velocity_body_mps(i);
+    for (int i = 0; i < 3; ++i) row[c++] = b.rate_body_radps(i);
+    row[c++] = b.roll_rad;
+    row[c++] = b.pitch_rad;
+    row[c++] = b.yaw_rad;
+    row[c++] = b.force_x_n;
+    row[c++] = b.force_z_n;
+    if (run.record_applied) {
+      for (const double v : experiments::AppliedChannelValues(command, run.trim.amp_rad)) {
+        row[c++] = v;
+      }
+    }
+    if (decimate <= 1) {
+      writer.WriteRow(row);
+      ++result.rows_written;
+    } else {
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        if (in_block == 0 || is_input[i]) block[i] = in_block == 0 ? row[i] : block[i] + row[i];
+      }
+      if (++in_block == decimate) {
+        for (std::size_t i = 0; i < block.size(); ++i) {
+          if (is_input[i]) block[i] /= decimate;
+        }
+        writer.WriteRow(block);
+        ++result.rows_written;
+        in_block = 0;
+      }
+    }
 
     // A damaged wing flies less than it is told; the CSV keeps what was commanded.
     const plant::StepStatus status =

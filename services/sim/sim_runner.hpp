@@ -18,15 +18,34 @@ struct SimResult {
   std::vector<std::string> messages;  ///< one per divergence, for stderr
 };
 
+/// The beat-averaged output columns (PlantOutput::beat), each an instantaneous column's name
+/// with "_avg": vx_mps_avg vy_mps_avg vz_mps_avg p_radps_avg q_radps_avg r_radps_avg
+/// roll_rad_avg pitch_rad_avg yaw_rad_avg, then the four wings' total forces fx_total_n_avg and
+/// fz_total_n_avg.
+const std::vector<std::string>& BeatColumnNames();
+
 /// The CSV header: t_s, the 24 commands (w{i}_beta_rad … w{i}_phase_rad), the outputs
-/// (vx_mps … z_m, fx{1..4}_n, fz{1..4}_n) and then `extra_columns`.
-std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns);
+/// (vx_mps … z_m, fx{1..4}_n, fz{1..4}_n), `extra_columns` (the excitation), the beat averages
+/// (BeatColumnNames()) and, with `applied_columns`, the applied-command channels
+/// (experiments::AppliedChannelNames()). New columns go after the old ones, so every column
+/// keeps its place.
+std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns,
+                                   bool applied_columns = false);
 
 /// Runs `run.commands` from `run.initial` and writes one row per sample: row k holds t_k, the
 /// command applied over [t_k, t_k+1) and the outputs at t_k (so y(k+1) responds to u(k)).
+/// The w{i}_* columns are the command actually applied (attitude hold added, clamped); the
+/// excitation columns are the designed excitation; the *_applied_* columns (runs with
+/// record_applied) are the excitation's channels read from the applied command.
+///
+/// With decimate = N > 1 one row is written per block of N samples (a lower, e.g. wing-beat,
+/// rate): the outputs (instantaneous and _avg) at the block's first sample t_jN, the inputs
+/// (w{i}_*, excitation and applied columns) averaged over the block, i.e. the mean input held
+/// over [t_jN, t_(j+1)N). A partial last block is not written.
+/// @pre decimate ≥ 1.
 /// @throws std::runtime_error if the file cannot be written.
 SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::ExperimentRun& run,
-                      const std::string& output_path);
+                      const std::string& output_path, int decimate = 1);
 
 /// Reads a command file (columns t_s and the 24 command names, any order, other columns ignored),
 /// checking that t_s is uniformly spaced at the plant's sample period.

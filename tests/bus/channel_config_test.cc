@@ -19,6 +19,15 @@ TEST(ChannelConfig, SuffixThenExplicitNames) {
   EXPECT_EQ(c.model, "M=odd");
 }
 
+TEST(ChannelConfig, BeatStateChannelIsNamedLikeTheOthers) {
+  ChannelConfig c;
+  EXPECT_EQ(c.beat_state, "DIMAV_BEAT_STATE");
+  c.Configure("B", {});
+  EXPECT_EQ(c.beat_state, "DIMAV_BEAT_STATE_B");
+  c.Set("beat_state=VEHICLE7_BEAT");
+  EXPECT_EQ(c.beat_state, "VEHICLE7_BEAT");
+}
+
 TEST(ChannelConfig, MalformedOrUnknownAssignmentsAreClearErrors) {
   ChannelConfig c;
   for (const char* bad : {"state", "=X", "state=", "stat=X"}) {

@@ -125,6 +125,20 @@ odonata::plant_state_t State() {
   return s;
 }
 
+odonata::beat_state_t BeatState() {
+  odonata::beat_state_t b{};
+  b.seq = 5;
+  b.command_seq = 4;
+  b.window_s = 0.19;
+  b.velocity_mps[2] = -0.1;
+  b.attitude_rad[2] = 4.0;
+  b.fz_total_n = 0.39;
+  b.applied_amp_rad[3] = 1.05;
+  b.u_roll_applied_rad = 0.02;
+  b.attitude_hold = 1;
+  return b;
+}
+
 // Overwrites the 4 bytes at `at` with the big-endian `value`.
 void Poke(std::vector<uint8_t>& b, std::size_t at, uint32_t value) {
   for (int i = 0; i < 4; ++i) b[at + i] = static_cast<uint8_t>(value >> (24 - 8 * i));
@@ -156,6 +170,7 @@ void CheckType(const Msg& original) {
 TEST(SafeDecode, EveryTypeSurvivesAbsurdCountsAtEveryOffset) {
   CheckType(Command());
   CheckType(State());
+  CheckType(BeatState());
   CheckType(Prediction());
   CheckType(Accuracy());
   CheckType(Snapshot());

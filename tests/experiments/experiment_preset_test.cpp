@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -16,13 +17,18 @@ const std::map<std::string, int> kPaperMfs = {
     {"actuator_fz", 18}, {"actuator_fx", 8}, {"vertical_velocity", 41},
     {"roll", 6},         {"pitch", 3},       {"yaw", 34}};
 
+std::string BaseName(const ExperimentPreset& p) {
+  return p.held_vehicle ? p.name.substr(0, p.name.size() - 5) : p.name;
+}
+
 TEST(Presets, AreTheSixPaperExperimentsWithIdentificationMetadata) {
-  ASSERT_EQ(Presets().size(), 6u);
+  ASSERT_EQ(Presets().size(), 8u);
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_FALSE(Presets()[i].held_vehicle);
   for (const ExperimentPreset& p : Presets()) {
     SCOPED_TRACE(p.name);
     EXPECT_EQ(FindPreset(p.name), &p);
-    EXPECT_DOUBLE_EQ(p.entropy_threshold, kPaperEntropy.at(p.name));
-    EXPECT_EQ(p.paper_mf_count, kPaperMfs.at(p.name));
+    EXPECT_DOUBLE_EQ(p.entropy_threshold, kPaperEntropy.at(BaseName(p)));
+    EXPECT_EQ(p.paper_mf_count, kPaperMfs.at(BaseName(p)));
     EXPECT_FALSE(p.output_column.empty());
     EXPECT_FALSE(p.input_columns.empty());
     EXPECT_FALSE(p.paper_accuracy_text.empty());
@@ -31,36 +37,124 @@ TEST(Presets, AreTheSixPaperExperimentsWithIdentificationMetadata) {
     EXPECT_GE(p.delay, 0);
     EXPECT_GT(p.train_duration_s, 0.0);
     EXPECT_GT(p.validate_duration_s, 0.0);
+    EXPECT_GT(p.select_duration_s, 0.0);
+    EXPECT_FALSE(p.select_excitation.empty());
+    EXPECT_NE(p.select_excitation, p.train_excitation);
+    EXPECT_NE(p.select_excitation, p.validate_excitation);
   }
   EXPECT_EQ(FindPreset("nope"), nullptr);
 }
 
+// Free flight identifies the open-loop vehicle from the command actually applied (hold
+// included); a preset that identifies the held vehicle says so in its name and description.
+TEST(Presets, FreeFlightInputsAreTheAppliedCommandUnlessNamedHeld) {
+  for (const ExperimentPreset& p : Presets()) {
+    SCOPED_TRACE(p.name);
+    const bool named_held = p.name.size() > 5 && p.name.substr(p.name.size() - 5) == "_held";
+    EXPECT_EQ(p.held_vehicle, named_held);
+    if (p.clamped_body) continue;
+    ASSERT_EQ(p.input_columns.size(), 1u);
+    const std::string& in = p.input_columns.front();
+    if (p.held_vehicle) {
+      EXPECT_EQ(in, "u_" + BaseName(p) + "_rad");
+      EXPECT_NE(p.description.find("HELD VEHICLE"), std::string::npos);
+      EXPECT_TRUE(p.attitude_hold);
+    } else {
+      EXPECT_NE(in.find("_applied_rad"), std::string::npos) << in;
+      const auto& names = AppliedChannelNames();
+      EXPECT_NE(std::find(names.begin(), names.end(), in), names.end()) << in;
+    }
+  }
+  for (const char* held : {"roll_held", "pitch_held"}) EXPECT_NE(FindPreset(held), nullptr);
+}
+
+TEST(Phases, HaveNamesAndParse) {
+  EXPECT_EQ(PhaseNames(), (std::vector<std::string>{"train", "select", "validate"}));
+  for (const Phase phase : {Phase::kTrain, Phase::kSelect, Phase::kValidate}) {
+    EXPECT_EQ(ParsePhase(PhaseName(phase)), phase);
+  }
+  EXPECT_FALSE(ParsePhase("test").has_value());
+  EXPECT_FALSE(ParsePhase("").has_value());
+}
+
+// The channel readers see the designed mappings, and only their own channel: the hold's roll
+// and pitch corrections (ApplyAttitudeHold) leave the vertical and yaw channels alone and show
+// up in full in the roll and pitch ones.
+TEST(CommandChannels, ReadTheActuatorMappingsAndTheHold) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  const plant::TrimResult trim = plant::FindHoverTrim(config);
+  plant::CommandMatrix c = trim.command;
+  const std::vector<double> at_trim = AppliedChannelValues(c, trim.amp_rad);
+  for (const double v : at_trim) EXPECT_EQ(v, 0.0);
+  c(0, plant::kStrokeAmplitude) += 0.03;  // fore-left
+  c(1, plant::kStrokeAmplitude) += 0.01;  // hind-left
+  c(2, plant::kStrokeAmplitude) -= 0.02;  // hind-right
+  c(3, plant::kStrokeAmplitude) += 0.00;  // fore-right
+  c(2, plant::kStrokePlaneAngle) = 0.2;
+  c(3, plant::kStrokePlaneAngle) = 0.1;
+  c(0, plant::kStrokePlaneAngle) = -0.1;
+  EXPECT_NEAR(VerticalChannelRad(c, trim.amp_rad), (0.03 + 0.01 - 0.02) / 4, 1e-14);
+  EXPECT_NEAR(RollChannelRad(c), 0.5 * ((0.03 + 0.01) / 2 - (-0.02) / 2), 1e-14);
+  EXPECT_NEAR(PitchChannelRad(c), 0.5 * ((0.03 + 0.0) / 2 - (0.01 - 0.02) / 2), 1e-14);
+  EXPECT_NEAR(YawChannelRad(c), 0.5 * ((0.2 + 0.1) / 2 - (-0.1) / 2), 1e-14);
+
+  plant::PlantOutput o;
+  o.roll_rad = 0.1;
+  o.pitch_rad = -0.05;
+  o.rate_body_radps = Eigen::Vector3d(0.3, 0.2, 0.0);
+  const AttitudeHoldGains g = DefaultAttitudeHoldGains();
+  const plant::CommandMatrix held = ApplyAttitudeHold(g, c, o);
+  EXPECT_NEAR(VerticalChannelRad(held, trim.amp_rad), VerticalChannelRad(c, trim.amp_rad), 1e-14);
+  EXPECT_EQ(YawChannelRad(held), YawChannelRad(c));
+  EXPECT_NEAR(RollChannelRad(held) - RollChannelRad(c), -(g.roll_kp * 0.1 + g.roll_kd_s * 0.3),
+              1e-14);
+  EXPECT_NEAR(PitchChannelRad(held) - PitchChannelRad(c), g.pitch_kp * -0.05 + g.pitch_kd_s * 0.2,
+              1e-14);
+}
+
 class EveryPreset : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(EveryPreset, TrainAndValidateDifferStayWithinLimitsAndAreSeeded) {
+// Largest command difference between two runs over their common length.
+double MaxDifference(const ExperimentRun& a, const ExperimentRun& b) {
+  double max_diff = 0.0;
+  for (std::size_t k = 0; k < std::min(a.commands.size(), b.commands.size()); ++k) {
+    max_diff = std::max(max_diff, (a.commands[k] - b.commands[k]).cwiseAbs().maxCoeff());
+  }
+  return max_diff;
+}
+
+TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
   const plant::PlantConfig config = plant::DefaultPlantConfig();
   const ExperimentPreset& p = *FindPreset(GetParam());
   const ExperimentRun train = BuildExperimentRun(p, Phase::kTrain, 11, 0.0, config);
+  const ExperimentRun select = BuildExperimentRun(p, Phase::kSelect, 11, 0.0, config);
   const ExperimentRun val = BuildExperimentRun(p, Phase::kValidate, 11, 0.0, config);
   const ExperimentRun again = BuildExperimentRun(p, Phase::kTrain, 11, 0.0, config);
+  const ExperimentRun select_again = BuildExperimentRun(p, Phase::kSelect, 11, 0.0, config);
   EXPECT_EQ(train.commands.size(), static_cast<std::size_t>(p.train_duration_s * 100 + 0.5));
+  EXPECT_EQ(select.commands.size(), static_cast<std::size_t>(p.select_duration_s * 100 + 0.5));
   EXPECT_EQ(val.commands.size(), static_cast<std::size_t>(p.validate_duration_s * 100 + 0.5));
 
-  // Same seed ⇒ bit-identical; train ≠ validate.
+  // Same seed ⇒ bit-identical; the three phases differ pairwise.
   ASSERT_EQ(train.commands.size(), again.commands.size());
-  double max_diff = 0.0;
   for (std::size_t k = 0; k < train.commands.size(); ++k) {
     ASSERT_TRUE(train.commands[k] == again.commands[k]);
-    if (k < val.commands.size()) {
-      max_diff = std::max(max_diff, (train.commands[k] - val.commands[k]).cwiseAbs().maxCoeff());
-    }
   }
-  EXPECT_GT(max_diff, 1e-3);
+  ASSERT_EQ(select.commands.size(), select_again.commands.size());
+  for (std::size_t k = 0; k < select.commands.size(); ++k) {
+    ASSERT_TRUE(select.commands[k] == select_again.commands[k]);
+  }
+  EXPECT_GT(MaxDifference(train, val), 1e-3);
+  EXPECT_GT(MaxDifference(train, select), 1e-3);
+  EXPECT_GT(MaxDifference(select, val), 1e-3);
   EXPECT_EQ(train.excitation_values, again.excitation_values);
+  EXPECT_EQ(select.excitation_values, select_again.excitation_values);
+  EXPECT_EQ(select.excitation_names, train.excitation_names);
+  EXPECT_EQ(train.record_applied, p.attitude_hold);
 
   // Designed within the actuator limits (the builder's clamp never had to act), and excited
   // (not constant).
-  for (const ExperimentRun* run : {&train, &val}) {
+  for (const ExperimentRun* run : {&train, &select, &val}) {
     EXPECT_EQ(run->clamped_samples, 0u) << "of " << run->commands.size() << " samples";
     double spread = 0.0;
     for (const plant::CommandMatrix& c : run->commands) {
@@ -73,12 +167,29 @@ TEST_P(EveryPreset, TrainAndValidateDifferStayWithinLimitsAndAreSeeded) {
     EXPECT_GT(spread, 0.01);
   }
 
-  // Input columns exist: either a command column or an excitation column of the run.
+  // Input columns exist: a command column, an excitation column of the run, or (for a run that
+  // records it) an applied-command column.
   for (const std::string& in : p.input_columns) {
     const bool is_command = in.rfind("w1_", 0) == 0;
     bool is_excitation = false;
     for (const std::string& name : train.excitation_names) is_excitation |= name == in;
+    for (const std::string& name : AppliedChannelNames())
+      is_excitation |= train.record_applied && name == in;
     EXPECT_TRUE(is_command || is_excitation) << in;
+  }
+  // Without the hold, the applied channel of a designed command is the excitation itself.
+  if (train.record_applied) {
+    const std::string& u = train.excitation_names.at(0);
+    const std::string applied = u.substr(0, u.size() - 4) + "_applied_rad";
+    const auto& names = AppliedChannelNames();
+    const std::size_t channel =
+        static_cast<std::size_t>(std::find(names.begin(), names.end(), applied) - names.begin());
+    ASSERT_LT(channel, names.size()) << applied;
+    for (std::size_t k = 0; k < train.commands.size(); ++k) {
+      ASSERT_EQ(AppliedChannelValues(train.commands[k], train.trim.amp_rad)[channel],
+                train.excitation_values[0][k])
+          << k;
+    }
   }
 
   if (!p.clamped_body) {
@@ -114,7 +225,23 @@ TEST_P(EveryPreset, SeedChangesTheRun) {
 
 INSTANTIATE_TEST_SUITE_P(Paper, EveryPreset,
                          ::testing::Values("actuator_fz", "actuator_fx", "vertical_velocity",
-                                           "roll", "pitch", "yaw"));
+                                           "roll", "pitch", "yaw", "roll_held", "pitch_held"));
+
+// A held variant flies exactly the runs of its preset.
+TEST(Presets, HeldVariantsFlyTheSameRuns) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  for (const char* base : {"roll", "pitch"}) {
+    for (const Phase phase : {Phase::kTrain, Phase::kSelect, Phase::kValidate}) {
+      const ExperimentRun a = BuildExperimentRun(*FindPreset(base), phase, 3, 2.0, config);
+      const ExperimentRun b =
+          BuildExperimentRun(*FindPreset(std::string(base) + "_held"), phase, 3, 2.0, config);
+      ASSERT_EQ(a.commands.size(), b.commands.size());
+      for (std::size_t k = 0; k < a.commands.size(); ++k)
+        ASSERT_TRUE(a.commands[k] == b.commands[k]);
+      EXPECT_EQ(a.excitation_values, b.excitation_values);
+    }
+  }
+}
 
 }  // namespace
 }  // namespace odonata::experiments

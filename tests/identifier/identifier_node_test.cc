@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,16 +43,31 @@ IdentifierConfig Config() {
 double U(int64_t k) { return std::sin(0.05 * static_cast<double>(k)); }
 double Roll(int64_t k) { return 0.5 * std::sin(0.05 * static_cast<double>(k) - 0.3); }
 double Pitch(int64_t k) { return 0.3 * std::cos(0.07 * static_cast<double>(k)); }
+// Beat state k's roll average, and the applied roll command of sample k (in beat state k + 1).
+double RollAvg(int64_t k) { return 0.4 * std::sin(0.05 * static_cast<double>(k) - 0.5); }
+double Applied(int64_t k) { return 0.8 * std::sin(0.09 * static_cast<double>(k) + 0.2); }
+
+// Outputs from the beat averages and the state, the input from the applied command.
+IdentifierConfig BeatConfig() {
+  IdentifierConfig c = Config();
+  c.spec.outputs = {"roll_rad_avg", "pitch_rad"};
+  c.spec.inputs = {"u_roll_applied_rad"};
+  c.ranges = {{"roll_rad_avg", {-1.0, 1.0}},
+              {"pitch_rad", {-1.0, 1.0}},
+              {"u_roll_applied_rad", {-1.0, 1.0}}};
+  return c;
+}
 
 class IdentifierNodeTest : public ::testing::Test {
  protected:
-  void Start(std::optional<sysid::NarxModel> initial = std::nullopt) {
+  void Start(std::optional<sysid::NarxModel> initial = std::nullopt,
+             const IdentifierConfig& config = Config()) {
     bus_ = std::make_unique<bus::BusNode>(testing::MemqOptions("odonata-identifier"));
     bus_->Subscribe<odonata::prediction_t>(bus_->channels().prediction,
                                            [this](const auto& m) { predictions_.push_back(m); });
     bus_->Subscribe<odonata::model_snapshot_t>(bus_->channels().model,
                                                [this](const auto& m) { snapshots_.push_back(m); });
-    node_ = std::make_unique<IdentifierNode>(*bus_, Config(), std::move(initial), "");
+    node_ = std::make_unique<IdentifierNode>(*bus_, config, std::move(initial), "");
   }
 
   void SendCommand(int64_t k) {
@@ -74,12 +90,29 @@ class IdentifierNodeTest : public ::testing::Test {
     bus_->Publish(bus_->channels().state, s);
     Pump(*bus_);
   }
-  // Samples [from, to): state k, then command k (answered by state k + 1).
-  void Run(int64_t from, int64_t to, int64_t skip_state = -1) {
+  // Beat state k: published by the plant right after state k.
+  void SendBeat(int64_t k) {
+    odonata::beat_state_t b{};
+    b.seq = k;
+    b.command_seq = k - 1;
+    b.attitude_rad[0] = RollAvg(k);
+    b.u_roll_applied_rad = Applied(k - 1);  // the command applied over [t_k-1, t_k)
+    bus_->Publish(bus_->channels().beat_state, b);
+    Pump(*bus_);
+  }
+  // Samples [from, to): state k (and beat state k), then command k (answered by state k + 1).
+  void Run(int64_t from, int64_t to, int64_t skip_state = -1, bool beats = false,
+           int64_t skip_beat = -1) {
     for (int64_t k = from; k < to; ++k) {
       if (k != skip_state) SendState(k);
+      if (beats && k != skip_beat) SendBeat(k);
       SendCommand(k);
     }
+  }
+  std::vector<int64_t> Samples() const {
+    std::vector<int64_t> samples;
+    for (const auto& p : predictions_) samples.push_back(p.sample);
+    return samples;
   }
   void Control(int8_t command, double value = 0, const std::string& path = "") {
     odonata::control_t c{};
@@ -220,12 +253,62 @@ TEST_F(IdentifierNodeTest, StartsFromASavedModelAndLearnsOnFromIt) {
   EXPECT_DOUBLE_EQ(p.predicted[1], expected(1));
 }
 
+TEST_F(IdentifierNodeTest, BeatAveragesComeFromBeatStateKAndTheAppliedCommandFromBeatStateKPlus1) {
+  Start(std::nullopt, BeatConfig());
+  Run(0, 120, -1, /*beats=*/true);
+  ASSERT_GE(predictions_.size(), 110u);
+  for (const auto& p : predictions_) {
+    EXPECT_DOUBLE_EQ(p.measured[0], RollAvg(p.sample));
+    EXPECT_DOUBLE_EQ(p.measured[1], Pitch(p.sample));
+  }
+  const sysid::NarxModel trained = node_->core().model();
+  predictions_.clear();
+  node_.reset();
+  bus_.reset();
+
+  // A frozen copy predicts y(k) from y(k-1) and u(k-1), the command applied over [t_k-1, t_k),
+  // which beat state k carries.
+  Start(trained, BeatConfig());
+  Control(odonata::control_t::FREEZE);
+  Run(120, 140, -1, true);
+  ASSERT_FALSE(predictions_.empty());
+  for (const auto& p : predictions_) {
+    Eigen::VectorXd x(3);
+    x << RollAvg(p.sample - 1), Pitch(p.sample - 1), Applied(p.sample - 1);
+    const Eigen::VectorXd expected = trained.Predict(x);
+    EXPECT_DOUBLE_EQ(p.predicted[0], expected(0));
+    EXPECT_DOUBLE_EQ(p.predicted[1], expected(1));
+  }
+}
+
+TEST_F(IdentifierNodeTest, AMissingBeatStateIsAGapAndNeverBridged) {
+  Start(std::nullopt, BeatConfig());
+  Run(0, 160, -1, /*beats=*/true, /*skip_beat=*/30);
+  EXPECT_GE(bus_->stats().gaps, 2);
+  const auto samples = Samples();
+  // Sample 29 lacks its applied command, sample 30 its averages, and sample 31's regressor
+  // would need y(30): none is scored; every other sample is.
+  for (int64_t k : {29, 30, 31}) EXPECT_EQ(std::count(samples.begin(), samples.end(), k), 0);
+  EXPECT_EQ(std::count(samples.begin(), samples.end(), 28), 1);
+  EXPECT_EQ(std::count(samples.begin(), samples.end(), 32), 1);
+  EXPECT_EQ(samples.back(), 158);  // sample 159 needs state 160
+}
+
+TEST_F(IdentifierNodeTest, WithoutBeatSignalsBeatStatesAreIgnored) {
+  Start();
+  Run(0, 60, -1, /*beats=*/true, /*skip_beat=*/30);
+  EXPECT_EQ(bus_->stats().gaps, 0);
+  EXPECT_EQ(Samples().size(), 58u);  // 1 … 58
+}
+
 TEST(IdentifierConfig, WithoutAFileTheRollLoopIsIdentified) {
   const IdentifierConfig c = DefaultIdentifierConfig();
   EXPECT_EQ(c.spec.outputs, std::vector<std::string>{"roll_rad"});
-  EXPECT_EQ(c.spec.inputs, std::vector<std::string>{"u_roll_rad"});
+  EXPECT_EQ(c.spec.inputs, std::vector<std::string>{"u_roll_applied_rad"});  // open loop
   EXPECT_EQ(c.ranges.count("roll_rad"), 1u);
+  EXPECT_EQ(c.ranges.count("u_roll_applied_rad"), 1u);
   EXPECT_EQ(c.channels.state, "DIMAV_STATE");
+  EXPECT_EQ(c.channels.beat_state, "DIMAV_BEAT_STATE");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/plant_state_t.hpp"
@@ -52,6 +53,13 @@ odonata::plant_state_t State(int64_t seq) {
   return s;
 }
 
+odonata::beat_state_t Beat(int64_t seq) {
+  odonata::beat_state_t b{};
+  b.seq = seq;
+  b.command_seq = seq - 1;
+  return b;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,9 +72,9 @@ int main(int argc, char** argv) {
   const int rounds = std::atoi(argv[2]);
   const int period_ms = argc > 3 ? std::atoi(argv[3]) : 5;
   std::mt19937_64 rng(99);
-  const std::vector<std::string> channels = {"DIMAV_COMMAND",      "DIMAV_STATE",
-                                             "ODONATA_PREDICTION", "ODONATA_CONTROL",
-                                             "ODONATA_MODEL",      "ODONATA_HEARTBEAT"};
+  const std::vector<std::string> channels = {
+      "DIMAV_COMMAND",   "DIMAV_STATE",   "DIMAV_BEAT_STATE", "ODONATA_PREDICTION",
+      "ODONATA_CONTROL", "ODONATA_MODEL", "ODONATA_HEARTBEAT"};
   for (int r = 0; r < rounds; ++r) {
     for (const auto& ch : channels) {
       // A valid message of another type: wrong fingerprint for this channel.
@@ -85,6 +93,8 @@ int main(int argc, char** argv) {
     lcm.publish("DIMAV_COMMAND", cmd.data(), static_cast<unsigned>(cmd.size() / 2));
     auto st = Encode(State(1));
     lcm.publish("DIMAV_STATE", st.data(), static_cast<unsigned>(st.size() - 3));
+    auto bt = Encode(Beat(1));
+    lcm.publish("DIMAV_BEAT_STATE", bt.data(), static_cast<unsigned>(bt.size() - 5));
     // A correct fingerprint with an absurd array count.
     auto big = Encode(Command(2));
     const std::size_t count_at = 8 + 8 + 8 + 8 + 6 * 4 * 8;  // fingerprint, utime, seq, t_s, arrays
@@ -113,6 +123,14 @@ int main(int argc, char** argv) {
     lcm.publish("DIMAV_COMMAND", &negative);
     odonata::plant_state_t future = State(int64_t{1} << 40);
     lcm.publish("DIMAV_STATE", &future);
+    // The same for the beat states: NaN, stale, negative and far-future seqs.
+    odonata::beat_state_t nan_beat = Beat(2);
+    nan_beat.u_roll_applied_rad = NAN;
+    lcm.publish("DIMAV_BEAT_STATE", &nan_beat);
+    odonata::beat_state_t stale_beat = Beat(-100);
+    lcm.publish("DIMAV_BEAT_STATE", &stale_beat);
+    odonata::beat_state_t future_beat = Beat(int64_t{1} << 40);
+    lcm.publish("DIMAV_BEAT_STATE", &future_beat);
     // A prediction whose count claims more outputs than the arrays hold. encode() trusts the
     // count, so build a consistent one and then overwrite the count in the bytes.
     odonata::prediction_t p{};

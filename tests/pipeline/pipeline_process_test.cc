@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -18,6 +19,7 @@
 
 #include "bus/sample_fields.hpp"
 #include "io/csv_table.hpp"
+#include "odonata/beat_state_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
@@ -28,6 +30,7 @@ const std::string kPlant = ODONATA_PLANT_EXE;
 const std::string kSignal = ODONATA_SIGNAL_EXE;
 const std::string kSim = ODONATA_SIM_EXE;
 const std::string kRecorder = ODONATA_RECORDER_EXE;
+const std::string kLogger = ODONATA_LOGGER_EXE;
 
 std::string Url(int port) { return "'udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0'"; }
 
@@ -48,6 +51,7 @@ struct Recording {
   std::map<int64_t, odonata::plant_state_t> states;     // last message of each seq
   std::vector<odonata::plant_state_t> state_stream;     // every state, in order
   std::map<int64_t, odonata::wing_command_t> commands;  // last message of each seq
+  std::map<int64_t, odonata::beat_state_t> beats;       // last message of each seq
   std::vector<odonata::heartbeat_t> heartbeats;
 };
 
@@ -93,6 +97,9 @@ class PipelineProcess : public ::testing::Test {
       } else if (e->channel == "DIMAV_COMMAND") {
         odonata::wing_command_t m;
         if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0) r.commands[m.seq] = m;
+      } else if (e->channel == "DIMAV_BEAT_STATE") {
+        odonata::beat_state_t m;
+        if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0) r.beats[m.seq] = m;
       } else if (e->channel == "ODONATA_HEARTBEAT") {
         odonata::heartbeat_t m;
         if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0) r.heartbeats.push_back(m);
@@ -149,6 +156,25 @@ void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, boo
           << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
     }
     EXPECT_NEAR(s.t_s, sim.Column("t_s")[static_cast<std::size_t>(k)], 1e-9);
+    // The beat state of the same seq holds the CSV's _avg columns; the next one the command
+    // applied over [t_k, t_k+1), i.e. the CSV row's applied columns (when the run has them).
+    ASSERT_EQ(rec.beats.count(k), 1u) << "beat state " << k << " missing";
+    ASSERT_EQ(rec.beats.at(k).command_seq, k - 1);
+    for (const std::string& name : odonata::bus::BeatFieldNames()) {
+      const double got = *odonata::bus::BeatStateField(rec.beats.at(k), name);
+      const double want = sim.Column(name)[static_cast<std::size_t>(k)];
+      ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+          << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
+    }
+    const auto& names = sim.names();
+    for (const std::string& name : odonata::bus::AppliedFieldNames()) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) continue;
+      ASSERT_EQ(rec.beats.count(k + 1), 1u);
+      const double got = *odonata::bus::BeatStateField(rec.beats.at(k + 1), name);
+      const double want = sim.Column(name)[static_cast<std::size_t>(k)];
+      ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+          << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
+    }
     ASSERT_EQ(rec.commands.count(k), 1u) << "command " << k << " missing";
     const odonata::wing_command_t& c = rec.commands.at(k);
     EXPECT_EQ(c.t_s, sim.Column("t_s")[static_cast<std::size_t>(k)]);
@@ -198,6 +224,25 @@ TEST_F(PipelineProcess, LockstepRollMatchesOdonataSimBitForBit) {
   ASSERT_FALSE(rec.commands.empty());
   EXPECT_EQ(rec.commands.begin()->second.source, "preset:roll/train");
   EXPECT_EQ(rec.commands.begin()->second.excitation_names, std::vector<std::string>{"u_roll_rad"});
+
+  // The logger's export joins the beat states in: the same beat-averaged and applied-command
+  // columns as odonata-sim's CSV, bit for bit, beside the state and the excitation. (Its
+  // w{i}_* columns are the commands sent, before the plant's hold; odonata-sim writes the
+  // applied ones there.)
+  const Result exported = RunInNamespace(kLogger + " export run.lcm -o export.csv");
+  ASSERT_EQ(exported.exit_code, 0) << exported.out;
+  const auto csv = odonata::io::CsvTable::Read(dir_ + "/export.csv");
+  ASSERT_EQ(csv.rows(), table.rows());
+  std::vector<std::string> compared = odonata::bus::StateFieldNames();
+  compared.push_back("u_roll_rad");
+  for (const auto* names : {&odonata::bus::BeatFieldNames(), &odonata::bus::AppliedFieldNames()})
+    compared.insert(compared.end(), names->begin(), names->end());
+  for (const std::string& name : compared) {
+    const std::vector<double>& got = csv.Column(name);
+    const std::vector<double>& want = table.Column(name);
+    for (std::size_t k = 0; k < got.size(); ++k)
+      ASSERT_EQ(std::memcmp(&got[k], &want[k], sizeof got[k]), 0) << name << " row " << k;
+  }
 }
 
 // The test stand and another phase and seed; the plant starts with its default set-up.
@@ -260,7 +305,9 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
 // Renamed channels (--channel KEY=NAME): plant and generator meet on the new names, and nothing
 // travels on the defaults.
 TEST_F(PipelineProcess, RenamedChannelsCarryTheRun) {
-  const std::string rename = "--channel command=VEHICLE7_CMD --channel state=VEHICLE7_STATE ";
+  const std::string rename =
+      "--channel command=VEHICLE7_CMD --channel state=VEHICLE7_STATE "
+      "--channel beat_state=VEHICLE7_BEAT ";
   const Result run = RecordRun(7685, rename + "--preset roll",
                                rename + "--preset roll --phase train --duration 1");
   ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
@@ -270,8 +317,10 @@ TEST_F(PipelineProcess, RenamedChannelsCarryTheRun) {
   while (const lcm::LogEvent* e = log.readNextEvent()) ++events[e->channel];
   EXPECT_EQ(events["VEHICLE7_CMD"], 100);
   EXPECT_GE(events["VEHICLE7_STATE"], 101);
+  EXPECT_EQ(events["VEHICLE7_BEAT"], events["VEHICLE7_STATE"]);
   EXPECT_EQ(events.count("DIMAV_COMMAND"), 0u);
   EXPECT_EQ(events.count("DIMAV_STATE"), 0u);
+  EXPECT_EQ(events.count("DIMAV_BEAT_STATE"), 0u);
   const Result bad = RunInNamespace(kPlant + " --channel stat=X --lcm-url " + Url(7686));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("unknown channel 'stat'"), std::string::npos) << bad.out;

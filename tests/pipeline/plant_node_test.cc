@@ -5,12 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <vector>
 
 #include "bus/sample_fields.hpp"
+#include "experiments/attitude_hold.hpp"
+#include "experiments/experiment_preset.hpp"
 #include "pipeline/vehicle_setup.hpp"
 #include "support/memq_bus.hpp"
 
@@ -54,6 +58,8 @@ class PlantNodeTest : public ::testing::Test {
     // Subscribed before the node, so state 0 (published by its constructor) is seen too.
     bus_->Subscribe<odonata::plant_state_t>(bus_->channels().state,
                                             [this](const auto& m) { states_.push_back(m); });
+    bus_->Subscribe<odonata::beat_state_t>(bus_->channels().beat_state,
+                                           [this](const auto& m) { beats_.push_back(m); });
     node_ = std::make_unique<PlantNode>(*bus_, config_, mode, preset);
     trim_ = node_->session().setup().trim_command;
   }
@@ -74,8 +80,90 @@ class PlantNodeTest : public ::testing::Test {
   std::unique_ptr<bus::BusNode> bus_;
   std::unique_ptr<PlantNode> node_;
   std::vector<odonata::plant_state_t> states_;
+  std::vector<odonata::beat_state_t> beats_;
   plant::CommandMatrix trim_;
 };
+
+// Bitwise equality, so -0.0 and 0.0 differ and NaN equals itself.
+bool Same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The beat averages and applied command of `m` are, bit for bit, those of the plant library's
+// output `o` after applying `applied`.
+void ExpectBeatState(const odonata::beat_state_t& m, const plant::PlantOutput& o,
+                     const plant::CommandMatrix& applied, double trim_amp_rad) {
+  EXPECT_TRUE(Same(m.t_s, o.time_s));
+  EXPECT_TRUE(Same(m.window_s, o.beat.window_s));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(Same(m.velocity_mps[i], o.beat.velocity_body_mps(i))) << i;
+    EXPECT_TRUE(Same(m.rate_radps[i], o.beat.rate_body_radps(i))) << i;
+  }
+  EXPECT_TRUE(Same(m.attitude_rad[0], o.beat.roll_rad));
+  EXPECT_TRUE(Same(m.attitude_rad[1], o.beat.pitch_rad));
+  EXPECT_TRUE(Same(m.attitude_rad[2], o.beat.yaw_rad));
+  EXPECT_TRUE(Same(m.fx_total_n, o.beat.force_x_n));
+  EXPECT_TRUE(Same(m.fz_total_n, o.beat.force_z_n));
+  for (int w = 0; w < 4; ++w) {
+    EXPECT_TRUE(Same(m.applied_beta_rad[w], applied(w, plant::kStrokePlaneAngle))) << w;
+    EXPECT_TRUE(Same(m.applied_freq_hz[w], applied(w, plant::kFlapFrequency))) << w;
+    EXPECT_TRUE(Same(m.applied_amp_rad[w], applied(w, plant::kStrokeAmplitude))) << w;
+    EXPECT_TRUE(Same(m.applied_pitch_mean_rad[w], applied(w, plant::kPitchMean))) << w;
+    EXPECT_TRUE(Same(m.applied_pitch_amp_rad[w], applied(w, plant::kPitchAmplitude))) << w;
+    EXPECT_TRUE(Same(m.applied_phase_rad[w], applied(w, plant::kPitchPhase))) << w;
+  }
+  const std::vector<double> u = experiments::AppliedChannelValues(applied, trim_amp_rad);
+  EXPECT_TRUE(Same(m.u_vertical_applied_rad, u[0]));
+  EXPECT_TRUE(Same(m.u_roll_applied_rad, u[1]));
+  EXPECT_TRUE(Same(m.u_pitch_applied_rad, u[2]));
+  EXPECT_TRUE(Same(m.u_yaw_applied_rad, u[3]));
+}
+
+// Every DIMAV_STATE has a DIMAV_BEAT_STATE with the same seq and command_seq, holding the plant
+// library's beat averages and the command applied in answer to command_seq, hold included: an
+// independent DimavPlant flown with the same hold (odonata-sim's loop) gives the same bits.
+TEST_F(PlantNodeTest, PublishesTheBeatStateBesideEveryStateWithTheSameSeq) {
+  Start(Mode::kLockstep, "roll");
+  const pipeline::VehicleSetup setup = node_->session().setup();
+  ASSERT_TRUE(setup.attitude_hold);
+  const experiments::ExperimentRun run = experiments::BuildExperimentRun(
+      *experiments::FindPreset("roll"), experiments::Phase::kTrain, 2, 1.5, config_);
+  const double trim_amp_rad = run.trim.amp_rad;
+
+  plant::DimavPlant reference(config_);
+  reference.Reset(setup.initial);
+  Pump(*bus_);
+  ASSERT_EQ(beats_.size(), 1u);
+  EXPECT_EQ(beats_[0].seq, 0);
+  EXPECT_EQ(beats_[0].command_seq, -1);
+  EXPECT_EQ(beats_[0].attitude_hold, 1);
+  ExpectBeatState(beats_[0], reference.output(), reference.applied_command(), trim_amp_rad);
+
+  double hold_acted_rad = 0.0;
+  for (std::size_t k = 0; k < run.commands.size(); ++k) {
+    Send(Command(static_cast<int64_t>(k), run.commands[k]));
+    const plant::CommandMatrix applied = reference.ClampToLimits(
+        experiments::ApplyAttitudeHold(setup.hold_gains, run.commands[k], reference.output()));
+    ASSERT_EQ(reference.Step(applied), plant::StepStatus::kOk);
+    ASSERT_EQ(beats_.size(), states_.size());
+    const odonata::beat_state_t& b = beats_.back();
+    ASSERT_EQ(b.seq, states_.back().seq);
+    ASSERT_EQ(b.seq, static_cast<int64_t>(k) + 1);
+    ASSERT_EQ(b.command_seq, states_.back().command_seq);
+    EXPECT_EQ(b.t_s, states_.back().t_s);
+    ExpectBeatState(b, reference.output(), applied, trim_amp_rad);
+    ASSERT_TRUE(bus::AllFinite(b));
+    hold_acted_rad =
+        std::max(hold_acted_rad, std::fabs(b.u_roll_applied_rad - run.excitation_values[0][k]));
+  }
+  EXPECT_GT(hold_acted_rad, 1e-5);  // the applied roll channel is not the excitation
+
+  // A resent command re-sends both messages, unchanged.
+  const odonata::beat_state_t last = beats_.back();
+  Send(Command(static_cast<int64_t>(run.commands.size()) - 1, run.commands.back()));
+  ASSERT_EQ(beats_.size(), states_.size());
+  EXPECT_EQ(beats_.back().seq, last.seq);
+  EXPECT_TRUE(Same(beats_.back().velocity_mps[2], last.velocity_mps[2]));
+  EXPECT_TRUE(Same(beats_.back().u_roll_applied_rad, last.u_roll_applied_rad));
+}
 
 TEST_F(PlantNodeTest, LockstepAnswersEachCommandOnceAndResendsWithoutStepping) {
   Start(Mode::kLockstep);

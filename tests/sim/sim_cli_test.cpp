@@ -3,6 +3,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -138,12 +140,122 @@ TEST_F(SimCli, CsvHasTheDocumentedColumnsAndAnExcitationColumn) {
   ASSERT_EQ(Run("--preset roll --duration 2 --output " + Path("roll.csv")).exit_code, 0);
   const odonata::io::CsvTable t = odonata::io::CsvTable::Read(Path("roll.csv"));
   EXPECT_EQ(t.rows(), 200u);
-  const std::vector<std::string> expected = odonata::sim::CsvHeader({"u_roll_rad"});
+  const std::vector<std::string> expected = odonata::sim::CsvHeader({"u_roll_rad"}, true);
   EXPECT_EQ(t.names(), expected);
   EXPECT_EQ(t.names()[1], "w1_beta_rad");
   EXPECT_EQ(t.names()[24], "w4_phase_rad");
   EXPECT_EQ(t.Column("t_s")[1], 0.01);
   EXPECT_EQ(t.Column("z_m")[0], 50.0);
+  // The columns before the new ones keep their places: … fz4_n, then the excitation.
+  EXPECT_EQ(t.names()[36], "z_m");
+  EXPECT_EQ(t.names()[44], "fz4_n");
+  EXPECT_EQ(t.names()[45], "u_roll_rad");
+  // Then the beat averages, named after the instantaneous columns, and the applied channels.
+  const std::vector<std::string> tail(t.names().begin() + 46, t.names().end());
+  EXPECT_EQ(tail, (std::vector<std::string>{
+                      "vx_mps_avg", "vy_mps_avg", "vz_mps_avg", "p_radps_avg", "q_radps_avg",
+                      "r_radps_avg", "roll_rad_avg", "pitch_rad_avg", "yaw_rad_avg",
+                      "fx_total_n_avg", "fz_total_n_avg", "u_vertical_applied_rad",
+                      "u_roll_applied_rad", "u_pitch_applied_rad", "u_yaw_applied_rad"}));
+  for (const std::string& name : odonata::sim::BeatColumnNames()) {
+    if (name.rfind("f", 0) == 0) continue;  // the totals have no instantaneous column
+    const std::string raw = name.substr(0, name.size() - 4);
+    EXPECT_NEAR(t.Column(name)[0], t.Column(raw)[0], 1e-12) << name;  // the initial state
+  }
+  // A test-stand preset has no hold: no applied columns (its w{i}_* columns are applied).
+  ASSERT_EQ(Run("--preset actuator_fz --duration 1 --output " + Path("fz.csv")).exit_code, 0);
+  EXPECT_EQ(odonata::io::CsvTable::Read(Path("fz.csv")).names(), odonata::sim::CsvHeader({}));
+}
+
+double PairMean(const odonata::io::CsvTable& t, const char* a, const char* b, std::size_t k) {
+  return 0.5 * (t.Column(a)[k] + t.Column(b)[k]);
+}
+
+// The applied columns are the excitation's channel of the command the wings actually got (the
+// w{i}_* columns): for roll and pitch that adds the hold's correction to the excitation; yaw's
+// stroke-plane angles and the four-wing mean amplitude are untouched by the hold.
+TEST_F(SimCli, AppliedColumnsAreTheChannelsOfTheAppliedCommand) {
+  for (const char* preset : {"roll", "pitch", "yaw", "vertical_velocity"}) {
+    SCOPED_TRACE(preset);
+    const std::string csv = Path(std::string(preset) + ".csv");
+    ASSERT_EQ(Run(std::string("--preset ") + preset + " --duration 10 --output " + csv).exit_code,
+              0);
+    const odonata::io::CsvTable t = odonata::io::CsvTable::Read(csv);
+    const std::string channel = preset == std::string("vertical_velocity") ? "vertical" : preset;
+    const std::vector<double>& u = t.Column("u_" + channel + "_rad");
+    const std::vector<double>& applied = t.Column("u_" + channel + "_applied_rad");
+    double max_gap = 0.0;
+    for (std::size_t k = 0; k < t.rows(); ++k) {
+      const double left = PairMean(t, "w1_amp_rad", "w2_amp_rad", k);
+      const double right = PairMean(t, "w3_amp_rad", "w4_amp_rad", k);
+      const double front = PairMean(t, "w1_amp_rad", "w4_amp_rad", k);
+      const double back = PairMean(t, "w2_amp_rad", "w3_amp_rad", k);
+      const double beta_left = PairMean(t, "w1_beta_rad", "w2_beta_rad", k);
+      const double beta_right = PairMean(t, "w3_beta_rad", "w4_beta_rad", k);
+      ASSERT_NEAR(t.Column("u_roll_applied_rad")[k], 0.5 * (left - right), 1e-12) << k;
+      ASSERT_NEAR(t.Column("u_pitch_applied_rad")[k], 0.5 * (front - back), 1e-12) << k;
+      ASSERT_NEAR(t.Column("u_yaw_applied_rad")[k], 0.5 * (beta_right - beta_left), 1e-12) << k;
+      max_gap = std::max(max_gap, std::fabs(applied[k] - u[k]));
+    }
+    if (channel == "roll" || channel == "pitch") {
+      EXPECT_GT(max_gap, 1e-4);  // the hold acts on this channel
+    } else {
+      EXPECT_LT(max_gap, 1e-12);  // and not on these
+    }
+  }
+}
+
+// Averaged over the wing beat, vertical velocity loses the ripple at twice the flapping
+// frequency: its sample-to-sample changes shrink far more than the slow response does.
+TEST_F(SimCli, BeatAveragedVelocityHasNoWingBeatRipple) {
+  ASSERT_EQ(Run("--preset vertical_velocity --duration 10 --output " + Path("v.csv")).exit_code, 0);
+  const odonata::io::CsvTable t = odonata::io::CsvTable::Read(Path("v.csv"));
+  const auto rms_diff = [&t](const std::string& name) {
+    const std::vector<double>& v = t.Column(name);
+    double sum = 0.0;
+    for (std::size_t k = 1; k < v.size(); ++k) sum += (v[k] - v[k - 1]) * (v[k] - v[k - 1]);
+    return std::sqrt(sum / static_cast<double>(v.size() - 1));
+  };
+  EXPECT_LT(rms_diff("vz_mps_avg"), 0.3 * rms_diff("vz_mps"));
+}
+
+// --decimate N: one row per N samples, outputs at the block's first sample, inputs averaged over
+// the block.
+TEST_F(SimCli, DecimateKeepsOutputsAndAveragesInputsOverEachBlock) {
+  const std::string base = "--preset roll --duration 3 --output ";
+  ASSERT_EQ(Run(base + Path("full.csv")).exit_code, 0);
+  ASSERT_EQ(Run(base + Path("dec.csv") + " --decimate 19").exit_code, 0);
+  ASSERT_EQ(Run(base + Path("one.csv") + " --decimate 1").exit_code, 0);
+  EXPECT_EQ(Slurp(Path("one.csv")), Slurp(Path("full.csv")));
+  EXPECT_EQ(Run(base + Path("x.csv") + " --decimate 0").exit_code, 2);
+  const odonata::io::CsvTable full = odonata::io::CsvTable::Read(Path("full.csv"));
+  const odonata::io::CsvTable dec = odonata::io::CsvTable::Read(Path("dec.csv"));
+  ASSERT_EQ(dec.names(), full.names());
+  ASSERT_EQ(dec.rows(), 300u / 19u);  // the partial last block is dropped
+  for (std::size_t j = 0; j < dec.rows(); ++j) {
+    for (const char* out : {"t_s", "roll_rad", "vz_mps", "roll_rad_avg", "fz_total_n_avg"}) {
+      EXPECT_EQ(dec.Column(out)[j], full.Column(out)[19 * j]) << out << " " << j;
+    }
+    for (const char* in : {"w1_amp_rad", "u_roll_rad", "u_roll_applied_rad"}) {
+      double sum = 0.0;
+      for (std::size_t k = 19 * j; k < 19 * j + 19; ++k) sum += full.Column(in)[k];
+      EXPECT_NEAR(dec.Column(in)[j], sum / 19.0, 1e-12) << in << " " << j;
+    }
+  }
+}
+
+TEST_F(SimCli, SelectPhaseIsAThirdExcitation) {
+  const std::string base = "--preset pitch --duration 3 --seed 4 --phase ";
+  ASSERT_EQ(Run(base + "train --output " + Path("t.csv")).exit_code, 0);
+  ASSERT_EQ(Run(base + "select --output " + Path("s.csv")).exit_code, 0);
+  ASSERT_EQ(Run(base + "validate --output " + Path("v.csv")).exit_code, 0);
+  const std::string train = Slurp(Path("t.csv")), select = Slurp(Path("s.csv")),
+                    val = Slurp(Path("v.csv"));
+  EXPECT_NE(select, train);
+  EXPECT_NE(select, val);
+  EXPECT_EQ(odonata::io::CsvTable::Read(Path("s.csv")).rows(), 300u);
+  const Result help = Run("--help");
+  EXPECT_NE(help.out.find("select"), std::string::npos);
 }
 
 // A CSV written by the simulator is itself a valid command file; replaying its commands without
@@ -203,11 +315,11 @@ TEST_F(SimCli, DivergenceStopsWithAClearMessageAndNoNaN) {
   EXPECT_LT(t.rows(), roll.rows());
 }
 
-// Every preset, both phases, full length: no divergence, no NaN (exit code 0).
+// Every preset, all three phases, full length: no divergence, no NaN (exit code 0).
 TEST_F(SimCli, FullLengthPresetsRunWithoutDivergence) {
   for (const char* preset :
        {"actuator_fz", "actuator_fx", "vertical_velocity", "roll", "pitch", "yaw"}) {
-    for (const char* phase : {"train", "validate"}) {
+    for (const char* phase : {"train", "select", "validate"}) {
       const Result r = Run(std::string("--preset ") + preset + " --phase " + phase + " --output " +
                            Path("full.csv"));
       EXPECT_EQ(r.exit_code, 0) << preset << " " << phase << ": " << r.err;

@@ -99,12 +99,13 @@ pub_pid=$!
 # (b) + (c): each channel listed with its type, several messages counted, the decoded message
 # carrying the publisher's markers; the foreign one listed as undecodable.
 declare -A TYPE=(
-  [DIMAV_COMMAND]=wing_command_t [DIMAV_STATE]=plant_state_t
+  [DIMAV_COMMAND]=wing_command_t [DIMAV_STATE]=plant_state_t [DIMAV_BEAT_STATE]=beat_state_t
   [ODONATA_HEARTBEAT]=heartbeat_t [ODONATA_PREDICTION]=prediction_t
   [ODONATA_ACCURACY]=accuracy_t [ODONATA_CONTROL]=control_t [ODONATA_MODEL]=model_snapshot_t)
 declare -A MARKERS=(
   [DIMAV_COMMAND]='source=spy-test excitation_names[0]=u_roll freq_hz[0]=30.0'
   [DIMAV_STATE]='fx_n[0]=0.25 status=0'
+  [DIMAV_BEAT_STATE]='fz_total_n=0.375 u_roll_applied_rad=0.125 attitude_hold=1'
   [ODONATA_HEARTBEAT]='service=spy-test state=running'
   [ODONATA_PREDICTION]='names[0]=roll_rad max_entropy[0]=0.75 learning=1'
   [ODONATA_ACCURACY]='names[0]=roll_rad total_vaf_free_run[0]=95.5 rules[0]=3'

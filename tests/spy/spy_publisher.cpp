@@ -18,6 +18,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 #include <odonata/accuracy_t.hpp>
+#include <odonata/beat_state_t.hpp>
 #include <odonata/control_t.hpp>
 #include <odonata/heartbeat_t.hpp>
 #include <odonata/model_snapshot_t.hpp>
@@ -89,6 +90,18 @@ int main(int argc, char** argv) {
     for (int w = 0; w < 4; ++w) state.fz_n[w] = 0.6 + 0.05 * std::sin(2.0 * t + w);
     state.status = odonata::plant_state_t::STATUS_OK;
     failures += bus.publish("DIMAV_STATE", &state) != 0;
+
+    odonata::beat_state_t beat{};
+    beat.utime = NowUs();
+    beat.seq = k;
+    beat.command_seq = k - 1;
+    beat.t_s = cmd.t_s;
+    beat.window_s = 0.1875;
+    beat.velocity_mps[0] = 2.0;
+    beat.fz_total_n = 0.375;  // markers the test checks
+    beat.u_roll_applied_rad = 0.125;
+    beat.attitude_hold = 1;
+    failures += bus.publish("DIMAV_BEAT_STATE", &beat) != 0;
 
     odonata::heartbeat_t hb{};
     hb.utime = NowUs();

@@ -1,0 +1,258 @@
+#pragma once
+// The online identifier's pairing rule, without transport: which plant states, commands and
+// beat states make sample k, when a sample is complete, when it is lost (a gap, never bridged)
+// and when the plant restarted its run.
+//
+// Sample k joins
+//   - state k: y(k), and state signals used as inputs;
+//   - the command that state k + 1 answers (its command_seq, k in lockstep): u(k);
+//   - beat state k: the beat averages up to t_k (odonata-sim's row k: `*_avg`);
+//   - beat state k + 1: the command applied over [t_k, t_k+1) (`u_*_applied_rad`); its
+//     command_seq must equal state k + 1's.
+// exactly as odonata-logger export writes row k (bus/log_csv_export.hpp). Sample k is complete
+// once state k + 1, its command and the beat states it needs (PairingNeeds) have arrived; a state
+// whose sample still lacks a message waits (up to kMaxPendingStates states), then the sample is
+// lost.
+//
+// Seq rules: a state or beat state whose seq is negative or leaps too far ahead
+// (sequence_window.hpp), an older state or beat state than the newest (duplicate or out of
+// order) and a second command with a used seq from another source are bad input
+// (std::invalid_argument, nothing changes); the newest state or beat state again is a resend
+// (ignored). A fresh state 0 (command_seq < 0) after others is a plant restart: every message
+// of the old run is forgotten. A fresh beat state 0 likewise starts the beat states afresh, and
+// survives the state restart that follows it.
+//
+// State, Command and Beat are the message types (or stand-ins in tests): State and Beat need
+// `seq` and `command_seq`, Command `seq` and `source`.
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/sequence_window.hpp"
+
+namespace odonata::pipeline {
+
+/// The beat states a sample needs besides its two states and its command, from the signals the
+/// model uses. The command is always needed, whatever the signals: a sample is the plant's
+/// answer to a command, so states published without one (a real-time plant idling before its
+/// run) make no sample, as they make no row of odonata-logger export.
+struct PairingNeeds {
+  bool beat = false;       ///< beat state k (beat averages)
+  bool next_beat = false;  ///< beat state k + 1 (the command applied over [t_k, t_k+1))
+};
+
+template <class State, class Command, class Beat>
+class SamplePairer {
+ public:
+  static constexpr std::size_t kMaxCommands = 4096;     ///< commands kept for pairing
+  static constexpr std::size_t kMaxBeats = 4096;        ///< beat states kept for pairing
+  static constexpr std::size_t kMaxPendingStates = 64;  ///< states waiting before giving up
+
+  /// What became of the messages, in order.
+  struct Event {
+    enum class Kind {
+      kSample,   ///< sample `index` is complete: state, and the optional messages it needs
+      kGap,      ///< `lost` samples are lost: `what` (report kind) and `message` say why
+      kRestart,  ///< the plant restarted its run: restart the history
+    };
+    Kind kind = Kind::kSample;
+    int64_t index = -1;             ///< kSample: k
+    State state{};                  ///< kSample: state k
+    Command command{};              ///< the command state k + 1 answers
+    std::optional<Beat> beat;       ///< beat state k
+    std::optional<Beat> next_beat;  ///< beat state k + 1
+    int64_t lost = 0;               ///< kGap
+    std::string what;               ///< kGap: "gap in states", "missing command", …
+    std::string message;            ///< kGap
+  };
+
+  explicit SamplePairer(PairingNeeds needs) : needs_(needs) {}
+
+  const PairingNeeds& needs() const { return needs_; }
+
+  /// @throws std::invalid_argument for a bad seq (see above); nothing changes then.
+  std::vector<Event> OnState(const State& msg) {
+    std::vector<Event> events;
+    const int64_t newest = NewestState();
+    if (!SeqWithinWindow(msg.seq, newest))
+      throw std::invalid_argument("state seq " + std::to_string(msg.seq) +
+                                  " is negative or leaps past the newest, " +
+                                  std::to_string(newest));
+    if (newest >= 0 && msg.seq <= newest) {
+      if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
+        previous_.reset();
+        pending_.clear();
+        commands_.clear();
+        // A fresh beat state 0 may have come first: it belongs to the new run.
+        const auto fresh = beats_.find(0);
+        const bool keep = fresh != beats_.end() && fresh->second.command_seq < 0 &&
+                          beats_.size() == 1 && newest_beat_ == 0;
+        if (!keep) {
+          beats_.clear();
+          newest_beat_ = -1;
+        }
+        Event e;
+        e.kind = Event::Kind::kRestart;
+        events.push_back(std::move(e));
+      } else if (msg.seq == newest) {
+        return events;  // the plant re-published its latest state (lockstep resend, or at 0)
+      } else {
+        throw std::invalid_argument("duplicate or out-of-order state seq " +
+                                    std::to_string(msg.seq));
+      }
+    }
+    pending_.push_back(msg);
+    Process(&events);
+    return events;
+  }
+
+  /// @throws std::invalid_argument for a bad seq or a conflicting second command.
+  std::vector<Event> OnCommand(const Command& msg) {
+    std::vector<Event> events;
+    const int64_t newest = commands_.empty() ? -1 : commands_.rbegin()->first;
+    if (!SeqWithinWindow(msg.seq, newest))
+      throw std::invalid_argument("command seq " + std::to_string(msg.seq) +
+                                  " is negative or leaps past the newest, " +
+                                  std::to_string(newest));
+    // A generator that restarted counts from 0 again: forget the old run's commands.
+    if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < newest)
+      commands_.clear();
+    // The first command of a seq wins: a resend carries the same values, and a later message
+    // reusing the seq (a stale or forged one) must not change a sample after the fact.
+    const auto [it, added] = commands_.emplace(msg.seq, msg);
+    if (!added) {
+      if (msg.source == it->second.source) return events;  // a lockstep resend
+      throw std::invalid_argument("a second command with seq " + std::to_string(msg.seq) +
+                                  " from '" + msg.source + "'");
+    }
+    while (commands_.size() > kMaxCommands) commands_.erase(commands_.begin());
+    Process(&events);
+    return events;
+  }
+
+  /// @throws std::invalid_argument for a bad seq (see above); nothing changes then.
+  std::vector<Event> OnBeat(const Beat& msg) {
+    std::vector<Event> events;
+    if (!SeqWithinWindow(msg.seq, newest_beat_))
+      throw std::invalid_argument("beat state seq " + std::to_string(msg.seq) +
+                                  " is negative or leaps past the newest, " +
+                                  std::to_string(newest_beat_));
+    if (newest_beat_ >= 0 && msg.seq <= newest_beat_) {
+      if (msg.seq == 0 && msg.command_seq < 0 && newest_beat_ > 0) {
+        beats_.clear();  // the plant restarted: its state 0 follows (or came first)
+      } else if (msg.seq == newest_beat_) {
+        return events;  // a resend beside the state's
+      } else {
+        throw std::invalid_argument("duplicate or out-of-order beat state seq " +
+                                    std::to_string(msg.seq));
+      }
+    }
+    newest_beat_ = msg.seq;
+    beats_[msg.seq] = msg;
+    while (beats_.size() > kMaxBeats) beats_.erase(beats_.begin());
+    Process(&events);
+    return events;
+  }
+
+  /// States after the newest handled one, waiting for a message their sample needs (the newest
+  /// handled state itself waits for its successor and is not counted).
+  std::size_t pending_states() const { return pending_.size(); }
+
+ private:
+  int64_t NewestState() const {
+    return !pending_.empty() ? pending_.back().seq : previous_ ? previous_->seq : -1;
+  }
+
+  // The state that completes the previous one's sample has been handled: it becomes previous,
+  // and beat states before it can no longer be used.
+  void Advance() {
+    previous_ = pending_.front();
+    pending_.pop_front();
+    beats_.erase(beats_.begin(), beats_.lower_bound(previous_->seq));
+  }
+
+  static Event Gap(int64_t lost, std::string what, std::string message) {
+    Event e;
+    e.kind = Event::Kind::kGap;
+    e.lost = lost;
+    e.what = std::move(what);
+    e.message = std::move(message);
+    return e;
+  }
+
+  // A beat state for sample seq `seq` answering `command_seq`, or nullopt.
+  std::optional<Beat> FindBeat(int64_t seq, int64_t command_seq) const {
+    const auto it = beats_.find(seq);
+    if (it == beats_.end() || it->second.command_seq != command_seq) return std::nullopt;
+    return it->second;
+  }
+
+  void Process(std::vector<Event>* events) {
+    while (!pending_.empty()) {
+      const State& s = pending_.front();
+      if (!previous_ || s.seq != previous_->seq + 1) {
+        if (previous_ && s.seq > previous_->seq + 1) {
+          events->push_back(Gap(s.seq - previous_->seq - 1, "gap in states",
+                                "missing state seq " + std::to_string(previous_->seq + 1) + " … " +
+                                    std::to_string(s.seq - 1)));
+        }
+        Advance();
+        continue;
+      }
+      const int64_t k = previous_->seq;
+      Event e;
+      e.kind = Event::Kind::kSample;
+      e.index = k;
+      std::string what, why;
+      const auto cmd = commands_.find(s.command_seq);
+      if (cmd != commands_.end()) {
+        e.command = cmd->second;
+      } else {
+        what = "missing command";
+        why = "no command seq " + std::to_string(s.command_seq) + " for state seq " +
+              std::to_string(s.seq);
+      }
+      if (what.empty() && needs_.beat) {
+        e.beat = FindBeat(k, previous_->command_seq);
+        if (!e.beat) {
+          what = "missing beat state";
+          why = "no beat state seq " + std::to_string(k) + " answering command seq " +
+                std::to_string(previous_->command_seq);
+        }
+      }
+      if (what.empty() && needs_.next_beat) {
+        e.next_beat = FindBeat(s.seq, s.command_seq);
+        if (!e.next_beat) {
+          what = "missing beat state";
+          why = "no beat state seq " + std::to_string(s.seq) + " answering command seq " +
+                std::to_string(s.command_seq);
+        }
+      }
+      if (!what.empty()) {
+        if (pending_.size() < kMaxPendingStates) return;  // it may still come
+        events->push_back(Gap(1, what, why + " (sample " + std::to_string(k) + " lost)"));
+        Advance();
+        continue;
+      }
+      e.state = *previous_;
+      events->push_back(std::move(e));
+      Advance();
+    }
+  }
+
+  PairingNeeds needs_;
+  std::map<int64_t, Command> commands_;  // by seq, bounded
+  std::map<int64_t, Beat> beats_;        // by seq, from the oldest still usable on
+  int64_t newest_beat_ = -1;
+  std::optional<State> previous_;
+  std::deque<State> pending_;  // waiting for the next state or a message their sample needs
+};
+
+}  // namespace odonata::pipeline
