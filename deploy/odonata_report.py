@@ -79,8 +79,10 @@ def summarise(r):
         "train": {"one_step": r["train"]["one_step"], "free_run": r["train"].get("free_run")},
         "validate": {"one_step": v["one_step"], "free_run": v.get("free_run")},
         "validate_live": r["validate_live"],
+        "averaged_output": r.get("averaged_output"),
         "arx": b["arx"]["validate"],
         "persistence": b["persistence"]["validate"],
+        "integrator": r["integrator"],
         "goals": {
             "ndei_at_most_half_of_persistence": bool(ndei is not None and pers_ndei is not None and ndei <= 0.5 * pers_ndei),
             "rules_not_more_than_paper": bool(goal_rules),
@@ -91,11 +93,30 @@ def summarise(r):
     }
 
 
-COLUMNS = [("experiment", "experiment"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "MFs"), ("paper_mfs", "paper MFs"),
+COLUMNS = [("experiment", "experiment"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "rules"), ("paper_mfs", "paper MFs"),
            ("paper_h_fit", "paper H: val FIT (MFs)"), ("train_fit", "train FIT"), ("train_fr", "train free-run"),
            ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"), ("val_fr", "val free-run"),
-           ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"), ("pers_fit", "persist. FIT"),
+           ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"), ("delta", "fuzzy − ARX"),
+           ("avg", "beat-avg fuzzy / ARX free-run"), ("pers_fit", "persist. FIT"),
            ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy")]
+
+
+def _delta(s):
+    """fuzzy − ARX in the headline mode: free run unless the loop integrates (one-step there)."""
+    mode = "one_step" if s.get("integrator") or not (s["validate"].get("free_run") or {}).get("fit") else "free_run"
+    f, a = (s["validate"].get(mode) or {}).get("fit"), (s["arx"].get(mode) or {}).get("fit")
+    if f is None or a is None or not math.isfinite(f) or not math.isfinite(a) or min(f, a) < -999:
+        return "–"
+    return f"{f - a:+.2f} ({mode.replace('_', '-')})"
+
+
+def _averaged(s):
+    a = s.get("averaged_output")
+    if not a:
+        return "–"
+    f = (a["validate"].get("free_run") or a["validate"]["one_step"])["fit"]
+    x = (a["arx_validate"].get("free_run") or a["arx_validate"]["one_step"])["fit"]
+    return f"{fmt(f)} / {fmt(x)}"
 
 
 def table_rows(summary):
@@ -119,6 +140,8 @@ def table_rows(summary):
             "val_fr": fmt((s["validate"]["free_run"] or {}).get("fit")),
             "arx_fit": fmt(s["arx"]["one_step"]["fit"]),
             "arx_fr": fmt(s["arx"].get("free_run", {}).get("fit")),
+            "delta": _delta(s),
+            "avg": _averaged(s),
             "pers_fit": fmt(s["persistence"]["one_step"]["fit"]),
             "ndei_ratio": fmt(ndei / pn if ndei is not None and pn else None),
             "paper_acc": s["paper"].get("accuracy", "–"),

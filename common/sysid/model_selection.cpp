@@ -32,7 +32,8 @@ Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count) {
 SelectionResult SelectModel(
     const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
     const TrainOptions& train_options, const Series& train, const SelectionOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate) {
+    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate,
+    const Series* selection) {
   const auto kinds = options.consequents.empty()
                          ? std::vector<fuzzy::ConsequentKind>{fuzzy::ConsequentKind::kLinear,
                                                               fuzzy::ConsequentKind::kSingleton}
@@ -43,16 +44,23 @@ SelectionResult SelectModel(
   if (!(options.holdout_fraction > 0.0 && options.holdout_fraction < 1.0))
     throw std::invalid_argument("hold-out fraction must be in (0, 1)");
   SelectionResult result;
-  result.holdout_samples =
-      static_cast<Eigen::Index>(std::llround(options.holdout_fraction * double(train.samples())));
-  result.fit_samples = train.samples() - result.holdout_samples;
   const int need = spec.first_target() + 2;
+  if (selection != nullptr) {
+    result.fit_samples = train.samples();
+    result.holdout_samples = selection->samples();
+  } else {
+    result.holdout_samples =
+        static_cast<Eigen::Index>(std::llround(options.holdout_fraction * double(train.samples())));
+    result.fit_samples = train.samples() - result.holdout_samples;
+  }
   if (result.holdout_samples < need || result.fit_samples < need)
     throw std::invalid_argument("the training data (" + std::to_string(train.samples()) +
                                 " samples) is too short to hold out " +
                                 std::to_string(result.holdout_samples) + " for model selection");
-  const Series fit = SliceSeries(train, 0, result.fit_samples);
-  const Series holdout = SliceSeries(train, result.fit_samples, result.holdout_samples);
+  const Series fit = selection != nullptr ? train : SliceSeries(train, 0, result.fit_samples);
+  const Series holdout = selection != nullptr
+                             ? *selection
+                             : SliceSeries(train, result.fit_samples, result.holdout_samples);
   result.free_run_criterion =
       spec.output_lags > 0 && options.criterion != SelectionCriterion::kOneStep;
 

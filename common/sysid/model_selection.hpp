@@ -65,13 +65,15 @@ std::vector<double> DefaultKappas();
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);
 
 /// Trains every candidate on the first (1 − holdout_fraction) of `train` and scores it on the
-/// rest. H̄ is tried from low to high for each (consequent, κ); once a candidate reaches the rule
-/// cap the higher H̄ of that pair are skipped (they would reach it too). `train_options.epochs` is
-/// ignored (options.max_epochs rules); its hold-out fields are set here. @throws
-/// std::invalid_argument when the slices are too short for the lags.
+/// rest — or, when `selection` is given (a separate selection excitation), on all of `train`
+/// and scores it on `selection`. H̄ is tried from low to high for each (consequent, κ); once a
+/// candidate reaches the rule cap the higher H̄ of that pair are skipped (they would reach it too).
+/// `train_options.epochs` is ignored (options.max_epochs rules); its hold-out fields are set here.
+/// @throws std::invalid_argument when the slices are too short for the lags.
 SelectionResult SelectModel(
     const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
     const TrainOptions& train_options, const Series& train, const SelectionOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate = {});
+    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate = {},
+    const Series* selection = nullptr);
 
 }  // namespace odonata::sysid

@@ -231,7 +231,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     }
     // Candidates learn with the declared scaling when there is one, as the final model will.
     sysid::TrainOptions candidate_options = topt;
-    std::optional<sysid::NarxModel> scaled_base;
+    std::optional<sysid::Series> select_series;
+    if (!o.select_csv.empty()) select_series = LoadSeries(o.select_csv, output, spec.inputs, spec);
     const auto sel = sysid::SelectModel(
         spec, cfg, candidate_options, *train, so,
         [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
@@ -239,10 +240,12 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",
                         fuzzy::ToString(c.consequent), c.threshold, c.kappa, c.rules);
           bar.Update(label, double(k) / double(n));
-        });
+        },
+        select_series ? &*select_series : nullptr);
     nlohmann::json cands = nlohmann::json::array();
     for (const auto& c : sel.candidates) cands.push_back(CandidateToJson(c));
     report["selection"] = {{"criterion", sel.free_run_criterion ? "free_run" : "one_step"},
+                           {"scored_on", o.select_csv.empty() ? "training hold-out" : o.select_csv},
                            {"relative_tolerance", so.relative_tolerance},
                            {"absolute_tolerance", so.absolute_tolerance},
                            {"fit_samples", sel.fit_samples},
@@ -358,10 +361,12 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       << r["max_rules"].get<int>() << "\n";
   if (r.contains("selection")) {
     const auto& sel = r["selection"];
-    out << "\n  model selection on the last " << sel["holdout_samples"].get<long>()
-        << " training samples (" << sel["criterion"].get<std::string>()
-        << " NDEI; fewest rules within " << 100 * sel["relative_tolerance"].get<double>()
-        << " % or " << sel["absolute_tolerance"].get<double>()
+    const std::string on = sel.value("scored_on", std::string("training hold-out"));
+    out << "\n  model selection on " << sel["holdout_samples"].get<long>() << " samples of "
+        << (on == "training hold-out" ? std::string("the training file's end") : on) << " ("
+        << sel["criterion"].get<std::string>() << " NDEI; fewest rules within "
+        << 100 * sel["relative_tolerance"].get<double>() << " % or "
+        << sel["absolute_tolerance"].get<double>()
         << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
            "free-run NDEI\n";
     std::size_t k = 0;

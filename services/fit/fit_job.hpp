@@ -33,6 +33,9 @@ struct FitJobOptions {
   bool epochs_given = false;
   sysid::SelectionOptions selection;
   std::string predictions;  ///< optional CSV of measured, fuzzy and ARX predictions
+  /// Optional selection CSV (a third excitation): candidates train on all of --train and are
+  /// scored on it, instead of on a hold-out slice of --train.
+  std::string select_csv;
   /// Optional: after training, run the model online over this CSV (it keeps learning, as the
   /// online identifier does), beside a frozen copy and the ARX model fitted on --train, with the
   /// accuracy alarm on each; a vehicle that changes mid-run shows what online learning is for.

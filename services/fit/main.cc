@@ -97,6 +97,10 @@ int main(int argc, char** argv) {
                  "fraction of the training file (its end) held out for the choice")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 0.5));
+  app.add_option("--select", o.select_csv,
+                 "selection CSV (a third excitation): score the candidates on it instead of on "
+                 "the training file's end")
+      ->check(CLI::ExistingFile);
   app.add_option("--select-thresholds", o.selection.thresholds, "H̄ values to try")->delimiter(',');
   app.add_option("--select-kappas", o.selection.kappas, "kappa values to try")->delimiter(',');
   app.add_option("--max-epochs", o.selection.max_epochs,

@@ -147,7 +147,8 @@ TEST(FitCli, SelectionAndRulesAreReadable) {
            " --output y --input u --consequent singleton --select-kappas 1 "
            "--select-thresholds 0.3,0.45 --max-epochs 3 --rules");
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("model selection on the last 1000 training samples"), std::string::npos)
+  EXPECT_NE(r.out.find("model selection on 1000 samples of the training file's end"),
+            std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("1. IF y(k) is "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("THEN y(k+1) is ≈"), std::string::npos);

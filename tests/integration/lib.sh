@@ -73,6 +73,7 @@ cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "
        "--delay", str(c["delay"]), "--ranges", ranges.name, "--epochs", "1", "--no-least-squares",
        "--consequent", c["consequent"], "--kappa", str(c["kappa"]), "--sigma-min", str(c["sigma_min"]),
        "--max-rules", str(c["max_rules"]), "--entropy-threshold", str(c["entropy_threshold"]),
+       "--forgetting", str(c.get("forgetting", 1.0)), "--prune-utility", str(c.get("prune_utility", 0.0)),
        "--save-model", model]
 for i in c["inputs"]:
     cmd += ["--input", i]
