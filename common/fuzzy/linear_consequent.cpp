@@ -82,17 +82,16 @@ void LinearConsequent::Update(const Eigen::Ref<const Eigen::VectorXd>& x,
     // Forgetting raises P by 1/λ_j; a trace cap keeps a long quiet spell from winding it up (a
     // wound-up P turns the next sample into a violent step).
     const double inflate = forgetting_ < 1.0 ? 1.0 / (1.0 - w * (1.0 - forgetting_)) : 1.0;
-    // Each pair (a, b) is computed once and mirrored: rounding must not make P asymmetric, since
-    // forgetting would amplify the skew part step after step until the update diverges.
+    // P must stay exactly symmetric: forgetting would amplify any skew part step after step until
+    // the update diverges. (pz_a · pz_b) · k is the same floating-point number for (a, b) and
+    // (b, a), since multiplication commutes exactly, so full columns can be updated (and
+    // vectorised) without mirroring.
     double trace = 0.0;
     for (int b = 0; b < n1; ++b) {
-      const double kb = k * pz[b];
-      for (int a = b; a < n1; ++a) {
-        const double v = (p[a + b * n1] - kb * pz[a]) * inflate;
-        p[a + b * n1] = v;
-        p[b + a * n1] = v;
-      }
-      trace += p[b + b * n1];
+      double* col = p + b * n1;
+      const double pzb = pz[b];
+      for (int a = 0; a < n1; ++a) col[a] = (col[a] - (pz[a] * pzb) * k) * inflate;
+      trace += col[b];
     }
     if (forgetting_ < 1.0) {
       const double cap = initial_covariance_ * n1;

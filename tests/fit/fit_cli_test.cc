@@ -105,8 +105,9 @@ TEST(FitCli, JsonReportHasTheContractFields) {
 }
 
 TEST(FitCli, StaticRegressionHasNoFreeRun) {
-  const ProcessResult r = Exec(
-      "--train " + Example("train.csv") + " --output y --input u --ny 0 --delay 0 --json", false);
+  const ProcessResult r = Exec("--train " + Example("train.csv") +
+                                   " --output y --input u --ny 0 --delay 0 --no-select --json",
+                               false);
   ASSERT_EQ(r.status, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["train"].contains("one_step"));
@@ -118,7 +119,8 @@ TEST(FitCli, SaveThenLoadReproducesTheValidationScores) {
   const std::string common = " --validate " + Example("validate.csv") + " --json";
   const ProcessResult a =
       Exec("--train " + Example("train.csv") +
-               " --output y --input u --consequent linear --save-model " + model + common,
+               " --output y --input u --consequent linear --no-select --epochs 3 --save-model " +
+               model + common,
            false);
   ASSERT_EQ(a.status, 0) << a.out;
   const ProcessResult b = Exec("--load-model " + model + common, false);
@@ -130,8 +132,8 @@ TEST(FitCli, SaveThenLoadReproducesTheValidationScores) {
 
 TEST(FitCli, SameSeedAndDataGiveTheSameModelFile) {
   const std::string m1 = Dir() + "/det1.json", m2 = Dir() + "/det2.json";
-  const std::string args =
-      "--train " + Example("train.csv") + " --output y --input u --epochs 2 --seed 5 --save-model ";
+  const std::string args = "--train " + Example("train.csv") +
+                           " --output y --input u --epochs 2 --no-select --seed 5 --save-model ";
   ASSERT_EQ(Exec(args + m1).status, 0);
   ASSERT_EQ(Exec(args + m2).status, 0);
   std::ifstream f1(m1), f2(m2);
@@ -241,7 +243,7 @@ TEST(FitCli, TrackLearnsOnlineBesideAFrozenCopyAndArx) {
 TEST(FitCli, ProgressBarOnlyOnATerminal) {
   // script(1) gives the program a pseudo-terminal, as a user's shell would.
   const std::string fit = std::string(ODONATA_FIT_EXE) + " --train " + Example("train.csv") +
-                          " --output y --input u --epochs 3";
+                          " --output y --input u --epochs 3 --no-select";
   const std::string cmd = "script -qec '" + fit + "' /dev/null 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);

@@ -175,6 +175,14 @@ TEST(FuzzyModel, ForgettingTracksAChangedPlant) {
     }
   }
   EXPECT_LT(err_forget, 0.1 * err_remember);
+  // Forgetting amplifies any skew part of P, so P must have stayed symmetric bit for bit.
+  const auto cov = forget.ToJson()["consequent"]["covariances"];
+  for (const auto& c : cov) {
+    const auto v = c.get<std::vector<double>>();
+    const int n = static_cast<int>(std::lround(std::sqrt(double(v.size()))));
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) EXPECT_EQ(v[a + b * n], v[b + a * n]);
+  }
   EXPECT_THROW(forget.set_forgetting(0.0), std::invalid_argument);
   EXPECT_THROW(forget.set_forgetting(1.01), std::invalid_argument);
   forget.set_forgetting(0.95);
