@@ -23,10 +23,17 @@ std::unique_ptr<Consequent> LinearConsequent::Clone() const {
 
 void LinearConsequent::RuleOutputs(const Eigen::Ref<const Eigen::VectorXd>& x, int rules,
                                    Eigen::ArrayXd* out) const {
-  // y_j = a_j0 + Σ_i a_ji x_i for all rules at once.
+  // y_j = a_j0 + Σ_i a_ji x_i. Column j of θ is contiguous, so a short dot product per rule
+  // beats a strided matrix–vector product at these sizes.
   out->resize(rules);
-  out->matrix().noalias() = theta_.leftCols(rules).bottomRows(inputs_).transpose() * x;
-  *out += theta_.row(0).head(rules).transpose().array();
+  const int n1 = inputs_ + 1;
+  const double* xs = x.data();
+  for (int j = 0; j < rules; ++j) {
+    const double* t = theta_.data() + static_cast<Eigen::Index>(j) * n1;
+    double y = t[0];
+    for (int i = 0; i < inputs_; ++i) y += t[i + 1] * xs[i];
+    (*out)(j) = y;
+  }
 }
 
 void LinearConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
