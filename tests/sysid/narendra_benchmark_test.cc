@@ -34,8 +34,10 @@ Scores Fit(fuzzy::ConsequentKind kind, double threshold, double kappa, int epoch
           metrics::Score(y, SimulateFreeRun(m.spec(), v, p).col(0)).fit_percent, m.total_rules()};
 }
 
+// The settings below are what odonata-fit's model selection chose on the bundled Narendra
+// training file's hold-out (FitDefaults tests), never on validation data.
 TEST(NarendraBenchmark, SingletonConsequentsReachTheTargets) {
-  const Scores s = Fit(fuzzy::ConsequentKind::kSingleton, 0.52, 0.7, 30);
+  const Scores s = Fit(fuzzy::ConsequentKind::kSingleton, 0.4939, 0.5, 30);
   RecordProperty("rules", s.rules);
   EXPECT_LE(s.rules, fuzzy::EntropyRuleConfig{}.max_rules);
   EXPECT_GE(s.one_step, 95.0);
@@ -45,7 +47,7 @@ TEST(NarendraBenchmark, SingletonConsequentsReachTheTargets) {
 }
 
 TEST(NarendraBenchmark, LinearConsequentsReachTheTargetsWithFewerRules) {
-  const Scores s = Fit(fuzzy::ConsequentKind::kLinear, 0.45, 0.5, 30);
+  const Scores s = Fit(fuzzy::ConsequentKind::kLinear, 0.5119, 1.0, 30);
   EXPECT_LE(s.rules, 30);
   EXPECT_GE(s.one_step, 95.0);
   EXPECT_GE(s.free_run, 90.0);
