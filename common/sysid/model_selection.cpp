@@ -78,6 +78,10 @@ SelectionResult SelectModel(
         cfg.entropy.kappa = kappa;
         NarxModel model(spec, cfg);
         TrainOptions t = train_options;
+        if (options.scaling) {
+          model.SetScaling(*options.scaling);
+          t.fit_scaling = false;
+        }
         t.progress = {};
         t.epochs = options.max_epochs;
         t.holdout = &holdout;

@@ -4,6 +4,7 @@
 // takes part in a choice.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,9 @@ struct SelectionOptions {
   /// differences below the absolute one (half a FIT point) do not pay for more rules.
   double relative_tolerance = 0.05;
   double absolute_tolerance = 0.005;
+  /// Declared scaling (the online identifier's ranges): candidates learn with it, as the final
+  /// model will. Empty: each candidate fits its scaling on the data it trains on.
+  std::optional<Scaling> scaling;
 };
 
 struct Candidate {

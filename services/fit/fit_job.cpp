@@ -230,11 +230,11 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
       so.patience = 0;
     }
     // Candidates learn with the declared scaling when there is one, as the final model will.
-    sysid::TrainOptions candidate_options = topt;
+    so.scaling = declared;
     std::optional<sysid::Series> select_series;
     if (!o.select_csv.empty()) select_series = LoadSeries(o.select_csv, output, spec.inputs, spec);
     const auto sel = sysid::SelectModel(
-        spec, cfg, candidate_options, *train, so,
+        spec, cfg, topt, *train, so,
         [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
           char label[96];
           std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",

@@ -52,6 +52,35 @@ TEST(ModelSelection, PicksTheFewestRulesWithinTheRelativeTolerance) {
   EXPECT_LT(best.score, 0.2) << "Narendra is learnable from 1200 samples";
 }
 
+TEST(ModelSelection, CandidatesLearnWithTheDeclaredScaling) {
+  // Declaring the scaling the fitting slice would give itself must change nothing; ignoring the
+  // declaration (identity scaling on raw Narendra data) would change every score.
+  fuzzy::FuzzyModelConfig cfg;
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.1)};
+  o.kappas = {0.5, 1.0};
+  o.max_epochs = 3;
+  const Series train = testing::NarendraTrain(1000);
+  const SelectionResult fitted =
+      SelectModel(testing::NarendraSpec(), cfg, TrainOptions{}, train, o);
+  NarxModel probe(testing::NarendraSpec(), cfg);
+  probe.FitScaling(SliceSeries(train, 0, fitted.fit_samples));
+  o.scaling = probe.scaling();
+  const SelectionResult declared =
+      SelectModel(testing::NarendraSpec(), cfg, TrainOptions{}, train, o);
+  ASSERT_EQ(declared.candidates.size(), fitted.candidates.size());
+  for (std::size_t k = 0; k < fitted.candidates.size(); ++k) {
+    EXPECT_EQ(declared.candidates[k].score, fitted.candidates[k].score) << k;
+    EXPECT_EQ(declared.candidates[k].rules, fitted.candidates[k].rules) << k;
+  }
+  Scaling wrong = probe.scaling();
+  wrong.regressor_half *= 10.0;
+  o.scaling = wrong;
+  const SelectionResult off = SelectModel(testing::NarendraSpec(), cfg, TrainOptions{}, train, o);
+  EXPECT_NE(off.candidates[0].score, fitted.candidates[0].score);
+}
+
 TEST(ModelSelection, OneStepCriterionForStaticMapsAndOnRequest) {
   fuzzy::FuzzyModelConfig cfg;
   SelectionOptions o;
