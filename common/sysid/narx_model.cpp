@@ -37,7 +37,7 @@ struct RpropState {
   }
   /// The move for gradient g; updates the step sizes and the remembered gradient.
   static Eigen::ArrayXXd Step(const Eigen::ArrayXXd& g, Eigen::ArrayXXd* step,
-                              Eigen::ArrayXXd* last, double scale) {
+                              Eigen::ArrayXXd* last) {
     Eigen::ArrayXXd move(g.rows(), g.cols());
     for (Eigen::Index k = 0; k < g.size(); ++k) {
       const double agree = g(k) * (*last)(k);
@@ -48,7 +48,7 @@ struct RpropState {
         (*step)(k) = std::max((*step)(k)*0.5, kSmallestStep);
         gk = 0.0;  // iRprop−: skip this parameter once after a sign change
       }
-      move(k) = gk > 0.0 ? -(*step)(k)*scale : (gk < 0.0 ? (*step)(k)*scale : 0.0);
+      move(k) = gk > 0.0 ? -(*step)(k) : (gk < 0.0 ? (*step)(k) : 0.0);
       (*last)(k) = gk;
     }
     return move;
@@ -125,7 +125,9 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   TrainReport report;
   double rate_scale = 1.0;
   double best_loss = std::numeric_limits<double>::infinity();
+  double best_fit = 0.0;  // training FIT of the parameters behind best_loss
   double best_holdout = std::numeric_limits<double>::infinity();
+  int best_holdout_epoch = 0;
   std::vector<fuzzy::FuzzyModel> kept_holdout;  // the parameters of the best hold-out epoch
   int since_improvement = 0;
   std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
@@ -151,8 +153,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
           if (options.progress && (k % 1024 == 0 || k + 1 == rows))
             options.progress(epoch, k + 1, rows);
         }
-        m.StepPremises(st.Step(gc, &st.step_c, &st.last_c, 1.0),
-                       st.Step(gs, &st.step_s, &st.last_s, 1.0));
+        m.StepPremises(st.Step(gc, &st.step_c, &st.last_c), st.Step(gs, &st.step_s, &st.last_s));
       }
     } else {
       for (Eigen::Index r = 0; r < rows; ++r) {
@@ -177,9 +178,10 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       rec.accepted = false;
       rate_scale *= 0.5;
       for (auto& st : rprop) st.Backtrack();
-      evaluate(&rec.train_fit);
+      rec.train_fit = best_fit;  // the restored parameters are the last accepted ones
     } else {
       best_loss = loss;
+      best_fit = rec.train_fit;
       if (epoch > 0) rate_scale *= 1.1;
     }
     rec.rules = total_rules();
@@ -188,6 +190,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       rec.holdout_ndei = Ndei(*options.holdout, options.holdout_free_run);
       if (rec.accepted && rec.holdout_ndei < best_holdout) {
         best_holdout = rec.holdout_ndei;
+        best_holdout_epoch = rec.epoch;
         kept_holdout = models_;
         since_improvement = 0;
       } else {
@@ -200,8 +203,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   }
   if (options.holdout != nullptr && !kept_holdout.empty()) {
     models_ = std::move(kept_holdout);
-    for (const auto& e : report.epochs)
-      if (e.accepted && e.holdout_ndei == best_holdout) report.kept_epoch = e.epoch;
+    report.kept_epoch = best_holdout_epoch;
   }
   return report;
 }
