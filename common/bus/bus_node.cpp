@@ -157,6 +157,8 @@ void BusNode::PublishHeartbeat() {
   hb.decode_errors = stats_.decode_errors;
   hb.dropped = stats_.dropped;
   hb.gaps = stats_.gaps;
+  hb.skipped = stats_.skipped;
+  hb.repeated = stats_.repeated;
   hb.last_error = stats_.last_error;
   lcm_->publish(options_.channels.heartbeat, &hb);
 }

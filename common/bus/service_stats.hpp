@@ -14,6 +14,8 @@ struct ServiceStats {
   int64_t decode_errors = 0;  ///< undecodable: wrong fingerprint, truncated, garbage
   int64_t dropped = 0;        ///< decoded but rejected: NaN/Inf, out of range, duplicate, stale
   int64_t gaps = 0;           ///< sequence numbers skipped by a publisher
+  int64_t skipped = 0;        ///< real time: commands superseded before any sample applied them
+  int64_t repeated = 0;       ///< real time: extra samples applying an already applied command
   std::string last_error;
 
   /// Records a problem: sets last_error, and prints "[service] kind: message" to stderr the first

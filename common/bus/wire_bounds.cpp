@@ -152,9 +152,9 @@ bool CountsFit(const odonata::heartbeat_t*, const void* data, int64_t size) {
   w.Skip(kFingerprint + 2 * kI64);
   w.Strings(3);  // service, instance, host
   w.Skip(kI32);
-  w.String();  // state
-  w.Skip(5 * kI64);
-  w.String();  // last_error
+  w.String();        // state
+  w.Skip(7 * kI64);  // messages_in … repeated
+  w.String();        // last_error
   return w.ok();
 }
 

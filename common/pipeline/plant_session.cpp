@@ -1,5 +1,6 @@
 #include "pipeline/plant_session.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -37,6 +38,7 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
   newest_seq_.reset();
   held_command_ = setup_.trim_command;
   held_seq_ = -1;
+  held_applications_ = 0;
   last_ = PlantSample{0, -1, plant_.output(), StatusOf(plant_.output()), plant_.applied_command()};
   return last_;
 }
@@ -88,8 +90,13 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
   if (newest_seq_ && seq > *newest_seq_ + 1) out.missing = seq - *newest_seq_ - 1;
   newest_seq_ = seq;
   if (mode_ == Mode::kRealtime) {
+    if (held_seq_ >= 0) {
+      out.superseded_unapplied = held_applications_ == 0;
+      out.extra_applications = std::max<int64_t>(held_applications_ - 1, 0);
+    }
     held_command_ = command;
     held_seq_ = seq;
+    held_applications_ = 0;
     out.verdict = CommandVerdict::kAccepted;
     return out;
   }
@@ -105,6 +112,7 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
 const PlantSample& PlantSession::Tick() {
   assert(mode_ == Mode::kRealtime);
   StepWith(held_command_, held_seq_);
+  ++held_applications_;
   return last_;
 }
 

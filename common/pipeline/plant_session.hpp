@@ -52,7 +52,13 @@ enum class CommandVerdict {
 /// Result of PlantSession::Submit().
 struct CommandOutcome {
   CommandVerdict verdict{CommandVerdict::kRejected};
-  int64_t missing{};                   ///< sequence numbers skipped before this one
+  int64_t missing{};  ///< sequence numbers skipped before this one
+  /// Real time, kAccepted: the command this one replaced was never applied (a tick came late and
+  /// both arrived within one sample period).
+  bool superseded_unapplied{false};
+  /// Real time, kAccepted: how many extra samples applied the command this one replaced, because
+  /// no newer command had arrived at their tick.
+  int64_t extra_applications{};
   std::string problem;                 ///< why it was dropped (kStale, kRejected)
   std::optional<PlantSample> publish;  ///< lockstep: the state that answers it
 };
@@ -84,7 +90,8 @@ class PlantSession {
   /// once and answers with state seq + 1; seq == newest re-sends that answer without stepping;
   /// older is stale; a jump ahead steps and reports the gap.
   /// Real time: a newer seq replaces the held command (applied at the next Tick()); the same or
-  /// an older seq is stale.
+  /// an older seq is stale. Replacing reports whether the old command was never applied, or
+  /// applied more than once, so a loaded machine's skips and repeats are counted, not hidden.
   CommandOutcome Submit(int64_t seq, const plant::CommandMatrix& command);
 
   /// Real time: advances one sample with the held command (the hover trim before any command)
@@ -109,6 +116,7 @@ class PlantSession {
   std::optional<int64_t> newest_seq_;  // newest command accepted since the reset
   plant::CommandMatrix held_command_{plant::CommandMatrix::Zero()};  // real time
   int64_t held_seq_ = -1;                                            // real time
+  int64_t held_applications_ = 0;  // real time: ticks that applied the held command so far
 };
 
 }  // namespace odonata::pipeline

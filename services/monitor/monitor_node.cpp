@@ -107,6 +107,16 @@ void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
   p.decode_errors = m.decode_errors;
   p.dropped = m.dropped;
   p.gaps = m.gaps;
+  if (m.skipped > p.skipped || m.repeated > p.repeated) {
+    // A real-time plant falling behind: said once per heartbeat that shows new ones, so a loaded
+    // machine's degradation is visible where the accuracy is watched.
+    std::fprintf(stderr,
+                 "[%s] %s: %lld commands never applied, %lld applied twice or more so far\n",
+                 bus_.options().instance.c_str(), m.instance.c_str(),
+                 static_cast<long long>(m.skipped), static_cast<long long>(m.repeated));
+  }
+  p.skipped = m.skipped;
+  p.repeated = m.repeated;
 }
 
 void MonitorNode::OnSnapshot(const odonata::model_snapshot_t& m) {
@@ -192,11 +202,10 @@ nlohmann::json MonitorNode::Summary() const {
                           {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())}};
   }
   for (const auto& [instance, p] : peers_) {
-    j["services"][instance] = {{"service", p.service},
-                               {"state", p.state},
-                               {"decode_errors", p.decode_errors},
-                               {"dropped", p.dropped},
-                               {"gaps", p.gaps}};
+    j["services"][instance] = {
+        {"service", p.service},  {"state", p.state}, {"decode_errors", p.decode_errors},
+        {"dropped", p.dropped},  {"gaps", p.gaps},   {"skipped", p.skipped},
+        {"repeated", p.repeated}};
   }
   return j;
 }
@@ -217,9 +226,11 @@ void MonitorNode::Print() {
   }
   for (const auto& [instance, p] : peers_) {
     std::snprintf(line, sizeof line,
-                  "  %-22s %-10s decode errors %lld, dropped %lld, gaps %lld%s\n", instance.c_str(),
-                  p.state.c_str(), static_cast<long long>(p.decode_errors),
+                  "  %-22s %-10s decode errors %lld, dropped %lld, gaps %lld, skipped %lld, "
+                  "repeated %lld%s\n",
+                  instance.c_str(), p.state.c_str(), static_cast<long long>(p.decode_errors),
                   static_cast<long long>(p.dropped), static_cast<long long>(p.gaps),
+                  static_cast<long long>(p.skipped), static_cast<long long>(p.repeated),
                   p.silent ? "  SILENT" : "");
     text += line;
   }

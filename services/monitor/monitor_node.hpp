@@ -59,7 +59,7 @@ class MonitorNode {
     std::string service, state;
     std::chrono::steady_clock::time_point last_seen;
     bool silent = false;
-    int64_t decode_errors = 0, dropped = 0, gaps = 0;
+    int64_t decode_errors = 0, dropped = 0, gaps = 0, skipped = 0, repeated = 0;
   };
 
   void OnPrediction(const odonata::prediction_t& msg);

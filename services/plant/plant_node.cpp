@@ -151,6 +151,13 @@ void PlantNode::OnCommand(const odonata::wing_command_t& msg) {
     bus_.Report("gap in commands", "missing command seq " + std::to_string(msg.seq - out.missing) +
                                        " … " + std::to_string(msg.seq - 1));
   }
+  if (out.superseded_unapplied) {
+    ++bus_.stats().skipped;
+    bus_.Report("command never applied",
+                "command seq " + std::to_string(msg.seq - 1 - out.missing) +
+                    " was replaced before a sample applied it (the sample clock fell behind)");
+  }
+  bus_.stats().repeated += out.extra_applications;
   if (session_.mode() == pipeline::PlantSession::Mode::kLockstep) bus_.SetState("running");
   if (out.publish) Publish(*out.publish);
 }

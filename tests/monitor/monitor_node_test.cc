@@ -114,5 +114,23 @@ TEST_F(MonitorNodeTest, AForgedFarAheadPredictionIsDroppedAndTheScoreGoesOn) {
   EXPECT_EQ(s["outputs"]["roll_rad"]["one_step"]["samples"], 100);
 }
 
+// A real-time plant's skips and repeats reach the monitor's summary as the heartbeat reports them.
+TEST_F(MonitorNodeTest, SummaryCarriesAPlantsSkippedAndRepeatedCommands) {
+  odonata::heartbeat_t hb{};
+  hb.service = "odonata-plant";
+  hb.instance = "plant-1";
+  hb.state = "running";
+  hb.skipped = 7;
+  hb.repeated = 5;
+  hb.gaps = 2;
+  bus_->Publish(bus_->channels().heartbeat, hb);
+  Pump(*bus_);
+  const nlohmann::json s = node_->Summary();
+  ASSERT_TRUE(s["services"].contains("plant-1")) << s.dump();
+  EXPECT_EQ(s["services"]["plant-1"]["skipped"], 7);
+  EXPECT_EQ(s["services"]["plant-1"]["repeated"], 5);
+  EXPECT_EQ(s["services"]["plant-1"]["gaps"], 2);
+}
+
 }  // namespace
 }  // namespace odonata::monitor

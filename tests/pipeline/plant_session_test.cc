@@ -194,6 +194,35 @@ TEST_F(PlantSessionTest, RealtimeHoldsTheNewestCommandFromTrim) {
   }
 }
 
+// A late tick lets two commands arrive in one period (the first is never applied); a stalled
+// sender lets one command be applied at several ticks. Both are reported when the next command
+// replaces it, so a loaded machine's degradation is counted exactly.
+TEST_F(PlantSessionTest, RealtimeReportsSkippedAndRepeatedCommands) {
+  PlantSession session(config_, Mode::kRealtime, roll_);
+  const plant::CommandMatrix c = roll_.trim_command;
+  session.Tick();  // hover trim: no command to account for
+  const CommandOutcome first = session.Submit(0, c);
+  EXPECT_FALSE(first.superseded_unapplied);
+  EXPECT_EQ(first.extra_applications, 0);
+  EXPECT_EQ(session.Tick().command_seq, 0);
+  const CommandOutcome once = session.Submit(1, c);  // 0 was applied exactly once
+  EXPECT_FALSE(once.superseded_unapplied);
+  EXPECT_EQ(once.extra_applications, 0);
+  const CommandOutcome skip = session.Submit(2, c);  // 1 was never applied
+  EXPECT_TRUE(skip.superseded_unapplied);
+  EXPECT_EQ(skip.extra_applications, 0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(session.Tick().command_seq, 2);
+  const CommandOutcome repeat = session.Submit(5, c);  // 2 applied three times; 3, 4 lost
+  EXPECT_FALSE(repeat.superseded_unapplied);
+  EXPECT_EQ(repeat.extra_applications, 2);
+  EXPECT_EQ(repeat.missing, 2);
+  // A reset forgets the held command: the next one replaces nothing.
+  session.Reset(roll_);
+  const CommandOutcome after_reset = session.Submit(0, c);
+  EXPECT_FALSE(after_reset.superseded_unapplied);
+  EXPECT_EQ(after_reset.extra_applications, 0);
+}
+
 TEST_F(PlantSessionTest, DivergenceStopsWithoutNaN) {
   plant::PlantConfig config = config_;
   config.divergence.max_tilt_rad = 0.05;  // an easy divergence
