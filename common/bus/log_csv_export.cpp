@@ -5,6 +5,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "bus/event_log_reader.hpp"
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/safe_decode.hpp"
 #include "bus/sample_fields.hpp"
@@ -35,39 +36,35 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
                              const ExportOptions& options) {
   ExportSummary summary;
   std::vector<Run> runs(1);
-  for (const auto& path : log_paths) {
-    lcm::LogFile log(path, "r");
-    if (!log.good()) throw std::runtime_error(path + ": cannot open event log");
-    while (const lcm::LogEvent* ev = log.readNextEvent()) {
-      if (ev->channel == options.state_channel) {
-        odonata::plant_state_t s;
-        if (!SafeDecode(&s, ev->data, ev->datalen) || !AllFinite(s)) {
-          ++summary.undecodable;
-          continue;
-        }
-        // A fresh initial state after others marks a plant reset: a new run.
-        if (s.seq == 0 && s.command_seq < 0 && !runs.back().states.empty() &&
-            (runs.back().states.size() > 1 || !runs.back().commands.empty())) {
-          runs.emplace_back();
-        }
-        runs.back().states.emplace(s.seq, s);
-      } else if (ev->channel == options.command_channel) {
-        odonata::wing_command_t c;
-        if (!SafeDecode(&c, ev->data, ev->datalen) || !AllFinite(c) || !CountProblems(c).empty()) {
-          ++summary.undecodable;
-          continue;
-        }
-        runs.back().commands.emplace(c.seq, c);
-      } else if (ev->channel == options.beat_state_channel) {
-        odonata::beat_state_t b;
-        if (!SafeDecode(&b, ev->data, ev->datalen) || !AllFinite(b)) {
-          ++summary.undecodable;
-          continue;
-        }
-        runs.back().beats.emplace(b.seq, b);
+  ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
+    if (ev.channel == options.state_channel) {
+      odonata::plant_state_t s;
+      if (!SafeDecode(&s, ev.data, ev.datalen) || !AllFinite(s)) {
+        ++summary.undecodable;
+        return;
       }
+      // A fresh initial state after others marks a plant reset: a new run.
+      if (s.seq == 0 && s.command_seq < 0 && !runs.back().states.empty() &&
+          (runs.back().states.size() > 1 || !runs.back().commands.empty())) {
+        runs.emplace_back();
+      }
+      runs.back().states.emplace(s.seq, s);
+    } else if (ev.channel == options.command_channel) {
+      odonata::wing_command_t c;
+      if (!SafeDecode(&c, ev.data, ev.datalen) || !AllFinite(c) || !CountProblems(c).empty()) {
+        ++summary.undecodable;
+        return;
+      }
+      runs.back().commands.emplace(c.seq, c);
+    } else if (ev.channel == options.beat_state_channel) {
+      odonata::beat_state_t b;
+      if (!SafeDecode(&b, ev.data, ev.datalen) || !AllFinite(b)) {
+        ++summary.undecodable;
+        return;
+      }
+      runs.back().beats.emplace(b.seq, b);
     }
-  }
+  });
   summary.runs = static_cast<int>(runs.size());
   // Negative indices count from the end (−1 the last run), as a real-time plant that idled
   // before its reset adds a run of its own at the start.
@@ -135,12 +132,9 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
 namespace {
 void ForEachEvent(const std::vector<std::string>& log_paths, const std::string& channel,
                   const std::function<void(const lcm::LogEvent&)>& fn) {
-  for (const auto& path : log_paths) {
-    lcm::LogFile log(path, "r");
-    if (!log.good()) throw std::runtime_error(path + ": cannot open event log");
-    while (const lcm::LogEvent* ev = log.readNextEvent())
-      if (ev->channel == channel) fn(*ev);
-  }
+  ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
+    if (ev.channel == channel) fn(ev);
+  });
 }
 }  // namespace
 

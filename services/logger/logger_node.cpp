@@ -1,6 +1,8 @@
 #include "logger_node.hpp"
 
+#include <cstdint>
 #include <cstdio>
+#include <string>
 
 namespace odonata::logger {
 
@@ -8,6 +10,15 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
     : bus_(bus), options_(options), writer_(options.prefix, options.split_bytes) {
   bus_.SubscribeRaw(
       options_.channels_regex, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+        // LCM 1.3.1 hands on a datagram whose channel name has no terminating NUL with
+        // data_size -1 (4294967295 unsigned); written, it would make the rest of the log unreadable.
+        if (rbuf.data_size > INT32_MAX ||
+            (rbuf.data == nullptr && rbuf.data_size > 0)) {
+          ++bus_.stats().decode_errors;
+          bus_.Report("malformed datagram", "on '" + channel + "' with data size " +
+                                                std::to_string(rbuf.data_size) + ": not logged");
+          return;
+        }
         writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(rbuf.data_size));
       });
   bus_.Every(std::chrono::microseconds(static_cast<int64_t>(options_.flush_period_s * 1e6)),

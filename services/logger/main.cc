@@ -22,7 +22,11 @@ int main(int argc, char** argv) {
   std::string lcm_url, instance = "logger";
   double split_mb = 0;
   auto* record = app.add_subcommand("record", "record channels until SIGINT/SIGTERM");
-  record->add_option("--output,-o", rec.prefix, "file prefix (files PREFIX.00000, …)")->required();
+  record
+      ->add_option("--output,-o", rec.prefix,
+                   "file prefix: files PREFIX.00000, …, numbered on after any already there "
+                   "(never overwritten); missing directories are created")
+      ->required();
   record->add_option("--channels", rec.channels_regex, "channel regex")->capture_default_str();
   record->add_option("--split-mb", split_mb, "start a new file past this many MB (0: never)")
       ->check(CLI::NonNegativeNumber);
@@ -91,8 +95,12 @@ int main(int argc, char** argv) {
     opts.instance = instance;
     odonata::bus::BusNode bus(opts);
     odonata::logger::LoggerNode node(bus, rec);
-    std::fprintf(stderr, "[%s] recording '%s' into %s\n", instance.c_str(),
+    std::fprintf(stderr, "[%s] recording '%s' into %s", instance.c_str(),
                  rec.channels_regex.c_str(), node.writer().files().front().c_str());
+    if (node.writer().earlier_files() > 0)
+      std::fprintf(stderr, " (after %d earlier file(s) of this prefix, kept)",
+                   node.writer().earlier_files());
+    std::fprintf(stderr, "\n");
     return bus.Run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-logger: error: %s\n", e.what());

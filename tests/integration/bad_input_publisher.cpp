@@ -3,6 +3,9 @@
 // stale (duplicate / out-of-order), negative and far-future sequence numbers, and absurd array
 // counts.
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -58,6 +61,29 @@ odonata::beat_state_t Beat(int64_t seq) {
   b.seq = seq;
   b.command_seq = seq - 1;
   return b;
+}
+
+// A short LC02 datagram whose channel name has no terminating NUL: LCM 1.3.1 hands it to
+// subscribers with data_size -1. Sent with a plain UDP socket, as lcm_publish cannot make one.
+void SendUnterminatedChannel(const std::string& url) {
+  const auto at = url.find("://"), colon = url.rfind(':'), query = url.find('?');
+  if (at == std::string::npos || colon == std::string::npos || colon < at + 3) return;
+  const std::string group = url.substr(at + 3, colon - at - 3);
+  const int port = std::atoi(
+      url.substr(colon + 1, query == std::string::npos ? std::string::npos : query - colon - 1)
+          .c_str());
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) return;
+  unsigned char ttl = 0;
+  setsockopt(fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<uint16_t>(port));
+  inet_pton(AF_INET, group.c_str(), &to.sin_addr);
+  const char packet[] = {'L', 'C', '0', '2', 0,   0,   0,   1,   'D', 'I',
+                         'M', 'A', 'V', '_', 'S', 'T', 'A', 'T', 'E'};
+  sendto(fd, packet, sizeof packet, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+  close(fd);
 }
 
 }  // namespace
@@ -149,6 +175,7 @@ int main(int argc, char** argv) {
     bad_control.command = 99;
     bad_control.target = "nobody-in-particular";
     lcm.publish("ODONATA_CONTROL", &bad_control);
+    SendUnterminatedChannel(argv[1]);
     usleep(static_cast<useconds_t>(period_ms * 1000));
   }
   return 0;

@@ -33,6 +33,9 @@ done
 # Forged predictions (one far ahead) must not split the run or open a gap in its score.
 scored=$(json_get "$OUT/monitor.json" "'previous_runs' not in j and j['gaps'] == 0 and j['last_sample'] >= 990")
 [[ $scored == True ]] || fail "the monitor's score was disturbed by forged predictions: $(cat "$OUT/monitor.json")"
+# Datagrams LCM hands on with a negative size never reach the log file.
+n=$(json_get "$OUT/monitor.json" "j['services']['logger']['decode_errors']")
+((n > 0)) || fail "the logger counted no malformed datagram"
 d=$(json_get "$OUT/monitor.json" "j['services']['odonata-plant']['dropped']")
 ((d > 0)) || fail "the plant dropped no NaN/out-of-range command"
 "$LOGGER" export "$OUT"/log.* -o "$OUT/train.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export failed"; }

@@ -1,0 +1,20 @@
+#pragma once
+// Reads standard LCM event logs to the end, and says so when it cannot: lcm::LogFile returns no
+// event both at the end of a file and at a damaged event, so a reader that stops there would
+// quietly export half a log.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+namespace odonata::bus {
+
+/// Calls `fn` for every event of every log, in order.
+/// @throws std::runtime_error for a log that cannot be opened, or that holds an unreadable event
+///   before its end (naming the file, the byte offset and how many events were read).
+void ForEachLogEvent(const std::vector<std::string>& log_paths,
+                     const std::function<void(const lcm::LogEvent&)>& fn);
+
+}  // namespace odonata::bus

@@ -1,0 +1,125 @@
+// EventLogWriter never overwrites and never writes an event no reader can read back;
+// ForEachLogEvent reads a log to its end or says it is damaged.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bus/event_log_reader.hpp"
+#include "bus/event_log_writer.hpp"
+
+namespace odonata::bus {
+namespace {
+
+namespace fs = std::filesystem;
+
+class EventLogTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/odonata_event_log_test_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes `n` events of 1…n bytes on channel "A" and returns the files.
+  std::vector<std::string> Record(const std::string& prefix, int n) const {
+    EventLogWriter w(prefix, 0);
+    for (int i = 1; i <= n; ++i) {
+      const std::string data(static_cast<std::size_t>(i), static_cast<char>('a' + i % 26));
+      w.Write(i, "A", data.data(), i);
+    }
+    w.Close();
+    return w.files();
+  }
+
+  static std::vector<std::string> Events(const std::vector<std::string>& files) {
+    std::vector<std::string> out;
+    ForEachLogEvent(files, [&out](const lcm::LogEvent& ev) {
+      out.emplace_back(static_cast<const char*>(ev.data), static_cast<std::size_t>(ev.datalen));
+    });
+    return out;
+  }
+
+  static std::string Slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+
+  std::string dir_;
+};
+
+TEST_F(EventLogTest, ARestartNumbersOnAndKeepsTheEarlierRecording) {
+  const std::string prefix = dir_ + "/run";
+  const auto first = Record(prefix, 5);
+  ASSERT_EQ(first, std::vector<std::string>{prefix + ".00000"});
+  const std::string before = Slurp(first[0]);
+  const auto second = Record(prefix, 3);
+  ASSERT_EQ(second, std::vector<std::string>{prefix + ".00001"});
+  EXPECT_EQ(Slurp(first[0]), before);
+  EXPECT_EQ(Events(first).size(), 5u);
+  EXPECT_EQ(Events({first[0], second[0]}).size(), 8u);
+  // A prefix that is only the start of other names does not count them.
+  EXPECT_EQ(Record(dir_ + "/ru", 1), std::vector<std::string>{dir_ + "/ru.00000"});
+}
+
+TEST_F(EventLogTest, NeverWritesThroughASymlinkAndCreatesDirectories) {
+  const std::string victim = dir_ + "/victim.txt";
+  std::ofstream(victim) << "precious";
+  const std::string prefix = dir_ + "/new/sub/log";
+  fs::create_directories(dir_ + "/new/sub");
+  fs::create_symlink(victim, prefix + ".00000");
+  const auto files = Record(prefix, 2);
+  EXPECT_EQ(files, std::vector<std::string>{prefix + ".00001"});
+  EXPECT_EQ(Slurp(victim), "precious");
+  const auto deep = Record(dir_ + "/a/b/c/log", 1);
+  EXPECT_TRUE(fs::exists(deep[0]));
+}
+
+TEST_F(EventLogTest, AMalformedEventIsRefusedAndTheLogStaysReadable) {
+  const std::string prefix = dir_ + "/log";
+  EventLogWriter w(prefix, 0);
+  w.Write(1, "A", "xy", 2);
+  const char byte = 'z';
+  EXPECT_THROW(w.Write(2, "A", &byte, -1), std::invalid_argument);
+  EXPECT_THROW(w.Write(3, "A", nullptr, 4), std::invalid_argument);
+  EXPECT_THROW(w.Write(4, "", &byte, 1), std::invalid_argument);
+  EXPECT_THROW(w.Write(5, std::string(64, 'C'), &byte, 1), std::invalid_argument);
+  w.Write(6, "B", &byte, 1);
+  w.Close();
+  EXPECT_EQ(w.events(), 2);
+  EXPECT_EQ(Events(w.files()), (std::vector<std::string>{"xy", "z"}));
+}
+
+TEST_F(EventLogTest, ADamagedLogIsAnErrorNotAShortRead) {
+  const auto files = Record(dir_ + "/log", 20);
+  const std::string whole = Slurp(files[0]);
+  ASSERT_EQ(Events(files).size(), 20u);
+  // Cut off mid-event (a crash while writing), garbage appended, and garbage in the middle
+  // (which LogFile would silently skip to the next sync word).
+  const std::string cut = dir_ + "/cut", tail = dir_ + "/tail", middle = dir_ + "/middle";
+  std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() - 7);
+  std::ofstream(tail, std::ios::binary) << whole << "garbage";
+  std::ofstream(middle, std::ios::binary)
+      << whole.substr(0, 100) << "\x01\x02\x03garbage" << whole.substr(100);
+  for (const std::string& bad : {cut, tail, middle}) {
+    try {
+      Events({bad});
+      ADD_FAILURE() << bad << " was read as if whole";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("damaged event log"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(Events({dir_ + "/missing"}), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace odonata::bus
