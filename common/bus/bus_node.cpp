@@ -163,6 +163,16 @@ void BusNode::PublishHeartbeat() {
   lcm_->publish(options_.channels.heartbeat, &hb);
 }
 
+bool BusNode::AcceptControl(const odonata::control_t& msg) {
+  if (!AddressedTo(msg, options_.instance, options_.service)) return false;
+  const std::string refusal = ControlRefusal(msg, options_.control_senders);
+  if (refusal.empty()) return true;
+  ++stats_.dropped;
+  stats_.last_error = "refused " + refusal;
+  std::fprintf(stderr, "[%s] refused %s\n", options_.instance.c_str(), refusal.c_str());
+  return false;
+}
+
 void BusNode::Report(const std::string& kind, const std::string& message) {
   stats_.Report(options_.instance, kind, message);
 }

@@ -7,6 +7,7 @@
 #include <list>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
@@ -15,6 +16,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bus/channel_config.hpp"
+#include "bus/control_gate.hpp"
 #include "bus/safe_decode.hpp"
 #include "bus/service_stats.hpp"
 
@@ -29,6 +31,8 @@ struct BusOptions {
   std::string instance;  ///< unique name of this copy (defaults to service)
   ChannelConfig channels;
   double heartbeat_period_s = 1.0;
+  /// Senders whose RESET and SHUTDOWN this process obeys (control_gate.hpp).
+  std::vector<std::string> control_senders = DefaultControlSenders();
 };
 
 class BusNode {
@@ -72,6 +76,9 @@ class BusNode {
   /// Sets the heartbeat state, publishing a heartbeat at once when it changes.
   void SetState(const std::string& state);
   void PublishHeartbeat();
+  /// True when this process should act on `msg`: addressed to it and, for RESET and SHUTDOWN,
+  /// from an allowed sender. A refusal is counted as dropped and logged, every time.
+  bool AcceptControl(const odonata::control_t& msg);
   /// Records a problem (counts nothing by itself; callers bump the right counter).
   void Report(const std::string& kind, const std::string& message);
 

@@ -161,6 +161,7 @@ bool CountsFit(const odonata::heartbeat_t*, const void* data, int64_t size) {
 bool CountsFit(const odonata::control_t*, const void* data, int64_t size) {
   WireCursor w(data, size);
   w.Skip(kFingerprint + 2 * kI64);
+  w.String();  // sender
   w.String();  // target
   w.Skip(kI8 + kF64);
   w.String();  // path

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/atomic_file.hpp"
 #include "metrics/accuracy.hpp"
 #include "sysid/free_run.hpp"
 
@@ -293,19 +294,8 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
 }
 
 void NarxModel::Save(const std::string& path) const {
-  // Write then rename, so a crash mid-write never leaves a truncated model behind.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
-    out << ToJson().dump(1) << '\n';
-    out.flush();
-    if (!out) throw std::runtime_error(path + ": write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    throw std::runtime_error(path + ": cannot rename from " + tmp + " (" + std::strerror(errno) +
-                             ")");
-  }
+  // Whole or absent: a crash mid-write never leaves a truncated model behind.
+  io::WriteFileAtomically(path, ToJson().dump(1) + "\n");
 }
 
 NarxModel NarxModel::Load(const std::string& path) {

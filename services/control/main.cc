@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
       {"save-model", odonata::control_t::SAVE_MODEL},
       {"publish-snapshot", odonata::control_t::PUBLISH_SNAPSHOT},
       {"shutdown", odonata::control_t::SHUTDOWN}};
-  std::string command, target, path, lcm_url, channel = "ODONATA_CONTROL";
+  std::string command, target, path, lcm_url, channel = "ODONATA_CONTROL",
+                                              sender = "odonata-control";
   double value = 0;
   CLI::App app{
       "Sends a command to odonata services on ODONATA_CONTROL: reset, freeze, resume, "
@@ -31,9 +32,15 @@ int main(int argc, char** argv) {
   app.add_option(
       "--value", value,
       "the new entropy threshold (set-entropy-threshold) or forgetting factor (set-forgetting)");
-  app.add_option("--path", path, "file (save-model) or preset (reset of the plant)");
+  app.add_option("--path", path,
+                 "save-model: a plain file name, written in the identifier's --models-dir "
+                 "(default: its --save-model file); reset of the plant: a preset");
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--channel", channel, "control channel")->capture_default_str();
+  app.add_option("--instance", sender,
+                 "sender name; services obey reset and shutdown only from the names in their "
+                 "--control-from")
+      ->capture_default_str();
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   lcm::LCM lcm(lcm_url);
   if (!lcm.good()) {
@@ -43,6 +50,7 @@ int main(int argc, char** argv) {
   odonata::control_t msg{};
   msg.utime = odonata::bus::NowUtime();
   msg.seq = 0;
+  msg.sender = sender;
   msg.target = target;
   msg.command = commands.at(command);
   msg.value = value;

@@ -5,15 +5,18 @@
 
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
+#include "io/atomic_file.hpp"
 #include "odonata/prediction_t.hpp"
 
 namespace odonata::identifier {
 
 IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
-                               std::optional<sysid::NarxModel> initial, std::string save_model_path)
+                               std::optional<sysid::NarxModel> initial, std::string save_model_path,
+                               std::string models_dir)
     : bus_(bus),
       config_(std::move(config)),
       save_model_path_(std::move(save_model_path)),
+      models_dir_(std::move(models_dir)),
       core_(initial ? *initial : EmptyModel()),
       pairer_(Needs(core_.model().spec())) {
   const auto& ch = config_.channels;
@@ -181,8 +184,7 @@ void IdentifierNode::FormSample(const Pairer::Event& paired) {
 }
 
 void IdentifierNode::OnControl(const odonata::control_t& msg) {
-  if (!msg.target.empty() && msg.target != config_.instance && msg.target != bus_.options().service)
-    return;
+  if (!bus_.AcceptControl(msg)) return;
   switch (msg.command) {
     case odonata::control_t::FREEZE:
       core_.Freeze();
@@ -193,6 +195,9 @@ void IdentifierNode::OnControl(const odonata::control_t& msg) {
       if (started_) bus_.SetState("running");
       break;
     case odonata::control_t::RESET:
+      std::fprintf(stderr, "[%s] reset by '%s': the model (%d rules, %lld samples) is discarded\n",
+                   config_.instance.c_str(), msg.sender.c_str(), core_.model().total_rules(),
+                   static_cast<long long>(core_.samples_learned()));
       core_.ReplaceModel(EmptyModel());
       break;
     case odonata::control_t::SET_ENTROPY_THRESHOLD:
@@ -202,7 +207,19 @@ void IdentifierNode::OnControl(const odonata::control_t& msg) {
       core_.SetForgetting(msg.value);
       break;
     case odonata::control_t::SAVE_MODEL:
-      SaveModel(msg.path.empty() ? save_model_path_ : msg.path);
+      if (msg.path.empty()) {
+        SaveModel(save_model_path_);
+        break;
+      }
+      // A name from the bus: only a plain file name, written inside --models-dir.
+      try {
+        SaveModel(io::ConfinedPath(models_dir_, msg.path));
+      } catch (const std::invalid_argument& e) {
+        ++bus_.stats().dropped;
+        bus_.stats().last_error = std::string("refused save-model: ") + e.what();
+        std::fprintf(stderr, "[%s] refused save-model '%s' from '%s': %s\n",
+                     config_.instance.c_str(), msg.path.c_str(), msg.sender.c_str(), e.what());
+      }
       break;
     case odonata::control_t::PUBLISH_SNAPSHOT:
       // Our own resume request is answered by others; answer theirs only when running.

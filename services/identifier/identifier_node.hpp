@@ -30,7 +30,8 @@ class IdentifierNode {
   /// @param initial a saved model to start from; without one the node first asks the bus for
   ///        the last snapshot of its instance (for resume_wait_s), then starts empty.
   IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
-                 std::optional<sysid::NarxModel> initial, std::string save_model_path);
+                 std::optional<sysid::NarxModel> initial, std::string save_model_path,
+                 std::string models_dir = "");
 
   const sysid::OnlineIdentifier& core() const { return core_; }
 
@@ -58,6 +59,7 @@ class IdentifierNode {
   bus::BusNode& bus_;
   IdentifierConfig config_;
   std::string save_model_path_;
+  std::string models_dir_;  // where SAVE_MODEL with a file name writes ("" = refused)
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
   Pairer pairer_;

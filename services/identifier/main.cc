@@ -2,12 +2,15 @@
 // beat-state messages and publishes its predictions and model snapshots.
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/channel_options.hpp"
+#include "cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "identifier_node.hpp"
 
@@ -25,6 +28,12 @@ int main(int argc, char** argv) {
   app.add_option("--model", model_path, "start from this saved model instead of the bus snapshot")
       ->check(CLI::ExistingFile);
   app.add_option("--save-model", save_path, "write the model here on exit and on SAVE_MODEL");
+  std::string models_dir;
+  app.add_option("--models-dir", models_dir,
+                 "where save-model with a file name writes (a plain name only; default: the "
+                 "directory of --save-model; without either, named saves are refused)");
+  std::vector<std::string> control_senders;
+  odonata::cli::AddControlOptions(&app, &control_senders);
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (overrides the configuration)");
   odonata::cli::ChannelOptions channels;
@@ -52,8 +61,13 @@ int main(int argc, char** argv) {
     opts.service = "odonata-identifier";
     opts.instance = config.instance;
     opts.channels = config.channels;
+    opts.control_senders = control_senders;
+    if (models_dir.empty() && !save_path.empty()) {
+      models_dir = std::filesystem::path(save_path).parent_path().string();
+      if (models_dir.empty()) models_dir = ".";
+    }
     odonata::bus::BusNode bus(opts);
-    odonata::identifier::IdentifierNode node(bus, config, initial, save_path);
+    odonata::identifier::IdentifierNode node(bus, config, initial, save_path, models_dir);
     return bus.Run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-identifier: error: %s\n", e.what());

@@ -11,9 +11,9 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
   bus_.SubscribeRaw(
       options_.channels_regex, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         // LCM 1.3.1 hands on a datagram whose channel name has no terminating NUL with
-        // data_size -1 (4294967295 unsigned); written, it would make the rest of the log unreadable.
-        if (rbuf.data_size > INT32_MAX ||
-            (rbuf.data == nullptr && rbuf.data_size > 0)) {
+        // data_size -1 (4294967295 unsigned); written, it would make the rest of the log
+        // unreadable.
+        if (rbuf.data_size > INT32_MAX || (rbuf.data == nullptr && rbuf.data_size > 0)) {
           ++bus_.stats().decode_errors;
           bus_.Report("malformed datagram", "on '" + channel + "' with data size " +
                                                 std::to_string(rbuf.data_size) + ": not logged");
@@ -21,6 +21,10 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
         }
         writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(rbuf.data_size));
       });
+  // SHUTDOWN reaches the logger too: it closes its files (OnShutdown below) like on SIGTERM.
+  bus_.Subscribe<odonata::control_t>(bus_.channels().control, [this](const odonata::control_t& m) {
+    if (m.command == odonata::control_t::SHUTDOWN && bus_.AcceptControl(m)) bus_.Stop(0);
+  });
   bus_.Every(std::chrono::microseconds(static_cast<int64_t>(options_.flush_period_s * 1e6)),
              [this] { writer_.Flush(); });
   bus_.OnShutdown([this] {

@@ -9,6 +9,7 @@
 
 #include "bus/log_csv_export.hpp"
 #include "cli/channel_options.hpp"
+#include "cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "logger_node.hpp"
 
@@ -37,6 +38,8 @@ int main(int argc, char** argv) {
   record->add_option("--instance", instance, "instance name in heartbeats")->capture_default_str();
   odonata::cli::ChannelOptions channels;
   odonata::cli::AddChannelOptions(record, &channels);
+  std::vector<std::string> control_senders;
+  odonata::cli::AddControlOptions(record, &control_senders);
 
   std::vector<std::string> logs;
   std::string csv;
@@ -92,6 +95,7 @@ int main(int argc, char** argv) {
     opts.lcm_url = lcm_url;
     opts.service = "odonata-logger";
     channels.ApplyTo(&opts.channels);
+    opts.control_senders = control_senders;
     opts.instance = instance;
     odonata::bus::BusNode bus(opts);
     odonata::logger::LoggerNode node(bus, rec);

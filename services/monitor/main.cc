@@ -4,10 +4,12 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/channel_options.hpp"
+#include "cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "monitor_node.hpp"
 
@@ -37,6 +39,8 @@ int main(int argc, char** argv) {
   app.add_option("--instance", instance, "instance name")->capture_default_str();
   odonata::cli::ChannelOptions channels;
   odonata::cli::AddChannelOptions(&app, &channels);
+  std::vector<std::string> control_senders;
+  odonata::cli::AddControlOptions(&app, &control_senders);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
@@ -47,6 +51,7 @@ int main(int argc, char** argv) {
     opts.service = "odonata-monitor";
     opts.instance = instance;
     channels.ApplyTo(&opts.channels);
+    opts.control_senders = control_senders;
     odonata::bus::BusNode bus(opts);
     odonata::monitor::MonitorNode node(bus, o);
     return bus.Run();

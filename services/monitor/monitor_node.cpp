@@ -95,6 +95,12 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
 }
 
 void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
+  if (peers_.size() >= kMaxPeers && peers_.count(m.instance) == 0) {
+    const auto oldest = std::min_element(
+        peers_.begin(), peers_.end(),
+        [](const auto& a, const auto& b) { return a.second.last_seen < b.second.last_seen; });
+    peers_.erase(oldest);
+  }
   Peer& p = peers_[m.instance];
   if (p.silent) {
     std::fprintf(stderr, "[%s] %s (%s) is back, state %s\n", bus_.options().instance.c_str(),
@@ -120,19 +126,27 @@ void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
 }
 
 void MonitorNode::OnSnapshot(const odonata::model_snapshot_t& m) {
-  if (!m.instance.empty()) snapshots_[m.instance] = m;
+  if (m.instance.empty()) return;
+  if (snapshots_.size() >= kMaxSnapshots && snapshots_.count(m.instance) == 0) {
+    const auto oldest = std::min_element(
+        snapshots_.begin(), snapshots_.end(),
+        [](const auto& a, const auto& b) { return a.second.received < b.second.received; });
+    snapshots_.erase(oldest);
+  }
+  snapshots_[m.instance] = CachedSnapshot{m, std::chrono::steady_clock::now()};
 }
 
 void MonitorNode::OnControl(const odonata::control_t& m) {
   if (m.command == odonata::control_t::PUBLISH_SNAPSHOT) {
     // An identifier starting up asks for its last snapshot: answer from the cache.
     const auto it = snapshots_.find(m.target);
-    if (it != snapshots_.end()) bus_.Publish(bus_.channels().model, it->second);
+    if (it != snapshots_.end()) bus_.Publish(bus_.channels().model, it->second.snapshot);
     return;
   }
-  if (!m.target.empty() && m.target != bus_.options().instance && m.target != "odonata-monitor")
-    return;
+  if (!bus_.AcceptControl(m)) return;
   if (m.command == odonata::control_t::RESET) {
+    std::fprintf(stderr, "[%s] reset by '%s': the scores so far are discarded\n",
+                 bus_.options().instance.c_str(), m.sender.c_str());
     outputs_.clear();
     order_.clear();
     last_sample_ = -1;

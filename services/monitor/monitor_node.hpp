@@ -40,6 +40,13 @@ class MonitorNode {
   /// Final accuracy per output (what --summary-json writes).
   nlohmann::json Summary() const;
 
+  /// Bounds on what the monitor remembers from the bus, so a flood of forged heartbeats or
+  /// snapshots cannot grow it without limit: past them, the least recently heard is forgotten.
+  static constexpr std::size_t kMaxPeers = 256;
+  static constexpr std::size_t kMaxSnapshots = 64;
+  std::size_t peer_count() const { return peers_.size(); }
+  std::size_t snapshot_count() const { return snapshots_.size(); }
+
   /// True while `output`'s window FIT is below warn_fit_percent (a warning was printed and the
   /// FIT has not recovered since).
   bool Warned(const std::string& output) const {
@@ -74,8 +81,12 @@ class MonitorNode {
   MonitorOptions options_;
   std::vector<std::string> order_;  // outputs in first-seen order
   std::map<std::string, Output> outputs_;
-  std::map<std::string, Peer> peers_;                           // by instance
-  std::map<std::string, odonata::model_snapshot_t> snapshots_;  // last per identifier instance
+  std::map<std::string, Peer> peers_;  // by instance
+  struct CachedSnapshot {
+    odonata::model_snapshot_t snapshot;
+    std::chrono::steady_clock::time_point received;
+  };
+  std::map<std::string, CachedSnapshot> snapshots_;  // last per identifier instance
   int64_t last_sample_ = -1;
   int64_t gaps_ = 0;
   int64_t accuracy_seq_ = 0;

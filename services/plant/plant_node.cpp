@@ -163,8 +163,7 @@ void PlantNode::OnCommand(const odonata::wing_command_t& msg) {
 }
 
 void PlantNode::OnControl(const odonata::control_t& msg) {
-  if (!msg.target.empty() && msg.target != bus_.options().instance && msg.target != kServiceName)
-    return;
+  if (!bus_.AcceptControl(msg)) return;
   switch (msg.command) {
     case odonata::control_t::RESET:
       Reset(msg.path.empty() ? session_.setup().name : msg.path);

@@ -159,6 +159,7 @@ void SignalNode::SendReset() {
   odonata::control_t c{};
   c.utime = bus::NowUtime();
   c.seq = control_seq_++;
+  c.sender = "odonata-signal";
   c.target = options_.plant;
   c.command = odonata::control_t::RESET;
   c.path = schedule_.setup_name;  // the preset's initial condition ("" = the plant's own)

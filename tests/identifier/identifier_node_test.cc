@@ -11,7 +11,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -62,12 +65,14 @@ class IdentifierNodeTest : public ::testing::Test {
  protected:
   void Start(std::optional<sysid::NarxModel> initial = std::nullopt,
              const IdentifierConfig& config = Config()) {
-    bus_ = std::make_unique<bus::BusNode>(testing::MemqOptions("odonata-identifier"));
+    bus::BusOptions options = testing::MemqOptions("odonata-identifier");
+    options.instance = config.instance;  // as odonata-identifier's main sets it
+    bus_ = std::make_unique<bus::BusNode>(options);
     bus_->Subscribe<odonata::prediction_t>(bus_->channels().prediction,
                                            [this](const auto& m) { predictions_.push_back(m); });
     bus_->Subscribe<odonata::model_snapshot_t>(bus_->channels().model,
                                                [this](const auto& m) { snapshots_.push_back(m); });
-    node_ = std::make_unique<IdentifierNode>(*bus_, config, std::move(initial), "");
+    node_ = std::make_unique<IdentifierNode>(*bus_, config, std::move(initial), "", models_dir_);
   }
 
   void SendCommand(int64_t k) {
@@ -114,8 +119,10 @@ class IdentifierNodeTest : public ::testing::Test {
     for (const auto& p : predictions_) samples.push_back(p.sample);
     return samples;
   }
-  void Control(int8_t command, double value = 0, const std::string& path = "") {
+  void Control(int8_t command, double value = 0, const std::string& path = "",
+               const std::string& sender = "odonata-control") {
     odonata::control_t c{};
+    c.sender = sender;
     c.target = "id-test";
     c.command = command;
     c.value = value;
@@ -124,6 +131,18 @@ class IdentifierNodeTest : public ::testing::Test {
     Pump(*bus_);
   }
 
+  void SetUp() override {
+    char tmpl[] = "/tmp/odonata_identifier_models_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    models_dir_ = tmpl;
+  }
+  void TearDown() override {
+    node_.reset();
+    bus_.reset();
+    std::filesystem::remove_all(models_dir_);
+  }
+
+  std::string models_dir_;
   std::unique_ptr<bus::BusNode> bus_;
   std::unique_ptr<IdentifierNode> node_;
   std::vector<odonata::prediction_t> predictions_;
@@ -215,15 +234,39 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
   // Everything, the forgetting factor and the pruning bookkeeping included.
   EXPECT_EQ(from_bus.ToJson(), node_->core().model().ToJson());
 
-  char path[] = "/tmp/odonata_identifier_node_XXXXXX";
-  const int fd = mkstemp(path);
-  ASSERT_GE(fd, 0);
-  close(fd);
-  Control(odonata::control_t::SAVE_MODEL, 0, path);
-  const sysid::NarxModel saved = sysid::NarxModel::Load(path);
+  // A name from the bus is written inside the models directory, and only a plain name is.
+  Control(odonata::control_t::SAVE_MODEL, 0, "saved.json");
+  const sysid::NarxModel saved = sysid::NarxModel::Load(models_dir_ + "/saved.json");
   EXPECT_EQ(saved.ToJson(), node_->core().model().ToJson());
-  std::remove(path);
+  const std::string outside = models_dir_ + "-outside.json";
+  const int64_t before_refusals = bus_->stats().dropped;
+  for (const std::string& bad : {outside, std::string("../x.json"), std::string("sub/x.json"),
+                                 std::string(".hidden"), std::string("a b.json")}) {
+    Control(odonata::control_t::SAVE_MODEL, 0, bad);
+  }
+  EXPECT_EQ(bus_->stats().dropped, before_refusals + 5);
+  EXPECT_FALSE(std::filesystem::exists(outside));
+  EXPECT_FALSE(
+      std::filesystem::exists(std::filesystem::path(models_dir_).parent_path() / "x.json"));
+  // A symlink planted under the name is replaced, never written through.
+  const std::string victim = models_dir_ + "-victim.txt";
+  std::ofstream(victim) << "precious";
+  std::filesystem::create_symlink(victim, models_dir_ + "/link.json");
+  Control(odonata::control_t::SAVE_MODEL, 0, "link.json");
+  EXPECT_FALSE(std::filesystem::is_symlink(models_dir_ + "/link.json"));
+  std::ifstream victim_in(victim);
+  std::string victim_text;
+  victim_in >> victim_text;
+  EXPECT_EQ(victim_text, "precious");
+  std::filesystem::remove(victim);
 
+  // Reset and shutdown only from allowed senders.
+  const int rules = node_->core().model().total_rules();
+  ASSERT_GT(rules, 0);
+  Control(odonata::control_t::RESET, 0, "", "intruder");
+  Control(odonata::control_t::SHUTDOWN, 0, "", "");
+  EXPECT_EQ(node_->core().model().total_rules(), rules);
+  EXPECT_FALSE(bus_->io().stopped());
   Control(odonata::control_t::RESET);
   EXPECT_EQ(node_->core().model().total_rules(), 0);
 

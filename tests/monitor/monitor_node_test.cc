@@ -132,5 +132,24 @@ TEST_F(MonitorNodeTest, SummaryCarriesAPlantsSkippedAndRepeatedCommands) {
   EXPECT_EQ(s["services"]["plant-1"]["gaps"], 2);
 }
 
+// A flood of forged heartbeats and snapshots under ever new names: the monitor stays bounded and
+// still knows the peer it heard last.
+TEST_F(MonitorNodeTest, AFloodOfNewNamesKeepsTheMonitorBounded) {
+  for (int i = 0; i < 600; ++i) {
+    odonata::heartbeat_t hb{};
+    hb.service = "forged";
+    hb.instance = "peer-" + std::to_string(i);
+    hb.state = "running";
+    bus_->Publish(bus_->channels().heartbeat, hb);
+    odonata::model_snapshot_t snap{};
+    snap.instance = "ident-" + std::to_string(i);
+    bus_->Publish(bus_->channels().model, snap);
+    Pump(*bus_);
+  }
+  EXPECT_EQ(node_->peer_count(), MonitorNode::kMaxPeers);
+  EXPECT_EQ(node_->snapshot_count(), MonitorNode::kMaxSnapshots);
+  EXPECT_TRUE(node_->Summary()["services"].contains("peer-599"));
+}
+
 }  // namespace
 }  // namespace odonata::monitor

@@ -67,8 +67,10 @@ class PlantNodeTest : public ::testing::Test {
     bus_->Publish(bus_->channels().command, m);
     Pump(*bus_);
   }
-  void Control(int8_t command, const std::string& target, const std::string& path = "") {
+  void Control(int8_t command, const std::string& target, const std::string& path = "",
+               const std::string& sender = "odonata-control") {
     odonata::control_t c{};
+    c.sender = sender;
     c.target = target;
     c.command = command;
     c.path = path;
@@ -255,12 +257,21 @@ TEST_F(PlantNodeTest, ResetToAnotherPresetAndShutdown) {
   Control(odonata::control_t::RESET, "", "no_such_preset");  // refused, counted
   EXPECT_EQ(bus_->stats().dropped, 1);
   EXPECT_EQ(node_->session().setup().name, "actuator_fz");
+  // Reset and shutdown only from allowed senders: a stranger's are refused and counted.
+  Send(Command(1, trim_));
+  Control(odonata::control_t::RESET, "", "roll", "stranger");
+  Control(odonata::control_t::SHUTDOWN, "", "", "");
+  EXPECT_EQ(bus_->stats().dropped, 3);
+  EXPECT_EQ(node_->session().setup().name, "actuator_fz");
+  EXPECT_EQ(node_->session().last().seq, 2);
+  EXPECT_FALSE(bus_->io().stopped());
 
   Control(odonata::control_t::RESET, "");  // empty path: the current set-up again
   EXPECT_EQ(states_.back().seq, 0);
 
   odonata::control_t c{};
   c.command = odonata::control_t::SHUTDOWN;
+  c.sender = "odonata-signal";
   bus_->Publish(bus_->channels().control, c);
   bus_->After(std::chrono::seconds(3), [this] { bus_->Stop(99); });  // fence
   bus_->io().restart();
