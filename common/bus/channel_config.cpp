@@ -9,7 +9,7 @@ namespace odonata::bus {
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
   for (std::string* s :
-       {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat, &control})
+       {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat, &control, &ack})
     *s += "_" + suffix;
 }
 
@@ -23,6 +23,7 @@ void ChannelConfig::Override(const nlohmann::json& j) {
                           : key == "accuracy"   ? &accuracy
                           : key == "heartbeat"  ? &heartbeat
                           : key == "control"    ? &control
+                          : key == "ack"        ? &ack
                                                 : nullptr;
     if (!target) throw std::runtime_error("channels: unknown channel '" + key + "'");
     *target = value.get<std::string>();

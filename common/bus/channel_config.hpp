@@ -18,6 +18,7 @@ struct ChannelConfig {
   std::string accuracy = "ODONATA_ACCURACY";
   std::string heartbeat = "ODONATA_HEARTBEAT";
   std::string control = "ODONATA_CONTROL";
+  std::string ack = "ODONATA_ACK";  ///< lockstep receipts from consumers to the generator
 
   /// Appends `_SUFFIX` to every name (no-op for an empty suffix).
   void ApplySuffix(const std::string& suffix);

@@ -168,4 +168,12 @@ bool CountsFit(const odonata::control_t*, const void* data, int64_t size) {
   return w.ok();
 }
 
+bool CountsFit(const odonata::ack_t*, const void* data, int64_t size) {
+  WireCursor w(data, size);
+  w.Skip(kFingerprint + 2 * kI64);
+  w.Strings(2);  // service, instance
+  w.Skip(kI64);
+  return w.ok();
+}
+
 }  // namespace odonata::bus

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "odonata/accuracy_t.hpp"
+#include "odonata/ack_t.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/heartbeat_t.hpp"
@@ -32,5 +33,6 @@ bool CountsFit(const odonata::accuracy_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::model_snapshot_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::heartbeat_t*, const void* data, int64_t size);
 bool CountsFit(const odonata::control_t*, const void* data, int64_t size);
+bool CountsFit(const odonata::ack_t*, const void* data, int64_t size);
 
 }  // namespace odonata::bus

@@ -14,6 +14,7 @@ SequencerAction LockstepSequencer::Start() {
   phase_ = Phase::kAwaitingInitial;
   current_ = 0;
   resends_ = 0;
+  received_ = false;
   SequencerAction a;
   if (reset_plant_) a.kind = SequencerAction::Kind::kSendReset;
   return a;
@@ -28,16 +29,75 @@ SequencerAction LockstepSequencer::Fail(SequencerAction::Failure failure, std::s
   return a;
 }
 
+bool LockstepSequencer::Acknowledged(int64_t state_seq) const {
+  for (const auto& [instance, acked] : consumers_)
+    if (acked < state_seq) return false;
+  return true;
+}
+
+std::string LockstepSequencer::Laggards(int64_t state_seq) const {
+  std::string names;
+  for (const auto& [instance, acked] : consumers_) {
+    if (acked >= state_seq) continue;
+    if (!names.empty()) names += ", ";
+    names += "'" + instance + "' (newest acknowledged: " + std::to_string(acked) + ")";
+  }
+  return names;
+}
+
+SequencerAction LockstepSequencer::TryAdvance() {
+  SequencerAction a;
+  if (!received_ || !Acknowledged(Awaited())) return a;
+  if (phase_ == Phase::kAwaitingInitial) {
+    if (start_held_) return a;
+    phase_ = Phase::kAwaitingAnswer;
+    current_ = 0;
+  } else if (phase_ == Phase::kAwaitingAnswer) {
+    ++current_;
+    if (current_ == command_count_) {
+      phase_ = Phase::kFinished;
+      a.kind = SequencerAction::Kind::kFinished;
+      return a;
+    }
+  } else {
+    return a;
+  }
+  received_ = false;
+  resends_ = 0;
+  a.kind = SequencerAction::Kind::kSendCommand;
+  a.seq = current_;
+  return a;
+}
+
+SequencerAction LockstepSequencer::AddConsumer(const std::string& instance) {
+  consumers_.emplace(instance, -1);
+  return SequencerAction{};  // adding never releases anything
+}
+
+SequencerAction LockstepSequencer::RemoveConsumer(const std::string& instance) {
+  consumers_.erase(instance);
+  return TryAdvance();
+}
+
+SequencerAction LockstepSequencer::OnAck(const std::string& instance, int64_t state_seq) {
+  const auto it = consumers_.find(instance);
+  if (it == consumers_.end()) return SequencerAction{};
+  // A consumer that restarted acknowledges from scratch: its newest receipt is the truth.
+  it->second = state_seq;
+  return TryAdvance();
+}
+
+SequencerAction LockstepSequencer::ReleaseStart() {
+  start_held_ = false;
+  return TryAdvance();
+}
+
 SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, bool diverged) {
   SequencerAction a;
   if (phase_ == Phase::kAwaitingInitial) {
     if (seq != 0 || command_seq != -1) return a;  // an old run's state, or another generator's
-    phase_ = Phase::kAwaitingAnswer;
-    current_ = 0;
-    resends_ = 0;
-    a.kind = SequencerAction::Kind::kSendCommand;
-    a.seq = 0;
-    return a;
+    received_ = true;
+    return TryAdvance();
   }
   if (phase_ != Phase::kAwaitingAnswer) return a;
   if (seq == 0 && command_seq == -1 && current_ > 0) {
@@ -53,22 +113,22 @@ SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, boo
                                                          std::to_string(current_) +
                                                          " (its divergence policy is stop)");
   }
-  ++current_;
-  resends_ = 0;
-  if (current_ == command_count_) {
-    phase_ = Phase::kFinished;
-    a.kind = SequencerAction::Kind::kFinished;
-    return a;
-  }
-  a.kind = SequencerAction::Kind::kSendCommand;
-  a.seq = current_;
-  return a;
+  received_ = true;
+  return TryAdvance();
 }
 
 SequencerAction LockstepSequencer::OnTimeout() {
   SequencerAction a;
   if (phase_ != Phase::kAwaitingInitial && phase_ != Phase::kAwaitingAnswer) return a;
+  if (phase_ == Phase::kAwaitingInitial && received_ && start_held_) return a;  // discovering
+  const bool acks_missing = received_ && !Acknowledged(Awaited());
   if (resends_ >= max_resends_) {
+    if (acks_missing) {
+      return Fail(SequencerAction::Failure::kConsumerLost,
+                  "no acknowledgement of state " + std::to_string(Awaited()) + " from " +
+                      Laggards(Awaited()) + " after " + std::to_string(resends_) +
+                      " resends: it would miss samples");
+    }
     if (phase_ == Phase::kAwaitingInitial) {
       return Fail(SequencerAction::Failure::kNoAnswer,
                   reset_plant_ ? "no fresh state 0 after RESET"
@@ -81,6 +141,7 @@ SequencerAction LockstepSequencer::OnTimeout() {
   }
   ++resends_;
   ++total_resends_;
+  if (acks_missing) ++ack_resends_;
   a.resend = true;
   if (phase_ == Phase::kAwaitingInitial) {
     // Without a reset there is nothing to resend: waiting again is all there is to do.

@@ -161,6 +161,17 @@ class SamplePairer {
     return events;
   }
 
+  /// The newest state held with everything the samples up to it need from the messages
+  /// published up to it: every earlier sample is complete (or lost), and its own beat state is in
+  /// hand when beat averages are needed. -1 before any. This is what a lockstep receipt (ack_t)
+  /// acknowledges: the generator's next command can only bring what comes after it.
+  int64_t newest_held_state() const {
+    if (!previous_) return -1;
+    const int64_t s = previous_->seq;
+    if (needs_.beat && !FindBeat(s, previous_->command_seq)) return s - 1;
+    return s;
+  }
+
   /// States after the newest handled one, waiting for a message their sample needs (the newest
   /// handled state itself waits for its successor and is not counted).
   std::size_t pending_states() const { return pending_.size(); }

@@ -6,6 +6,7 @@
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
 #include "io/atomic_file.hpp"
+#include "odonata/ack_t.hpp"
 #include "odonata/prediction_t.hpp"
 
 namespace odonata::identifier {
@@ -79,16 +80,35 @@ void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
   const std::string count = bus::CountProblems(msg);
   if (!count.empty()) throw std::invalid_argument("command: " + count);
   Handle(pairer_.OnCommand(msg));
+  Acknowledge(false);
 }
 
 void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
   Handle(pairer_.OnState(msg));
+  Acknowledge(true);
 }
 
 void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
   if (!bus::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
   Handle(pairer_.OnBeat(msg));
+  Acknowledge(false);
+}
+
+void IdentifierNode::Acknowledge(bool always) {
+  // Waiting for a snapshot, samples are not learned: no receipt, so a lockstep generator does not
+  // count this identifier as having them.
+  if (!started_) return;
+  const int64_t held = pairer_.newest_held_state();
+  if (held < 0 || (!always && held == last_ack_)) return;
+  last_ack_ = held;
+  odonata::ack_t a{};
+  a.utime = bus::NowUtime();
+  a.seq = ack_seq_++;
+  a.service = bus_.options().service;
+  a.instance = bus_.options().instance;
+  a.state_seq = held;
+  bus_.Publish(config_.channels.ack, a);
 }
 
 void IdentifierNode::Handle(std::vector<Pairer::Event> events) {

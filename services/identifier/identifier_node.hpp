@@ -51,6 +51,9 @@ class IdentifierNode {
   void OnSnapshot(const odonata::model_snapshot_t& msg);
   void StartLearning(const std::string& how);
   void Handle(std::vector<Pairer::Event> events);
+  // Publishes the lockstep receipt (ack_t): after every state (a resend's too, so a lost receipt
+  // is repaired), else only when it advanced.
+  void Acknowledge(bool always);
   void FormSample(const Pairer::Event& paired);
   void PublishSnapshot();
   void SaveModel(const std::string& path);
@@ -65,6 +68,8 @@ class IdentifierNode {
   Pairer pairer_;
   int64_t prediction_seq_ = 0;
   int64_t snapshot_seq_ = 0;
+  int64_t ack_seq_ = 0;
+  int64_t last_ack_ = -1;
 };
 
 }  // namespace odonata::identifier

@@ -1,5 +1,11 @@
 #include "logger_node.hpp"
 
+#include "odonata/ack_t.hpp"
+#include "odonata/beat_state_t.hpp"
+#include "odonata/plant_state_t.hpp"
+#include "odonata/wing_command_t.hpp"
+
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -20,6 +26,7 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
           return;
         }
         writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(rbuf.data_size));
+        Track(channel, rbuf);
       });
   // SHUTDOWN reaches the logger too: it closes its files (OnShutdown below) like on SIGTERM.
   bus_.Subscribe<odonata::control_t>(bus_.channels().control, [this](const odonata::control_t& m) {
@@ -35,6 +42,41 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
     std::fprintf(stderr, "\n");
   });
   bus_.SetState("running");
+}
+
+void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbuf) {
+  const auto& ch = bus_.channels();
+  const bool is_state = channel == ch.state;
+  // Written already whatever it holds; only genuine-looking seqs move the receipt.
+  if (is_state) {
+    odonata::plant_state_t m;
+    if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
+    newest_state_ = m.seq;
+  } else if (channel == ch.command) {
+    odonata::wing_command_t m;
+    if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
+    newest_command_ = m.seq;
+  } else if (channel == ch.beat_state) {
+    odonata::beat_state_t m;
+    if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
+    newest_beat_ = m.seq;
+    beats_seen_ = true;
+  } else {
+    return;
+  }
+  // State s is held with all it needs once command s - 1 (which it answers) and beat state s
+  // (published right after it) are written too.
+  int64_t held = std::min(newest_state_, newest_command_ + 1);
+  if (beats_seen_) held = std::min(held, newest_beat_);
+  if (held < 0 || (!is_state && held == last_ack_)) return;
+  last_ack_ = held;
+  odonata::ack_t a{};
+  a.utime = bus::NowUtime();
+  a.seq = ack_seq_++;
+  a.service = bus_.options().service;
+  a.instance = bus_.options().instance;
+  a.state_seq = held;
+  bus_.Publish(ch.ack, a);
 }
 
 }  // namespace odonata::logger

@@ -4,6 +4,7 @@
 //
 // Inputs: every channel matching the regex. Outputs: log files; ODONATA_HEARTBEAT.
 
+#include <cstdint>
 #include <string>
 
 #include "bus/bus_node.hpp"
@@ -25,9 +26,16 @@ class LoggerNode {
   const bus::EventLogWriter& writer() const { return writer_; }
 
  private:
+  // Lockstep receipt (ack_t): the newest state written with its command and beat state.
+  void Track(const std::string& channel, const lcm::ReceiveBuffer& rbuf);
+
   bus::BusNode& bus_;
   RecordOptions options_;
   bus::EventLogWriter writer_;
+  int64_t newest_state_ = -1, newest_command_ = -1, newest_beat_ = -1;
+  bool beats_seen_ = false;
+  int64_t last_ack_ = -1;
+  int64_t ack_seq_ = 0;
 };
 
 }  // namespace odonata::logger

@@ -54,6 +54,16 @@ int main(int argc, char** argv) {
   app.add_flag("--reset-plant,!--no-reset-plant", options.reset_plant,
                "send RESET (with the preset) first and wait for a fresh state 0 (default on)");
   app.add_option("--plant", options.plant, "plant instance to reset and wait for");
+  options.discover_s = 1.1;  // a heartbeat period and a margin
+  app.add_option("--wait-for", options.wait_for,
+                 "lockstep: a consumer instance whose receipt (ODONATA_ACK) of each state the next "
+                 "command waits for (repeatable)");
+  app.add_option("--discover-consumers", options.discover_s,
+                 "lockstep: seconds to listen for identifier and logger heartbeats before the "
+                 "first command; each one heard is waited for too, so none loses a sample (0: "
+                 "only --wait-for)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 60.0));
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (default odonata-signal)");
   odonata::cli::ChannelOptions channels;

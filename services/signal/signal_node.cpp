@@ -46,6 +46,24 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
   const auto& ch = bus_.channels();
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
+  if (options_.lockstep) {
+    bus_.Subscribe<odonata::ack_t>(ch.ack, [this](const auto& m) { OnAck(m); });
+    for (const std::string& name : options_.wait_for) sequencer_.AddConsumer(name);
+    if (options_.discover_s > 0) {
+      bus_.Subscribe<odonata::heartbeat_t>(ch.heartbeat, [this](const auto& m) { OnHeartbeat(m); });
+      sequencer_.HoldStart();
+      bus_.After(std::chrono::microseconds(static_cast<int64_t>(options_.discover_s * 1e6)),
+                 [this] {
+                   if (finished_) return;
+                   std::string names;
+                   for (const auto& [name, acked] : sequencer_.consumers()) names += " " + name;
+                   std::fprintf(stderr, "[%s] lockstep waits for receipts from:%s\n",
+                                bus_.options().instance.c_str(),
+                                names.empty() ? " nobody" : names.c_str());
+                   Apply(sequencer_.ReleaseStart());
+                 });
+    }
+  }
   bus_.OnShutdown([this] {
     if (options_.progress && !finished_) std::fputc('\n', stderr);  // end the progress line
     finished_ = true;
@@ -65,6 +83,32 @@ void SignalNode::OnState(const odonata::plant_state_t& msg) {
   if (finished_ || realtime_started_) return;
   Apply(sequencer_.OnState(msg.seq, msg.command_seq,
                            msg.status == odonata::plant_state_t::STATUS_DIVERGED));
+}
+
+void SignalNode::OnAck(const odonata::ack_t& msg) {
+  if (finished_) return;
+  Apply(sequencer_.OnAck(msg.instance, msg.state_seq));
+}
+
+void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
+  if (finished_) return;
+  if (msg.service != "odonata-identifier" && msg.service != "odonata-logger") return;
+  const bool known = sequencer_.consumers().count(msg.instance) > 0;
+  if (!known && (msg.state == "running" || msg.state == "frozen")) {
+    sequencer_.AddConsumer(msg.instance);
+    if (sequencer_.phase() != pipeline::LockstepSequencer::Phase::kAwaitingInitial) {
+      std::fprintf(stderr, "[%s] %s joined mid-run: waiting for its receipts too\n",
+                   bus_.options().instance.c_str(), msg.instance.c_str());
+    }
+  } else if (known && (msg.state == "stopping" || msg.state == "error")) {
+    // It leaves with what it has; the rest of the run goes on for the others, but the run failed
+    // it, and says so at the end.
+    consumer_left_ = msg.instance + " (" + msg.state + " at command " +
+                     std::to_string(sequencer_.current()) + ")";
+    std::fprintf(stderr, "[%s] WARNING: consumer %s left mid-run; it misses the rest\n",
+                 bus_.options().instance.c_str(), consumer_left_.c_str());
+    Apply(sequencer_.RemoveConsumer(msg.instance));
+  }
 }
 
 void SignalNode::OnControl(const odonata::control_t& msg) {
@@ -94,6 +138,11 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
       return;
     case Kind::kFinished:
       ShowProgress(sequencer_.command_count(), true);
+      if (!consumer_left_.empty()) {
+        Finish(kExitConsumerLost, "every command was answered, but consumer " + consumer_left_ +
+                                      " left before the end: it misses samples");
+        return;
+      }
       Finish(0, "");
       return;
     case Kind::kFailed: {
@@ -105,7 +154,9 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
                    std::to_string(options_.timeout_ms) + " ms apart: is " + options_.plant +
                    " running, on the same --lcm-url and --channel-suffix?";
       }
-      Finish(diverged ? kExitDiverged : kExitNoPlant, message);
+      const bool consumer = action.failure == pipeline::SequencerAction::Failure::kConsumerLost;
+      if (consumer) message = action.message;
+      Finish(diverged ? kExitDiverged : consumer ? kExitConsumerLost : kExitNoPlant, message);
       return;
     }
   }
@@ -183,9 +234,10 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
   timer_.cancel();
   if (exit_code == 0) {
     bus_.SetState("finished");
-    std::fprintf(stderr, "[%s] sent %zu commands (%s), %lld resend(s)\n",
+    std::fprintf(stderr, "[%s] sent %zu commands (%s), %lld resend(s), %lld for missing receipts\n",
                  bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
-                 static_cast<long long>(sequencer_.total_resends()));
+                 static_cast<long long>(sequencer_.total_resends()),
+                 static_cast<long long>(sequencer_.ack_resends()));
   } else {
     bus_.SetState("error");
     bus_.stats().last_error = message;

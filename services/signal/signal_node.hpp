@@ -2,18 +2,22 @@
 // odonata-signal's process shell: sends a CommandSchedule as DIMAV_COMMAND messages, paced by the
 // plant's answers (lockstep, via LockstepSequencer) or by a clock (real time).
 //
-// Inputs:  DIMAV_STATE (plant_state_t), ODONATA_CONTROL (control_t: SHUTDOWN)
+// Inputs:  DIMAV_STATE (plant_state_t), ODONATA_CONTROL (control_t: SHUTDOWN); lockstep also
+//          ODONATA_ACK (ack_t receipts) and ODONATA_HEARTBEAT (to discover its consumers)
 // Outputs: DIMAV_COMMAND (wing_command_t), ODONATA_CONTROL (RESET to the plant),
 //          ODONATA_HEARTBEAT (via BusNode)
 
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <boost/asio/steady_timer.hpp>
 
 #include "bus/bus_node.hpp"
+#include "odonata/ack_t.hpp"
 #include "odonata/control_t.hpp"
+#include "odonata/heartbeat_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
 #include "pipeline/command_schedule.hpp"
@@ -28,6 +32,8 @@ inline constexpr const char* kServiceName = "odonata-signal";
 inline constexpr int kExitNoPlant = 1;
 /// Exit code when the plant diverged (as odonata-sim's exit code for a stopped run).
 inline constexpr int kExitDiverged = 3;
+/// Exit code when a lockstep consumer stopped acknowledging or left mid-run: it misses samples.
+inline constexpr int kExitConsumerLost = 4;
 
 /// How the generator runs.
 struct SignalOptions {
@@ -37,7 +43,12 @@ struct SignalOptions {
   int max_resends = 10;     ///< consecutive resends before giving up
   bool reset_plant = true;  ///< send RESET (with the preset name) and wait for state 0 first
   std::string plant = "odonata-plant";  ///< plant instance to address and to name in errors
-  bool progress = false;                ///< show "sample k of N" on stderr (only for a terminal)
+  /// Lockstep: consumers (instance names) whose receipt of each state the next command waits for.
+  std::vector<std::string> wait_for;
+  /// Lockstep: listen this long before command 0 for identifier and logger heartbeats; each one
+  /// heard (running or frozen) is waited for too. 0: only `wait_for`.
+  double discover_s = 0;
+  bool progress = false;  ///< show "sample k of N" on stderr (only for a terminal)
 };
 
 /// Builds command message k of `schedule` (utime = now).
@@ -57,6 +68,8 @@ class SignalNode {
 
  private:
   void OnState(const odonata::plant_state_t& msg);
+  void OnAck(const odonata::ack_t& msg);
+  void OnHeartbeat(const odonata::heartbeat_t& msg);
   void OnControl(const odonata::control_t& msg);
   void Apply(const pipeline::SequencerAction& action);
   void ArmTimeout();
@@ -78,6 +91,7 @@ class SignalNode {
   int64_t commands_sent_ = 0;
   int64_t control_seq_ = 0;
   bool finished_ = false;
+  std::string consumer_left_;  // a consumer that stopped mid-run (the run failed it)
   std::chrono::steady_clock::time_point last_progress_{};
 };
 

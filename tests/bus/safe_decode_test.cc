@@ -110,8 +110,17 @@ odonata::heartbeat_t Heartbeat() {
   return h;
 }
 
+odonata::ack_t Ack() {
+  odonata::ack_t a{};
+  a.service = "odonata-logger";
+  a.instance = "logger";
+  a.state_seq = 12;
+  return a;
+}
+
 odonata::control_t Control() {
   odonata::control_t c{};
+  c.sender = "odonata-control";
   c.target = "identifier";
   c.command = odonata::control_t::SAVE_MODEL;
   c.path = "/tmp/model.json";
@@ -176,6 +185,7 @@ TEST(SafeDecode, EveryTypeSurvivesAbsurdCountsAtEveryOffset) {
   CheckType(Snapshot());
   CheckType(Heartbeat());
   CheckType(Control());
+  CheckType(Ack());
 }
 
 TEST(SafeDecode, RejectsAnAbsurdCountBeforeDecodeAllocates) {
@@ -210,7 +220,7 @@ TEST(SafeDecode, RejectsRowsOfNothingThatStillCostMemory) {
 TEST(SafeDecode, RejectsAZeroLengthString) {
   auto bytes = Encode(Control());
   odonata::control_t c;
-  Poke(bytes, 8 + 8 + 8, 0);  // target's length: decode() would assign 2^64 − 1 characters
+  Poke(bytes, 8 + 8 + 8, 0);  // sender's length: decode() would assign 2^64 − 1 characters
   EXPECT_FALSE(SafeDecode(&c, bytes.data(), static_cast<int64_t>(bytes.size())));
 }
 

@@ -81,5 +81,56 @@ TEST(LockstepSequencer, DivergenceAndRestartFail) {
   EXPECT_THROW(LockstepSequencer(0, true, 3), std::invalid_argument);
 }
 
+// Lossless: the next command waits for every consumer's receipt of the answer; a consumer that
+// lost it is repaired by the resend of the command; one that never answers fails the run.
+TEST(LockstepSequencer, TheNextCommandWaitsForEveryConsumer) {
+  LockstepSequencer s(3, true, 2);
+  s.AddConsumer("identifier");
+  s.AddConsumer("logger");
+  s.HoldStart();
+  s.Start();
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);  // receipts of state 0 missing
+  EXPECT_EQ(s.OnAck("identifier", 0).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("logger", 0).kind, Kind::kNone);  // the start is still held
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);         // discovering: nothing to resend or count
+  SequencerAction a = s.ReleaseStart();
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 0);
+  EXPECT_EQ(s.OnState(1, 0, false).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("logger", 1).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("stranger", 1).kind, Kind::kNone);  // not waited for: ignored
+  a = s.OnTimeout();  // the identifier lost state 1 or command 0: both come again
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 0);
+  EXPECT_EQ(s.ack_resends(), 1);
+  a = s.OnAck("identifier", 1);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 1);
+  // Receipts before the plant's answer do not count the answer as received.
+  EXPECT_EQ(s.OnAck("identifier", 2).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("logger", 2).kind, Kind::kNone);
+  EXPECT_EQ(s.OnState(2, 1, false).seq, 2);
+  // A consumer that stops cleanly is no longer waited for.
+  EXPECT_EQ(s.OnState(3, 2, false).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("identifier", 3).kind, Kind::kNone);
+  EXPECT_EQ(s.RemoveConsumer("logger").kind, Kind::kFinished);
+}
+
+TEST(LockstepSequencer, AConsumerThatNeverAcknowledgesFailsTheRun) {
+  LockstepSequencer s(5, false, 2);
+  s.AddConsumer("identifier");
+  s.Start();
+  s.OnState(0, -1, false);
+  ASSERT_EQ(s.OnAck("identifier", 0).kind, Kind::kSendCommand);
+  s.OnState(1, 0, false);
+  EXPECT_EQ(s.OnTimeout().seq, 0);
+  EXPECT_EQ(s.OnTimeout().seq, 0);
+  const SequencerAction a = s.OnTimeout();
+  EXPECT_EQ(a.kind, Kind::kFailed);
+  EXPECT_EQ(a.failure, SequencerAction::Failure::kConsumerLost);
+  EXPECT_NE(a.message.find("'identifier'"), std::string::npos) << a.message;
+  EXPECT_NE(a.message.find("state 1"), std::string::npos) << a.message;
+}
+
 }  // namespace
 }  // namespace odonata::pipeline
