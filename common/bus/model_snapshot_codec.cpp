@@ -11,6 +11,7 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
   m.utime = 0;
   m.seq = 0;
   m.samples_learned = 0;
+  m.learning = 1;  // the identifier sets both from its learner
   const auto& r = j["regressor"];
   m.output_lags = r["output_lags"];
   m.input_lags = r["input_lags"];

@@ -134,9 +134,9 @@ bool CountsFit(const odonata::accuracy_t*, const void* data, int64_t size) {
 
 bool CountsFit(const odonata::model_snapshot_t*, const void* data, int64_t size) {
   WireCursor w(data, size);
-  w.Skip(kFingerprint + 3 * kI64);
-  w.String();        // instance
-  w.Skip(3 * kI32);  // lags, delay
+  w.Skip(kFingerprint + 3 * kI64 + kI8);  // utime, seq, samples_learned, learning
+  w.String();                             // instance
+  w.Skip(3 * kI32);                       // lags, delay
   const int64_t outputs = w.Count();
   w.Strings(outputs);
   w.Strings(w.Count());  // inputs

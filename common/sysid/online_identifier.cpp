@@ -13,8 +13,9 @@ void OnlineIdentifier::RestartHistory() {
   have_last_ = false;
 }
 
-void OnlineIdentifier::ReplaceModel(NarxModel model) {
+void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
   model_ = std::move(model);
+  samples_learned_ = samples_learned;
   RestartHistory();
 }
 

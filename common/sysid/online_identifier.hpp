@@ -49,8 +49,9 @@ class OnlineIdentifier {
   bool learning() const { return learning_; }
   /// Forgets the history (e.g. the plant was reset); the model is kept.
   void RestartHistory();
-  /// Replaces the model (a saved model or a snapshot from the bus); the history restarts.
-  void ReplaceModel(NarxModel model);
+  /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
+  /// the learned-sample count becomes `samples_learned` (a resumed model's own count).
+  void ReplaceModel(NarxModel model, int64_t samples_learned = 0);
   /// @throws std::invalid_argument (model unchanged) outside the fuzzy core's range.
   void SetEntropyThreshold(double h);
   /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].

@@ -8,6 +8,7 @@
 #include "io/atomic_file.hpp"
 #include "odonata/ack_t.hpp"
 #include "odonata/prediction_t.hpp"
+#include "snapshot_admission.hpp"
 
 namespace odonata::identifier {
 
@@ -71,8 +72,20 @@ void IdentifierNode::StartLearning(const std::string& how) {
 
 void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
   if (started_ || msg.instance != config_.instance) return;
-  core_.ReplaceModel(bus::DecodeSnapshot(msg));  // throws on a malformed snapshot: counted
-  StartLearning("from the bus snapshot of sample " + std::to_string(msg.samples_learned));
+  const std::string mismatch = SnapshotMismatch(msg, config_);
+  if (!mismatch.empty()) {
+    ++bus_.stats().dropped;
+    bus_.stats().last_error = "snapshot not resumed: " + mismatch;
+    StartLearning("with an empty model: the snapshot of '" + msg.instance +
+                  "' on the bus does not fit this identifier (" + mismatch + ")");
+    return;
+  }
+  sysid::NarxModel model = bus::DecodeSnapshot(msg);  // throws on a malformed snapshot: counted
+  if (msg.samples_learned < 0) throw std::invalid_argument("snapshot with a negative sample count");
+  core_.ReplaceModel(std::move(model), msg.samples_learned);
+  if (msg.learning == 0) core_.Freeze();  // frozen before it stopped: frozen again
+  StartLearning("from the bus snapshot after " + std::to_string(msg.samples_learned) +
+                " learned samples" + (msg.learning == 0 ? " (frozen, as it was)" : ""));
 }
 
 void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
@@ -258,6 +271,7 @@ void IdentifierNode::PublishSnapshot() {
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;
   s.samples_learned = core_.samples_learned();
+  s.learning = core_.learning() ? 1 : 0;
   s.instance = config_.instance;
   bus_.Publish(config_.channels.model, s);
 }

@@ -296,6 +296,59 @@ TEST_F(IdentifierNodeTest, StartsFromASavedModelAndLearnsOnFromIt) {
   EXPECT_DOUBLE_EQ(p.predicted[1], expected(1));
 }
 
+// A restarted identifier resumes only a snapshot of its own signals and within its own bounds,
+// with the snapshot's learned-sample count and its frozen state; any other starts it fresh.
+TEST_F(IdentifierNodeTest, ResumesOnlyAFittingSnapshotWithItsCountAndFrozenState) {
+  Start();
+  Run(0, 120);
+  Control(odonata::control_t::FREEZE);
+  snapshots_.clear();
+  Control(odonata::control_t::PUBLISH_SNAPSHOT);
+  ASSERT_EQ(snapshots_.size(), 1u);
+  const odonata::model_snapshot_t snap = snapshots_[0];
+  const int64_t learned = node_->core().samples_learned();
+  ASSERT_GT(learned, 100);
+  EXPECT_EQ(snap.samples_learned, learned);
+  EXPECT_EQ(snap.learning, 0);
+  const nlohmann::json model = node_->core().model().ToJson();
+
+  const auto resume_with = [&](IdentifierConfig config, const odonata::model_snapshot_t& s) {
+    node_.reset();
+    bus_.reset();
+    config.resume_wait_s = 30;  // waits for the snapshot
+    Start(std::nullopt, config);
+    bus_->Publish(bus_->channels().model, s);
+    Pump(*bus_);
+  };
+  resume_with(Config(), snap);
+  EXPECT_EQ(node_->core().model().ToJson(), model);
+  EXPECT_EQ(node_->core().samples_learned(), learned);
+  EXPECT_FALSE(node_->core().learning());
+
+  IdentifierConfig pitch_only = Config();  // another experiment under the same instance name
+  pitch_only.spec.outputs = {"pitch_rad"};
+  resume_with(pitch_only, snap);
+  EXPECT_EQ(node_->core().model().total_rules(), 0);
+  EXPECT_EQ(node_->core().samples_learned(), 0);
+  EXPECT_TRUE(node_->core().learning());
+  EXPECT_EQ(bus_->stats().dropped, 1);
+  EXPECT_NE(bus_->stats().last_error.find("not [pitch_rad]"), std::string::npos)
+      << bus_->stats().last_error;
+
+  odonata::model_snapshot_t huge = snap;  // claims a cap far beyond this identifier's
+  huge.models[0].max_rules = 1 << 30;
+  resume_with(Config(), huge);
+  EXPECT_EQ(node_->core().model().total_rules(), 0);
+  EXPECT_NE(bus_->stats().last_error.find("cap"), std::string::npos) << bus_->stats().last_error;
+
+  odonata::model_snapshot_t bad_scaling = snap;
+  bad_scaling.regressor_half[0] = 0.0;
+  resume_with(Config(), bad_scaling);
+  EXPECT_EQ(node_->core().model().total_rules(), 0);
+  EXPECT_NE(bus_->stats().last_error.find("scaling"), std::string::npos)
+      << bus_->stats().last_error;
+}
+
 TEST_F(IdentifierNodeTest, BeatAveragesComeFromBeatStateKAndTheAppliedCommandFromBeatStateKPlus1) {
   Start(std::nullopt, BeatConfig());
   Run(0, 120, -1, /*beats=*/true);
