@@ -38,10 +38,16 @@ std::string RegressorSpec::Problems() const {
   std::string p;
   auto add = [&p](const std::string& s) { p += (p.empty() ? "" : "; ") + s; };
   if (outputs.empty()) add("no output signal");
-  if (output_lags < 0) add("output lags must be ≥ 0");
-  if (input_lags < 0) add("input lags must be ≥ 0");
+  if (output_lags < 0 || output_lags > kMaxLags)
+    add("output lags must be in [0, " + std::to_string(kMaxLags) + "]");
+  if (input_lags < 0 || input_lags > kMaxLags)
+    add("input lags must be in [0, " + std::to_string(kMaxLags) + "]");
+  if (outputs.size() > kMaxSignals || inputs.size() > kMaxSignals)
+    add("at most " + std::to_string(kMaxSignals) + " outputs and " + std::to_string(kMaxSignals) +
+        " inputs");
   if (delay != 0 && delay != 1) add("delay must be 0 or 1");
   if (input_lags > 0 && inputs.empty()) add("input lags given but no input signal");
+  if (!p.empty()) return p;  // size() is only meaningful (and overflow-free) within the bounds
   if (size() == 0) add("the regressor is empty (no output lags and no input lags)");
   return p;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The series-parallel (NARX) regressor of eq. 7: which lags of which signals feed the model.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,11 @@ struct Series {
 /// predicts y(k+1). With d = 0 the same row's inputs predict y(t); n = 0 then is static
 /// regression. Several outputs share one regressor, each with its own model.
 struct RegressorSpec {
+  /// Bounds Problems() enforces, so a size computed from a spec never overflows and an absurd
+  /// file or message is an error, not an allocation of terabytes.
+  static constexpr int kMaxLags = 1000;
+  static constexpr std::size_t kMaxSignals = 256;
+
   int output_lags = 1;  ///< n ≥ 0
   int input_lags = 1;   ///< m ≥ 0 (per input)
   int delay = 1;        ///< d ∈ {0, 1}

@@ -1,6 +1,10 @@
 #include "identifier_config.hpp"
 
+#include <cstdint>
 #include <fstream>
+#include <functional>
+#include <limits>
+#include <set>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -31,17 +35,66 @@ IdentifierConfig DefaultIdentifierConfig() {
 
 namespace {
 
+// Every key the file may hold: any other is a typo (entropy_treshold) that would otherwise be
+// silently ignored.
+const std::set<std::string> kKnownKeys = {"instance",
+                                          "outputs",
+                                          "inputs",
+                                          "ny",
+                                          "nu",
+                                          "delay",
+                                          "consequent",
+                                          "entropy_threshold",
+                                          "max_rules",
+                                          "kappa",
+                                          "sigma_init",
+                                          "sigma_min",
+                                          "sigma_max",
+                                          "prune_utility",
+                                          "prune_min_age",
+                                          "forgetting",
+                                          "snapshot_period_s",
+                                          "snapshot_every_samples",
+                                          "resume_wait_s",
+                                          "ranges",
+                                          "channels"};
+
+// An integer field within [lo, hi]: a fraction, 1.3e29 or 4294967297 for an int is a problem,
+// never a silent conversion.
+template <class Int>
+Int IntegerField(const nlohmann::json& j, const std::string& key, Int fallback, int64_t lo,
+                 int64_t hi, const std::function<void(const std::string&)>& problem) {
+  if (!j.contains(key)) return fallback;
+  const nlohmann::json& v = j.at(key);
+  if (!v.is_number_integer()) {
+    problem("\"" + key + "\" must be a whole number, not " + v.dump());
+    return fallback;
+  }
+  const bool fits = v.is_number_unsigned() ? v.get<uint64_t>() <= static_cast<uint64_t>(hi)
+                                           : v.get<int64_t>() >= lo && v.get<int64_t>() <= hi;
+  if (!fits) {
+    problem("\"" + key + "\" must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+            "], not " + v.dump());
+    return fallback;
+  }
+  return static_cast<Int>(v.get<int64_t>());
+}
+
 IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
   IdentifierConfig c;
   std::string problems;
   auto problem = [&problems](const std::string& p) { problems += "\n  - " + p; };
   try {
+    if (!j.is_object()) throw std::runtime_error("the configuration must be a JSON object");
+    for (const auto& [key, value] : j.items())
+      if (kKnownKeys.count(key) == 0) problem("unknown key \"" + key + "\"");
     c.instance = j.value("instance", c.instance);
     c.spec.outputs = j.value("outputs", std::vector<std::string>{});
     c.spec.inputs = j.value("inputs", std::vector<std::string>{});
-    c.spec.output_lags = j.value("ny", 1);
-    c.spec.input_lags = j.value("nu", 1);
-    c.spec.delay = j.value("delay", 1);
+    const int max_lags = sysid::RegressorSpec::kMaxLags;
+    c.spec.output_lags = IntegerField<int>(j, "ny", 1, 0, max_lags, problem);
+    c.spec.input_lags = IntegerField<int>(j, "nu", 1, 0, max_lags, problem);
+    c.spec.delay = IntegerField<int>(j, "delay", 1, 0, 1, problem);
     const std::string p = c.spec.Problems();
     if (!p.empty()) problem(p);
     const std::string kind =
@@ -52,13 +105,14 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
       c.model.consequent = fuzzy::ConsequentKindFromString(kind);
     auto& e = c.model.entropy;
     e.threshold = j.value("entropy_threshold", e.threshold);
-    e.max_rules = j.value("max_rules", e.max_rules);
+    e.max_rules = IntegerField<int>(j, "max_rules", e.max_rules, 1, 1000000, problem);
     e.kappa = j.value("kappa", e.kappa);
     e.sigma_init = j.value("sigma_init", e.sigma_init);
     e.sigma_min = j.value("sigma_min", e.sigma_min);
     e.sigma_max = j.value("sigma_max", e.sigma_max);
     e.prune_utility = j.value("prune_utility", e.prune_utility);
-    e.prune_min_age = j.value("prune_min_age", e.prune_min_age);
+    e.prune_min_age = IntegerField<int>(j, "prune_min_age", e.prune_min_age, 0,
+                                        std::numeric_limits<int>::max(), problem);
     c.model.forgetting = j.value("forgetting", c.model.forgetting);
     // The fuzzy core owns the ranges of its parameters; report its words, one per line.
     std::string model_problems = c.model.Problems();
@@ -68,7 +122,9 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
       model_problems = pos == std::string::npos ? "" : model_problems.substr(pos + 1);
     }
     c.snapshot_period_s = j.value("snapshot_period_s", c.snapshot_period_s);
-    c.snapshot_every_samples = j.value("snapshot_every_samples", c.snapshot_every_samples);
+    c.snapshot_every_samples =
+        IntegerField<int64_t>(j, "snapshot_every_samples", c.snapshot_every_samples, 0,
+                              std::numeric_limits<int64_t>::max(), problem);
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
     if (j.contains("ranges")) c.ranges = sysid::RangesFromJson(j["ranges"]);
     if (j.contains("channels")) c.channels.Override(j["channels"]);

@@ -1,0 +1,63 @@
+// odonata-identifier's configuration file: every problem reported at once, by name, and no value
+// silently converted or ignored.
+#include "identifier_config.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace odonata::identifier {
+namespace {
+
+// Writes the example configuration with `edit` applied and loads it; returns the error text, or
+// "" when it loaded.
+std::string LoadEdited(const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json j = nlohmann::json::parse(ExampleIdentifierConfig());
+  edit(j);
+  char path[] = "/tmp/odonata_identifier_config_XXXXXX";
+  const int fd = mkstemp(path);
+  EXPECT_GE(fd, 0);
+  close(fd);
+  std::ofstream(path) << j.dump();
+  std::string error;
+  try {
+    LoadIdentifierConfig(path);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  std::remove(path);
+  return error;
+}
+
+TEST(IdentifierConfig, TheExampleLoads) {
+  EXPECT_EQ(LoadEdited([](nlohmann::json&) {}), "");
+}
+
+TEST(IdentifierConfig, AnUnknownKeyIsAnErrorNamingIt) {
+  const std::string e = LoadEdited([](nlohmann::json& j) { j["entropy_treshold"] = 0.2; });
+  EXPECT_NE(e.find("unknown key \"entropy_treshold\""), std::string::npos) << e;
+}
+
+TEST(IdentifierConfig, IntegersAreNeverSilentlyConverted) {
+  for (const nlohmann::json& bad : {nlohmann::json(1.3e29), nlohmann::json(4294967297LL),
+                                    nlohmann::json(1.5), nlohmann::json(-1), nlohmann::json("1")}) {
+    const std::string e = LoadEdited([&bad](nlohmann::json& j) { j["delay"] = bad; });
+    EXPECT_NE(e.find("delay"), std::string::npos) << bad.dump() << ": " << e;
+  }
+  const std::string lags = LoadEdited([](nlohmann::json& j) {
+    j["ny"] = 2147483647;
+    j["max_rules"] = 1e12;
+  });
+  EXPECT_NE(lags.find("\"ny\" must be in [0, 1000]"), std::string::npos) << lags;
+  EXPECT_NE(lags.find("max_rules"), std::string::npos) << lags;
+}
+
+}  // namespace
+}  // namespace odonata::identifier
