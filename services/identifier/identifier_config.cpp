@@ -29,6 +29,16 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path) {
   return FromJson(j, path);
 }
 
+IdentifierConfig ParseIdentifierConfig(const std::string& text, const std::string& origin) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(origin + ": not valid JSON: " + e.what());
+  }
+  return FromJson(j, origin);
+}
+
 IdentifierConfig DefaultIdentifierConfig() {
   return FromJson(nlohmann::json::parse(ExampleIdentifierConfig()), "built-in configuration");
 }

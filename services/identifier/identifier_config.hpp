@@ -25,6 +25,10 @@ struct IdentifierConfig {
 /// @throws std::runtime_error naming the file and each problem.
 IdentifierConfig LoadIdentifierConfig(const std::string& path);
 
+/// The same from JSON text; `origin` names it in errors.
+/// @throws std::runtime_error naming `origin` and each problem.
+IdentifierConfig ParseIdentifierConfig(const std::string& text, const std::string& origin);
+
 /// The configuration used without --config: ExampleIdentifierConfig(), the roll loop.
 IdentifierConfig DefaultIdentifierConfig();
 

@@ -50,10 +50,23 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   if (last_sample_ >= 0 && m.sample == last_sample_) {
     throw std::invalid_argument("duplicate prediction for sample " + std::to_string(m.sample));
   }
+  // Checked before anything changes: a rejected prediction must not move the sample counter
+  // (the genuine one for that sample would then be dropped as a duplicate).
+  for (std::size_t o = 0; o < n; ++o) {
+    if (!std::isfinite(m.measured[o]) || !std::isfinite(m.predicted[o]) ||
+        !std::isfinite(m.free_run[o])) {
+      throw std::invalid_argument("prediction with NaN or Inf for " + m.names[o]);
+    }
+  }
   if (last_sample_ >= 0 && m.sample < last_sample_) {
     // The plant restarted (a new run, e.g. validation after training): score it on its own and
-    // keep the finished run in the summary.
-    finished_runs_.push_back(Summary());
+    // keep the finished run in the summary (the latest kMaxFinishedRuns of them). Only the run's
+    // own scores: a summary that held the earlier runs doubled in size with every new run.
+    std::fprintf(stderr, "[%s] new run from sample %lld (the previous one ended at %lld)\n",
+                 bus_.options().instance.c_str(), static_cast<long long>(m.sample),
+                 static_cast<long long>(last_sample_));
+    finished_runs_.push_back(RunSummary());
+    if (finished_runs_.size() > kMaxFinishedRuns) finished_runs_.erase(finished_runs_.begin());
     outputs_.clear();
     order_.clear();
     gaps_ = 0;
@@ -62,10 +75,6 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   }
   last_sample_ = m.sample;
   for (std::size_t o = 0; o < n; ++o) {
-    if (!std::isfinite(m.measured[o]) || !std::isfinite(m.predicted[o]) ||
-        !std::isfinite(m.free_run[o])) {
-      throw std::invalid_argument("prediction with NaN or Inf for " + m.names[o]);
-    }
     auto it = outputs_.find(m.names[o]);
     if (it == outputs_.end()) {
       it = outputs_.emplace(m.names[o], Output(options_.window_samples)).first;
@@ -204,8 +213,19 @@ void MonitorNode::PublishAccuracy() {
 }
 
 nlohmann::json MonitorNode::Summary() const {
-  nlohmann::json j;
+  nlohmann::json j = RunSummary();
   if (!finished_runs_.empty()) j["previous_runs"] = finished_runs_;
+  for (const auto& [instance, p] : peers_) {
+    j["services"][instance] = {
+        {"service", p.service},  {"state", p.state}, {"decode_errors", p.decode_errors},
+        {"dropped", p.dropped},  {"gaps", p.gaps},   {"skipped", p.skipped},
+        {"repeated", p.repeated}};
+  }
+  return j;
+}
+
+nlohmann::json MonitorNode::RunSummary() const {
+  nlohmann::json j;
   j["last_sample"] = last_sample_;
   j["gaps"] = gaps_;
   for (const auto& name : order_) {
@@ -214,12 +234,6 @@ nlohmann::json MonitorNode::Summary() const {
                           {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
                           {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
                           {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())}};
-  }
-  for (const auto& [instance, p] : peers_) {
-    j["services"][instance] = {
-        {"service", p.service},  {"state", p.state}, {"decode_errors", p.decode_errors},
-        {"dropped", p.dropped},  {"gaps", p.gaps},   {"skipped", p.skipped},
-        {"repeated", p.repeated}};
   }
   return j;
 }

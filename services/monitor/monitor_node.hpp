@@ -44,6 +44,7 @@ class MonitorNode {
   /// snapshots cannot grow it without limit: past them, the least recently heard is forgotten.
   static constexpr std::size_t kMaxPeers = 256;
   static constexpr std::size_t kMaxSnapshots = 64;
+  static constexpr std::size_t kMaxFinishedRuns = 16;  ///< earlier runs kept in the summary
   std::size_t peer_count() const { return peers_.size(); }
   std::size_t snapshot_count() const { return snapshots_.size(); }
 
@@ -69,6 +70,8 @@ class MonitorNode {
     int64_t decode_errors = 0, dropped = 0, gaps = 0, skipped = 0, repeated = 0;
   };
 
+  // The current run's scores (Summary() adds the earlier runs and the services).
+  nlohmann::json RunSummary() const;
   void OnPrediction(const odonata::prediction_t& msg);
   void OnHeartbeat(const odonata::heartbeat_t& msg);
   void OnSnapshot(const odonata::model_snapshot_t& msg);

@@ -151,5 +151,28 @@ TEST_F(MonitorNodeTest, AFloodOfNewNamesKeepsTheMonitorBounded) {
   EXPECT_TRUE(node_->Summary()["services"].contains("peer-599"));
 }
 
+// Found by fuzzing: every new run stored a summary that held all earlier runs, so the summary
+// doubled with each run (24 GB after a few thousand forged predictions). Now each run keeps its
+// own scores, and only the latest kMaxFinishedRuns.
+TEST_F(MonitorNodeTest, ManyRunsKeepTheSummaryBounded) {
+  for (int run = 0; run < 200; ++run)
+    for (int64_t k = 0; k < 3; ++k) Send(k, OneStep(k), FreeRun(k));
+  const nlohmann::json s = node_->Summary();
+  ASSERT_EQ(s["previous_runs"].size(), MonitorNode::kMaxFinishedRuns);
+  for (const auto& r : s["previous_runs"]) EXPECT_FALSE(r.contains("previous_runs"));
+  EXPECT_LT(s.dump().size(), 100000u);
+}
+
+// A rejected (NaN) prediction does not move the sample counter: the genuine one is scored.
+TEST_F(MonitorNodeTest, ANanPredictionDoesNotShadowTheGenuineOne) {
+  for (int64_t k = 0; k < 10; ++k) Send(k, OneStep(k), FreeRun(k));
+  Send(10, std::nan(""), 0.0);
+  Send(10, OneStep(10), FreeRun(10));
+  const nlohmann::json s = node_->Summary();
+  EXPECT_EQ(s["last_sample"], 10);
+  EXPECT_EQ(s["outputs"]["roll_rad"]["one_step"]["samples"], 11);
+  EXPECT_FALSE(s.contains("previous_runs"));
+}
+
 }  // namespace
 }  // namespace odonata::monitor
