@@ -36,6 +36,7 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
   setup_ = std::move(setup);
   plant_.Reset(setup_.initial);
   newest_seq_.reset();
+  leaps_ = LeapGuard{};
   held_command_ = setup_.trim_command;
   held_seq_ = -1;
   held_applications_ = 0;
@@ -65,10 +66,16 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
 
 CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& command) {
   CommandOutcome out;
-  if (!SeqWithinWindow(seq, newest_seq_.value_or(-1))) {
-    out.problem = "command seq " + std::to_string(seq) + " is negative or leaps more than " +
-                  std::to_string(kMaxSeqJump) + " past the newest";
-    return out;
+  switch (leaps_.Check(seq, newest_seq_.value_or(-1))) {
+    case LeapGuard::Verdict::kAccept:
+      break;
+    case LeapGuard::Verdict::kHold:
+      out.problem = LeapGuard::HeldMessage("command", seq, newest_seq_.value_or(-1));
+      return out;
+    case LeapGuard::Verdict::kReject:
+      out.problem = "command seq " + std::to_string(seq) + " is negative or leaps more than " +
+                    std::to_string(kMaxSeqJump) + " past the newest";
+      return out;
   }
   out.problem = CommandLimitProblems(command, plant_.config().limits);
   if (!out.problem.empty()) return out;  // kRejected

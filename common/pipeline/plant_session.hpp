@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "pipeline/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
@@ -45,8 +46,9 @@ enum class CommandVerdict {
   kRepeated,  ///< lockstep: the last command again; its state is re-sent, no step
   kAccepted,  ///< real time: held until the next tick (may also report `missing`)
   kStale,     ///< older than (real time: or equal to) the newest command: dropped
-  kRejected,  ///< not finite, outside the actuator limits, a negative seq or one that leaps
-              ///< more than kMaxSeqJump ahead (sequence_window.hpp): dropped
+  kRejected,  ///< not finite, outside the actuator limits, a negative seq, one that leaps
+              ///< more than kMaxSeqJump ahead, or a leap of more than kConfirmLeap not yet
+              ///< confirmed by a second command (sequence_window.hpp): dropped
 };
 
 /// Result of PlantSession::Submit().
@@ -114,6 +116,7 @@ class PlantSession {
   plant::DimavPlant plant_;
   PlantSample last_{};
   std::optional<int64_t> newest_seq_;  // newest command accepted since the reset
+  LeapGuard leaps_;                    // large leaps wait for a confirming command
   plant::CommandMatrix held_command_{plant::CommandMatrix::Zero()};  // real time
   int64_t held_seq_ = -1;                                            // real time
   int64_t held_applications_ = 0;  // real time: ticks that applied the held command so far

@@ -81,10 +81,7 @@ class SamplePairer {
   std::vector<Event> OnState(const State& msg) {
     std::vector<Event> events;
     const int64_t newest = NewestState();
-    if (!SeqWithinWindow(msg.seq, newest))
-      throw std::invalid_argument("state seq " + std::to_string(msg.seq) +
-                                  " is negative or leaps past the newest, " +
-                                  std::to_string(newest));
+    Guard(&state_leaps_, "state", msg.seq, newest);
     if (newest >= 0 && msg.seq <= newest) {
       if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
         previous_.reset();
@@ -117,10 +114,7 @@ class SamplePairer {
   std::vector<Event> OnCommand(const Command& msg) {
     std::vector<Event> events;
     const int64_t newest = commands_.empty() ? -1 : commands_.rbegin()->first;
-    if (!SeqWithinWindow(msg.seq, newest))
-      throw std::invalid_argument("command seq " + std::to_string(msg.seq) +
-                                  " is negative or leaps past the newest, " +
-                                  std::to_string(newest));
+    Guard(&command_leaps_, "command", msg.seq, newest);
     // A generator that restarted counts from 0 again: forget the old run's commands.
     if (!commands_.empty() && msg.seq + static_cast<int64_t>(kMaxCommands) < newest)
       commands_.clear();
@@ -140,10 +134,7 @@ class SamplePairer {
   /// @throws std::invalid_argument for a bad seq (see above); nothing changes then.
   std::vector<Event> OnBeat(const Beat& msg) {
     std::vector<Event> events;
-    if (!SeqWithinWindow(msg.seq, newest_beat_))
-      throw std::invalid_argument("beat state seq " + std::to_string(msg.seq) +
-                                  " is negative or leaps past the newest, " +
-                                  std::to_string(newest_beat_));
+    Guard(&beat_leaps_, "beat state", msg.seq, newest_beat_);
     if (newest_beat_ >= 0 && msg.seq <= newest_beat_) {
       if (msg.seq == 0 && msg.command_seq < 0 && newest_beat_ > 0) {
         beats_.clear();  // the plant restarted: its state 0 follows (or came first)
@@ -177,6 +168,20 @@ class SamplePairer {
   std::size_t pending_states() const { return pending_.size(); }
 
  private:
+  // Throws std::invalid_argument for a seq the guard rejects or holds back.
+  static void Guard(LeapGuard* guard, const std::string& what, int64_t seq, int64_t newest) {
+    switch (guard->Check(seq, newest)) {
+      case LeapGuard::Verdict::kAccept:
+        return;
+      case LeapGuard::Verdict::kHold:
+        throw std::invalid_argument(LeapGuard::HeldMessage(what, seq, newest));
+      case LeapGuard::Verdict::kReject:
+        throw std::invalid_argument(
+            what + " seq " + std::to_string(seq) + " is negative or leaps more than " +
+            std::to_string(kMaxSeqJump) + " past the newest, " + std::to_string(newest));
+    }
+  }
+
   int64_t NewestState() const {
     return !pending_.empty() ? pending_.back().seq : previous_ ? previous_->seq : -1;
   }
@@ -259,6 +264,7 @@ class SamplePairer {
   }
 
   PairingNeeds needs_;
+  LeapGuard state_leaps_, command_leaps_, beat_leaps_;
   std::map<int64_t, Command> commands_;  // by seq, bounded
   std::map<int64_t, Beat> beats_;        // by seq, from the oldest still usable on
   int64_t newest_beat_ = -1;

@@ -5,6 +5,8 @@
 // one bad packet would stall the run.
 
 #include <cstdint>
+#include <optional>
+#include <string>
 
 namespace odonata::pipeline {
 
@@ -16,5 +18,46 @@ inline constexpr int64_t kMaxSeqJump = 1'000'000;
 constexpr bool SeqWithinWindow(int64_t seq, int64_t newest) {
   return seq >= 0 && seq - (newest < 0 ? -1 : newest) <= kMaxSeqJump;
 }
+
+/// Leaps beyond this many sequence numbers must be confirmed before a receiver moves its window.
+/// Lockstep never skips (the generator resends), and real-time losses are a few samples: a
+/// forged seq up to this far ahead costs at most this many genuine messages.
+inline constexpr int64_t kConfirmLeap = 16;
+
+/// Holds back a seq that leaps more than kConfirmLeap past the newest until the next seq after it
+/// arrives (a plant's next state, a generator's next command): one forged in-window packet, or
+/// the same one resent, then cannot make every genuine message after it look stale. A genuine
+/// long gap costs one message (the one that opened it); lockstep never leaps after its first
+/// command (the generator resends instead). Not thread-safe.
+class LeapGuard {
+ public:
+  enum class Verdict {
+    kAccept,  ///< use it
+    kHold,    ///< a leap awaiting confirmation: drop it for now (the receiver's window stays)
+    kReject,  ///< negative, or beyond kMaxSeqJump
+  };
+
+  /// `newest`: the receiver's newest seq (−1: none yet, and then any in-window seq is accepted).
+  Verdict Check(int64_t seq, int64_t newest) {
+    if (!SeqWithinWindow(seq, newest)) return Verdict::kReject;
+    if (newest < 0 || seq - newest <= kConfirmLeap) return Verdict::kAccept;
+    if (candidate_ && seq == *candidate_ + 1) {
+      candidate_.reset();
+      return Verdict::kAccept;
+    }
+    candidate_ = seq;
+    return Verdict::kHold;
+  }
+
+  /// Why a held seq was held, for the receiver's report.
+  static std::string HeldMessage(const std::string& what, int64_t seq, int64_t newest) {
+    return what + " seq " + std::to_string(seq) + " leaps " + std::to_string(seq - newest) +
+           " past the newest, " + std::to_string(newest) +
+           ": held until the next seq confirms it (a lone or resent forged packet never is)";
+  }
+
+ private:
+  std::optional<int64_t> candidate_;
+};
 
 }  // namespace odonata::pipeline

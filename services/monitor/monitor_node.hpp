@@ -20,6 +20,7 @@
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
 #include "odonata/prediction_t.hpp"
+#include "pipeline/sequence_window.hpp"
 
 namespace odonata::monitor {
 
@@ -91,6 +92,7 @@ class MonitorNode {
   };
   std::map<std::string, CachedSnapshot> snapshots_;  // last per identifier instance
   int64_t last_sample_ = -1;
+  pipeline::LeapGuard leaps_;  // a forged far-ahead sample must not split the run
   int64_t gaps_ = 0;
   int64_t accuracy_seq_ = 0;
   std::size_t printed_lines_ = 0;

@@ -37,8 +37,8 @@ stop_clean "$PID_ident2" "identifier (second instance)"
 stop_clean "$PID_plant2" "plant (second instance)"
 stop_clean "$PID_monitor2" "monitor (second instance)"
 stop_clean "$PID_logger2" "logger (second instance)"
-grep -q "from the bus snapshot of sample" "$OUT/ident2.log" || { cat "$OUT/ident2.log"; fail "the new identifier did not resume from the snapshot"; }
-resumed=$(sed -n 's/.*from the bus snapshot of sample \([0-9]*\).*/\1/p' "$OUT/ident2.log")
+grep -q "from the bus snapshot after" "$OUT/ident2.log" || { cat "$OUT/ident2.log"; fail "the new identifier did not resume from the snapshot"; }
+resumed=$(sed -n 's/.*from the bus snapshot after \([0-9]*\) learned.*/\1/p' "$OUT/ident2.log")
 # The first instance's last snapshot is the model it saved on exit: not one sample may be lost.
 learned=$(sed -n 's/.*model saved to .*, \([0-9]*\) samples learned.*/\1/p' "$OUT/ident1.log")
 [[ -n $learned && $resumed == "$learned" ]] || { cat "$OUT/ident1.log" "$OUT/ident2.log"; fail "resumed from sample $resumed, but the first identifier had learned ${learned:-?}"; }

@@ -131,8 +131,43 @@ TEST_F(PlantSessionTest, ASeqThatLeapsAheadIsRejectedAndDoesNotStallTheRun) {
     EXPECT_NE(session.Submit(0, trim).verdict, CommandVerdict::kRejected);
     EXPECT_EQ(session.Submit(int64_t{1} << 40, trim).verdict, CommandVerdict::kRejected);
     EXPECT_NE(session.Submit(1, trim).verdict, CommandVerdict::kRejected);
-    EXPECT_NE(session.Submit(1 + kMaxSeqJump, trim).verdict, CommandVerdict::kRejected);  // a gap
+    // A long gap within the window is held until a second command confirms it.
+    const CommandOutcome held = session.Submit(kMaxSeqJump, trim);
+    EXPECT_EQ(held.verdict, CommandVerdict::kRejected);
+    EXPECT_NE(held.problem.find("held until"), std::string::npos) << held.problem;
+    EXPECT_NE(session.Submit(kMaxSeqJump + 1, trim).verdict, CommandVerdict::kRejected);
   }
+}
+
+// A forged command a little ahead (+999), resent again and again, is held, never confirmed, and
+// the genuine commands after it go on stepping.
+TEST_F(PlantSessionTest, AForgedLeapCannotMakeGenuineCommandsStale) {
+  PlantSession session(config_, Mode::kLockstep, roll_);
+  const plant::CommandMatrix trim = roll_.trim_command;
+  for (int64_t k = 0; k < 5; ++k)
+    ASSERT_EQ(session.Submit(k, trim).verdict, CommandVerdict::kStepped);
+  EXPECT_EQ(session.Submit(4 + 999, trim).verdict, CommandVerdict::kRejected);
+  for (int64_t k = 5; k < 10; ++k) {
+    EXPECT_EQ(session.Submit(k, trim).verdict, CommandVerdict::kStepped) << k;
+    EXPECT_EQ(session.Submit(4 + 999, trim).verdict, CommandVerdict::kRejected) << k;
+  }
+  EXPECT_EQ(session.last().seq, 10);
+  // Within kConfirmLeap it is a gap, taken at once.
+  EXPECT_EQ(session.Submit(9 + kConfirmLeap, trim).verdict, CommandVerdict::kGap);
+}
+
+TEST(LeapGuard, HoldsALongLeapUntilTheNextMessageConfirmsIt) {
+  LeapGuard g;
+  EXPECT_EQ(g.Check(900000, -1), LeapGuard::Verdict::kAccept);  // nothing to compare with yet
+  EXPECT_EQ(g.Check(10, 5), LeapGuard::Verdict::kAccept);
+  EXPECT_EQ(g.Check(5 + kConfirmLeap, 5), LeapGuard::Verdict::kAccept);
+  EXPECT_EQ(g.Check(900000, 5), LeapGuard::Verdict::kHold);
+  EXPECT_EQ(g.Check(6, 5), LeapGuard::Verdict::kAccept);       // genuine traffic goes on
+  EXPECT_EQ(g.Check(900001, 6), LeapGuard::Verdict::kAccept);  // continued: a real gap
+  EXPECT_EQ(g.Check(500000, 6), LeapGuard::Verdict::kHold);
+  EXPECT_EQ(g.Check(500000, 6), LeapGuard::Verdict::kHold);  // resent: still not confirmed
+  EXPECT_EQ(g.Check(-1, 6), LeapGuard::Verdict::kReject);
+  EXPECT_EQ(g.Check(7 + kMaxSeqJump, 6), LeapGuard::Verdict::kReject);
 }
 
 TEST(SequenceWindow, BoundsTheJumpFromTheNewest) {

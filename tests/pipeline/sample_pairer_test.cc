@@ -195,6 +195,21 @@ TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
   EXPECT_EQ(log.Lost(), 0);
 }
 
+// One forged in-window state, command and beat state far ahead (+900000) are held back, and the
+// genuine run goes on: every sample formed, none lost.
+TEST(SamplePairer, AForgedLeapCannotMakeTheGenuineRunStale) {
+  Pairer p(PairingNeeds{true, true});
+  Log log;
+  for (int64_t k = 0; k < 5; ++k) Step(p, log, k, true);
+  EXPECT_THROW(p.OnState(S(4 + 900000)), std::invalid_argument);
+  EXPECT_THROW(p.OnBeat(B(4 + 900000)), std::invalid_argument);
+  EXPECT_THROW(p.OnCommand(C(4 + 900000)), std::invalid_argument);
+  for (int64_t k = 5; k < 20; ++k) Step(p, log, k, true);
+  EXPECT_EQ(log.Samples().size(), 19u);  // samples 0 … 18 (19 waits for state 20)
+  EXPECT_EQ(log.Lost(), 0);
+  EXPECT_EQ(p.newest_held_state(), 19);
+}
+
 TEST(SamplePairer, APlantRestartForgetsTheOldRunWhicheverStreamRestartsFirst) {
   for (bool beat_first : {false, true}) {
     Pairer p(PairingNeeds{true, true});
