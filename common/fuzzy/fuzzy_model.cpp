@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzzy/blockwise_least_squares.hpp"
+#include "io/json_integer.hpp"
 
 namespace odonata::fuzzy {
 
@@ -367,10 +368,10 @@ nlohmann::json FuzzyModel::ToJson() const {
 FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
   try {
     FuzzyModelConfig cfg;
-    cfg.inputs = j.at("inputs").get<int>();
+    cfg.inputs = io::JsonInteger<int>(j.at("inputs"), "inputs");
     const auto& e = j.at("entropy");
     cfg.entropy.threshold = e.at("threshold").get<double>();
-    cfg.entropy.max_rules = e.at("max_rules").get<int>();
+    cfg.entropy.max_rules = io::JsonInteger<int>(e.at("max_rules"), "max_rules");
     cfg.entropy.kappa = e.at("kappa").get<double>();
     cfg.entropy.sigma_init = e.at("sigma_init").get<double>();
     cfg.entropy.sigma_min = e.at("sigma_min").get<double>();
@@ -388,7 +389,7 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
     cfg.rates.max_step = a.at("max_step").get<double>();
     // Fields added after version 1 was first written default to what older models did.
     cfg.entropy.prune_utility = e.value("prune_utility", 0.0);
-    cfg.entropy.prune_min_age = e.value("prune_min_age", cfg.entropy.prune_min_age);
+    cfg.entropy.prune_min_age = io::JsonInteger<int>(e, "prune_min_age", cfg.entropy.prune_min_age);
     const auto& cons = j.at("consequent");
     cfg.consequent = ConsequentKindFromString(cons.at("kind").get<std::string>());
     cfg.forgetting = j.value("forgetting", cons.value("forgetting", 1.0));
@@ -396,8 +397,8 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
     const std::string problems = cfg.Problems();
     if (!problems.empty()) throw std::runtime_error(problems);
     FuzzyModel model(cfg);
-    model.clock_ = j.value("clock", 0LL);
-    model.pruned_ = j.value("pruned", 0LL);
+    model.clock_ = io::JsonInteger<int64_t>(j, "clock", 0);
+    model.pruned_ = io::JsonInteger<int64_t>(j, "pruned", 0);
     const auto& rules = j.at("rules");
     if (static_cast<int>(rules.size()) > cfg.entropy.max_rules) {
       throw std::runtime_error("more rules than entropy.max_rules");
@@ -417,7 +418,7 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
                            Eigen::Map<const Eigen::VectorXd>(s.data(), cfg.inputs),
                            rule.at("output_width").get<double>());
       model.utility_sum_(k) = rule.value("utility_sum", 0.0);
-      model.born_(k) = rule.value("born", model.clock_);
+      model.born_(k) = io::JsonInteger<int64_t>(rule, "born", model.clock_);
     }
     model.consequent_ = ConsequentFromJson(cons, cfg.inputs, cfg.entropy.max_rules);
     if (model.consequent_->rules() != model.rules_.rules()) {

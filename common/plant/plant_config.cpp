@@ -3,9 +3,11 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
 #include <set>
 #include <sstream>
 #include <vector>
+#include "io/json_integer.hpp"
 
 namespace odonata::plant {
 namespace {
@@ -56,11 +58,12 @@ class Reader {
   int Integer(const json& parent, const std::string& key, const std::string& path) {
     const json* v = Find(parent, key, path);
     if (!v) return 0;
-    if (!v->is_number_integer()) {
-      Problem(path + key, "must be an integer");
+    try {
+      return io::JsonInteger<int>(*v, path + key);
+    } catch (const std::runtime_error&) {
+      Problem(path + key, "must be an integer within the range of int");
       return 0;
     }
-    return v->get<int>();
   }
   bool Bool(const json& parent, const std::string& key, const std::string& path) {
     const json* v = Find(parent, key, path);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.hpp"
+#include "io/json_integer.hpp"
 #include "metrics/accuracy.hpp"
 #include "sysid/free_run.hpp"
 
@@ -261,14 +262,14 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
     if (j.value("format", "") != "odonata-narx-fuzzy") {
       throw std::runtime_error("not an odonata model (missing \"format\": \"odonata-narx-fuzzy\")");
     }
-    if (j.at("version").get<int>() != kFormatVersion) {
+    if (io::JsonInteger<int>(j.at("version"), "version") != kFormatVersion) {
       throw std::runtime_error("unsupported model version " + j.at("version").dump());
     }
     RegressorSpec spec;
     const auto& r = j.at("regressor");
-    spec.output_lags = r.at("output_lags").get<int>();
-    spec.input_lags = r.at("input_lags").get<int>();
-    spec.delay = r.at("delay").get<int>();
+    spec.output_lags = io::JsonInteger<int>(r.at("output_lags"), "output_lags");
+    spec.input_lags = io::JsonInteger<int>(r.at("input_lags"), "input_lags");
+    spec.delay = io::JsonInteger<int>(r.at("delay"), "delay");
     spec.outputs = r.at("outputs").get<std::vector<std::string>>();
     spec.inputs = r.at("inputs").get<std::vector<std::string>>();
     const auto& models = j.at("models");
