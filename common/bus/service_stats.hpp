@@ -19,11 +19,14 @@ struct ServiceStats {
   std::string last_error;
 
   /// Records a problem: sets last_error, and prints "[service] kind: message" to stderr the first
-  /// time this kind is seen (later ones are only counted).
+  /// time a problem of this shape is seen (the kind and the message with its numbers blanked:
+  /// a second, different problem on a channel is printed too; the same one with other seqs is
+  /// only counted). At most kMaxReportedShapes are printed in all.
   void Report(const std::string& service, const std::string& kind, const std::string& message);
 
  private:
-  std::set<std::string> reported_kinds_;
+  static constexpr std::size_t kMaxReportedShapes = 256;
+  std::set<std::string> reported_shapes_;
 };
 
 }  // namespace odonata::bus

@@ -27,5 +27,21 @@ TEST(ServiceStats, EachKindIsPrintedOnceAndTheLastErrorIsKept) {
   EXPECT_EQ(s.last_error, "undecodable message: packet 100");
 }
 
+// A second, different problem of the same kind (on the same channel) is printed too.
+TEST(ServiceStats, ADifferentProblemOfTheSameKindIsPrinted) {
+  ServiceStats s;
+  ::testing::internal::CaptureStderr();
+  s.Report("id", "rejected message on DIMAV_STATE", "duplicate or out-of-order state seq 4");
+  s.Report("id", "rejected message on DIMAV_STATE", "duplicate or out-of-order state seq 9");
+  s.Report("id", "rejected message on DIMAV_STATE", "state with NaN or Inf fields");
+  for (int i = 0; i < 1000; ++i)
+    s.Report("id", "rejected message on DIMAV_STATE",
+             "unknown thing '" + std::string(1 + i % 500, 'x') + "'");
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(Count(err, "out-of-order"), 1) << err;
+  EXPECT_EQ(Count(err, "NaN or Inf"), 1) << err;
+  EXPECT_LE(Count(err, "\n"), 256);  // bounded whatever the flood
+}
+
 }  // namespace
 }  // namespace odonata::bus
