@@ -1,8 +1,8 @@
 #include "fuzzy/gaussian_rule_base.hpp"
 
-#include <cassert>
 #include <cmath>
 #include <limits>
+#include "contract/precondition.hpp"
 
 namespace odonata::fuzzy {
 
@@ -14,14 +14,14 @@ GaussianRuleBase::GaussianRuleBase(int inputs, int capacity)
       inverse_variances_(Eigen::ArrayXXd::Zero(capacity, inputs)),
       output_widths_(Eigen::ArrayXd::Ones(capacity)),
       inverse_output_weights_(Eigen::ArrayXd::Zero(capacity)) {
-  assert(inputs >= 1 && capacity >= 1);
+  ODONATA_EXPECTS(inputs >= 1 && capacity >= 1);
 }
 
 void GaussianRuleBase::AddRule(const Eigen::Ref<const Eigen::VectorXd>& centre,
                                const Eigen::Ref<const Eigen::VectorXd>& sigma,
                                double output_width) {
-  assert(rules_ < capacity_);
-  assert(centre.size() == inputs_ && sigma.size() == inputs_);
+  ODONATA_EXPECTS(rules_ < capacity_);
+  ODONATA_EXPECTS(centre.size() == inputs_ && sigma.size() == inputs_);
   const int j = rules_++;
   for (int i = 0; i < inputs_; ++i) {
     centres_(j, i) = centre(i);
@@ -31,7 +31,7 @@ void GaussianRuleBase::AddRule(const Eigen::Ref<const Eigen::VectorXd>& centre,
 }
 
 void GaussianRuleBase::RemoveRule(int rule) {
-  assert(rule >= 0 && rule < rules_);
+  ODONATA_EXPECTS(rule >= 0 && rule < rules_);
   const int tail = rules_ - rule - 1;
   if (tail > 0) {
     centres_.middleRows(rule, tail) = centres_.middleRows(rule + 1, tail).eval();
@@ -62,7 +62,7 @@ void GaussianRuleBase::RefreshCaches() {
 }
 
 void GaussianRuleBase::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x, Inference* out) const {
-  assert(x.size() == inputs_);
+  ODONATA_EXPECTS(x.size() == inputs_);
   const int r = rules_;
   if (out->weighted_distance.size() != r) {
     out->weighted_distance.resize(r);

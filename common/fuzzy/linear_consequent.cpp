@@ -1,6 +1,6 @@
 #include "fuzzy/linear_consequent.hpp"
 
-#include <cassert>
+#include "contract/precondition.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -38,7 +38,7 @@ void LinearConsequent::RuleOutputs(const Eigen::Ref<const Eigen::VectorXd>& x, i
 
 void LinearConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, double target,
                                const Eigen::Ref<const Eigen::ArrayXd>& phi_existing) {
-  assert(rules_ < theta_.cols());
+  ODONATA_EXPECTS(rules_ < theta_.cols());
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(inputs_ + 1);
   if (rules_ > 0) {
     // Inherit the local slope of the neighbourhood, then move the intercept so the new rule
@@ -52,7 +52,7 @@ void LinearConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>& x, doubl
 }
 
 void LinearConsequent::RemoveRule(int rule) {
-  assert(rule >= 0 && rule < rules_);
+  ODONATA_EXPECTS(rule >= 0 && rule < rules_);
   const int tail = rules_ - rule - 1;
   if (tail > 0) theta_.middleCols(rule, tail) = theta_.middleCols(rule + 1, tail).eval();
   covariances_.erase(covariances_.begin() + rule);
@@ -126,7 +126,7 @@ Eigen::VectorXd LinearConsequent::Parameters() const {
 }
 
 void LinearConsequent::SetParameters(const Eigen::Ref<const Eigen::VectorXd>& p) {
-  assert(p.size() == rules_ * (inputs_ + 1));
+  ODONATA_EXPECTS(p.size() == rules_ * (inputs_ + 1));
   for (int j = 0; j < rules_; ++j) theta_.col(j) = p.segment(j * (inputs_ + 1), inputs_ + 1);
 }
 

@@ -1,6 +1,6 @@
 #include "fuzzy/singleton_consequent.hpp"
 
-#include <cassert>
+#include "contract/precondition.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -20,12 +20,12 @@ void SingletonConsequent::RuleOutputs(const Eigen::Ref<const Eigen::VectorXd>&, 
 
 void SingletonConsequent::AddRule(const Eigen::Ref<const Eigen::VectorXd>&, double target,
                                   const Eigen::Ref<const Eigen::ArrayXd>&) {
-  assert(rules_ < centres_.size());
+  ODONATA_EXPECTS(rules_ < centres_.size());
   centres_(rules_++) = target;
 }
 
 void SingletonConsequent::RemoveRule(int rule) {
-  assert(rule >= 0 && rule < rules_);
+  ODONATA_EXPECTS(rule >= 0 && rule < rules_);
   const int tail = rules_ - rule - 1;
   if (tail > 0) centres_.segment(rule, tail) = centres_.segment(rule + 1, tail).eval();
   --rules_;
@@ -45,7 +45,7 @@ Eigen::VectorXd SingletonConsequent::Gradient(const Eigen::Ref<const Eigen::Vect
 }
 
 void SingletonConsequent::SetParameters(const Eigen::Ref<const Eigen::VectorXd>& p) {
-  assert(p.size() == rules_);
+  ODONATA_EXPECTS(p.size() == rules_);
   centres_.head(rules_) = p.array();
 }
 

@@ -1,14 +1,14 @@
 #include "metrics/accuracy.hpp"
 
-#include <cassert>
 #include <cmath>
 #include <limits>
+#include "contract/precondition.hpp"
 
 namespace odonata::metrics {
 
 Accuracy Score(const Eigen::Ref<const Eigen::VectorXd>& measured,
                const Eigen::Ref<const Eigen::VectorXd>& predicted) {
-  assert(measured.size() == predicted.size() && measured.size() > 0);
+  ODONATA_EXPECTS(measured.size() == predicted.size() && measured.size() > 0);
   const double n = static_cast<double>(measured.size());
   const Eigen::VectorXd err = measured - predicted;
   const double mean_y = measured.mean();

@@ -1,8 +1,8 @@
 #include "pipeline/plant_session.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
+#include "contract/precondition.hpp"
 
 #include "experiments/attitude_hold.hpp"
 #include "pipeline/command_limits.hpp"
@@ -117,7 +117,7 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
 }
 
 const PlantSample& PlantSession::Tick() {
-  assert(mode_ == Mode::kRealtime);
+  ODONATA_EXPECTS(mode_ == Mode::kRealtime);
   StepWith(held_command_, held_seq_);
   ++held_applications_;
   return last_;

@@ -1,8 +1,8 @@
 #include "sysid/regressor_spec.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <stdexcept>
+#include "contract/precondition.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -57,9 +57,9 @@ void RegressorSpec::Fill(Eigen::Index t, const Eigen::Ref<const Eigen::MatrixXd>
                          Eigen::Ref<Eigen::VectorXd> x) const {
   // Counts come from the spec, never from the matrices: a series with extra columns must not
   // write past the end of x.
-  assert(y.cols() >= static_cast<Eigen::Index>(outputs.size()));
-  assert(u.cols() >= static_cast<Eigen::Index>(inputs.size()));
-  assert(x.size() == size());
+  ODONATA_EXPECTS(y.cols() >= static_cast<Eigen::Index>(outputs.size()));
+  ODONATA_EXPECTS(u.cols() >= static_cast<Eigen::Index>(inputs.size()));
+  ODONATA_EXPECTS(x.size() == size());
   Eigen::Index c = 0;
   for (std::size_t o = 0; o < outputs.size(); ++o)
     for (int l = 1; l <= output_lags; ++l) x(c++) = y(t - l, static_cast<Eigen::Index>(o));
