@@ -4,10 +4,16 @@
 
 namespace odonata::pipeline {
 
-LockstepSequencer::LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends)
-    : command_count_(command_count), reset_plant_(reset_plant), max_resends_(max_resends) {
+LockstepSequencer::LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends,
+                                     int restart_confirm_timeouts)
+    : command_count_(command_count),
+      reset_plant_(reset_plant),
+      max_resends_(max_resends),
+      restart_confirm_timeouts_(restart_confirm_timeouts) {
   if (command_count < 1) throw std::invalid_argument("lockstep run without commands");
   if (max_resends < 0) throw std::invalid_argument("max_resends must be >= 0");
+  if (restart_confirm_timeouts < 1)
+    throw std::invalid_argument("restart_confirm_timeouts must be >= 1");
 }
 
 SequencerAction LockstepSequencer::Start() {
@@ -102,12 +108,19 @@ SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, boo
   if (phase_ != Phase::kAwaitingAnswer) return a;
   if (seq == 0 && command_seq == -1 && current_ > 0) {
     // The plant published state 1 already, so this is not a late copy of state 0: the plant
-    // restarted (or someone reset it) and the rest of the run would start from scratch unseen.
+    // restarted (or someone reset it) and the rest of the run would start from scratch unseen —
+    // or one forged packet says so. Suspect first; a second fresh state 0 (a restarted plant
+    // repeats it while nothing commands it) confirms.
+    if (restart_suspected_for_ < 0) {
+      restart_suspected_for_ = 0;
+      return a;
+    }
     return Fail(SequencerAction::Failure::kRestarted,
-                "the plant restarted (fresh state 0) while it was answering command " +
+                "the plant restarted (fresh state 0, twice) while it was answering command " +
                     std::to_string(current_));
   }
   if (seq != current_ + 1 || command_seq != current_) return a;  // duplicate or stale answer
+  restart_suspected_for_ = -1;  // the plant answers: whatever said state 0 was not it
   if (diverged) {
     return Fail(SequencerAction::Failure::kDiverged, "the plant diverged while applying command " +
                                                          std::to_string(current_) +
@@ -121,6 +134,12 @@ SequencerAction LockstepSequencer::OnTimeout() {
   SequencerAction a;
   if (phase_ != Phase::kAwaitingInitial && phase_ != Phase::kAwaitingAnswer) return a;
   if (phase_ == Phase::kAwaitingInitial && received_ && start_held_) return a;  // discovering
+  if (restart_suspected_for_ >= 0) {
+    // Resending now would command a restarted plant and hide its restart: wait for it to repeat
+    // its state 0, and only then give up the suspicion.
+    if (++restart_suspected_for_ < restart_confirm_timeouts_) return a;
+    restart_suspected_for_ = -1;
+  }
   const bool acks_missing = received_ && !Acknowledged(Awaited());
   if (resends_ >= max_resends_) {
     if (acks_missing) {

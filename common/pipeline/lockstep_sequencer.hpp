@@ -45,8 +45,13 @@ class LockstepSequencer {
   /// @param command_count N ≥ 1 commands to send (seq 0 … N-1).
   /// @param reset_plant start by sending RESET; otherwise wait for a fresh state 0 as it is.
   /// @param max_resends consecutive timeouts allowed per awaited message (≥ 0).
-  /// @throws std::invalid_argument for command_count < 1 or max_resends < 0.
-  LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends);
+  /// @param restart_confirm_timeouts how many timeouts a fresh state 0 mid-run stays a suspicion
+  ///        (nothing resent meanwhile): a restarted plant, left uncommanded, repeats its state 0
+  ///        and so confirms it; a lone forged or stale one is forgotten and the run goes on.
+  /// @throws std::invalid_argument for command_count < 1, max_resends < 0 or
+  ///         restart_confirm_timeouts < 1.
+  LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends,
+                    int restart_confirm_timeouts = 3);
 
   /// First action: kSendReset, or kNone (wait for state 0).
   SequencerAction Start();
@@ -89,6 +94,8 @@ class LockstepSequencer {
   int64_t command_count_;
   bool reset_plant_;
   int max_resends_;
+  int restart_confirm_timeouts_;
+  int restart_suspected_for_ = -1;  // timeouts since a fresh state 0 mid-run (-1: none)
   Phase phase_ = Phase::kIdle;
   int64_t current_ = 0;
   int resends_ = 0;  // consecutive, for the message awaited now

@@ -1,5 +1,6 @@
 #include "signal_node.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -37,8 +38,11 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
     : bus_(bus),
       schedule_(std::move(schedule)),
       options_(std::move(options)),
-      sequencer_(static_cast<int64_t>(schedule_.size()), options_.reset_plant,
-                 options_.max_resends),
+      // A restarted plant repeats its state 0 every 200 ms (plant_node.hpp): wait at least
+      // 600 ms before dropping the suspicion a lone state 0 raises.
+      sequencer_(static_cast<int64_t>(schedule_.size()), options_.reset_plant, options_.max_resends,
+                 std::max(3, (600 + std::max(options_.timeout_ms, 1) - 1) /
+                                 std::max(options_.timeout_ms, 1))),
       timer_(bus.io()) {
   if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
     throw std::invalid_argument("rate_hz and timeout_ms must be positive");

@@ -72,6 +72,7 @@ TEST(LockstepSequencer, DivergenceAndRestartFail) {
   s.Start();
   s.OnState(0, -1, false);
   s.OnState(1, 0, false);
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);  // suspected: one could be forged
   EXPECT_EQ(s.OnState(0, -1, false).failure, SequencerAction::Failure::kRestarted);
 
   LockstepSequencer d(10, true, 3);
@@ -130,6 +131,25 @@ TEST(LockstepSequencer, AConsumerThatNeverAcknowledgesFailsTheRun) {
   EXPECT_EQ(a.failure, SequencerAction::Failure::kConsumerLost);
   EXPECT_NE(a.message.find("'identifier'"), std::string::npos) << a.message;
   EXPECT_NE(a.message.find("state 1"), std::string::npos) << a.message;
+}
+
+// A lone fresh state 0 mid-run (forged, or stale) does not abort the run: the plant's answer
+// clears it, and without one the suspicion lapses after the confirmation timeouts, during which
+// nothing is resent (a restarted plant would otherwise be commanded and its restart hidden).
+TEST(LockstepSequencer, ALoneFreshStateZeroIsOnlyASuspicion) {
+  LockstepSequencer s(10, true, 5, 3);
+  s.Start();
+  s.OnState(0, -1, false);
+  s.OnState(1, 0, false);
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);
+  EXPECT_EQ(s.OnState(2, 1, false).seq, 2);  // the genuine answer: the run goes on
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);  // no resend while suspected
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);
+  const SequencerAction a = s.OnTimeout();  // lapsed: resend as usual
+  EXPECT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 2);
+  EXPECT_EQ(s.total_resends(), 1);
 }
 
 }  // namespace
