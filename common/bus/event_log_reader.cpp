@@ -1,5 +1,7 @@
 #include "bus/event_log_reader.hpp"
 
+#include "bus/event_log_format.hpp"
+
 #include <sys/stat.h>
 
 #include <cstdint>
@@ -7,10 +9,6 @@
 #include <stdexcept>
 
 namespace odonata::bus {
-namespace {
-// lcm_eventlog's per-event header: sync word, event number, timestamp, channel and data lengths.
-constexpr int64_t kEventHeaderBytes = 4 + 8 + 8 + 4 + 4;
-}  // namespace
 
 void ForEachLogEvent(const std::vector<std::string>& log_paths,
                      const std::function<void(const lcm::LogEvent&)>& fn) {
@@ -26,7 +24,7 @@ void ForEachLogEvent(const std::vector<std::string>& log_paths,
     long events = 0;
     while (const lcm::LogEvent* ev = log.readNextEvent()) {
       if (ev->datalen < 0) break;
-      good_bytes += kEventHeaderBytes + static_cast<int64_t>(ev->channel.size()) + ev->datalen;
+      good_bytes += LogEventBytes(ev->channel.size(), ev->datalen);
       ++events;
       fn(*ev);
     }

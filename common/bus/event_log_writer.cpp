@@ -1,5 +1,7 @@
 #include "bus/event_log_writer.hpp"
 
+#include "bus/event_log_format.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -12,8 +14,6 @@
 
 namespace odonata::bus {
 namespace {
-// lcm_eventlog's per-event header: sync word, event number, timestamp, channel and data lengths.
-constexpr int64_t kEventHeaderBytes = 4 + 8 + 8 + 4 + 4;
 // LCM's own limit on channel names (LCM_MAX_CHANNEL_NAME_LENGTH).
 constexpr std::size_t kMaxChannelBytes = 63;
 
@@ -86,7 +86,7 @@ void EventLogWriter::Write(int64_t utime, const std::string& channel, const void
     throw std::invalid_argument("malformed event on '" + channel.substr(0, kMaxChannelBytes) +
                                 "' (" + std::to_string(size) + " bytes): not logged");
   }
-  const int64_t event_bytes = kEventHeaderBytes + static_cast<int64_t>(channel.size()) + size;
+  const int64_t event_bytes = LogEventBytes(channel.size(), size);
   if (split_bytes_ > 0 && file_bytes_ > 0 && file_bytes_ + event_bytes > split_bytes_) {
     Flush();
     log_.reset();

@@ -66,17 +66,8 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
 
 CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& command) {
   CommandOutcome out;
-  switch (leaps_.Check(seq, newest_seq_.value_or(-1))) {
-    case LeapGuard::Verdict::kAccept:
-      break;
-    case LeapGuard::Verdict::kHold:
-      out.problem = LeapGuard::HeldMessage("command", seq, newest_seq_.value_or(-1));
-      return out;
-    case LeapGuard::Verdict::kReject:
-      out.problem = "command seq " + std::to_string(seq) + " is negative or leaps more than " +
-                    std::to_string(kMaxSeqJump) + " past the newest";
-      return out;
-  }
+  out.problem = leaps_.Problem("command", seq, newest_seq_.value_or(-1));
+  if (!out.problem.empty()) return out;  // kRejected
   out.problem = CommandLimitProblems(command, plant_.config().limits);
   if (!out.problem.empty()) return out;  // kRejected
 

@@ -170,16 +170,8 @@ class SamplePairer {
  private:
   // Throws std::invalid_argument for a seq the guard rejects or holds back.
   static void Guard(LeapGuard* guard, const std::string& what, int64_t seq, int64_t newest) {
-    switch (guard->Check(seq, newest)) {
-      case LeapGuard::Verdict::kAccept:
-        return;
-      case LeapGuard::Verdict::kHold:
-        throw std::invalid_argument(LeapGuard::HeldMessage(what, seq, newest));
-      case LeapGuard::Verdict::kReject:
-        throw std::invalid_argument(
-            what + " seq " + std::to_string(seq) + " is negative or leaps more than " +
-            std::to_string(kMaxSeqJump) + " past the newest, " + std::to_string(newest));
-    }
+    const std::string problem = guard->Problem(what, seq, newest);
+    if (!problem.empty()) throw std::invalid_argument(problem);
   }
 
   int64_t NewestState() const {

@@ -49,11 +49,20 @@ class LeapGuard {
     return Verdict::kHold;
   }
 
-  /// Why a held seq was held, for the receiver's report.
-  static std::string HeldMessage(const std::string& what, int64_t seq, int64_t newest) {
-    return what + " seq " + std::to_string(seq) + " leaps " + std::to_string(seq - newest) +
-           " past the newest, " + std::to_string(newest) +
-           ": held until the next seq confirms it (a lone or resent forged packet never is)";
+  /// Check() in a receiver's words: empty to use `seq`, else why it is dropped ("<what> seq …").
+  std::string Problem(const std::string& what, int64_t seq, int64_t newest) {
+    switch (Check(seq, newest)) {
+      case Verdict::kAccept:
+        return "";
+      case Verdict::kHold:
+        return what + " seq " + std::to_string(seq) + " leaps " + std::to_string(seq - newest) +
+               " past the newest, " + std::to_string(newest) +
+               ": held until the next seq confirms it (a lone or resent forged packet never is)";
+      case Verdict::kReject:
+        break;
+    }
+    return what + " seq " + std::to_string(seq) + " is negative or leaps more than " +
+           std::to_string(kMaxSeqJump) + " past the newest, " + std::to_string(newest);
   }
 
  private:

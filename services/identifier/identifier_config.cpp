@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_integer.hpp"
+
 namespace odonata::identifier {
 
 namespace {
@@ -70,24 +72,24 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "channels"};
 
 // An integer field within [lo, hi]: a fraction, 1.3e29 or 4294967297 for an int is a problem,
-// never a silent conversion.
+// never a silent conversion (io::JsonInteger reads it).
 template <class Int>
 Int IntegerField(const nlohmann::json& j, const std::string& key, Int fallback, int64_t lo,
                  int64_t hi, const std::function<void(const std::string&)>& problem) {
   if (!j.contains(key)) return fallback;
-  const nlohmann::json& v = j.at(key);
-  if (!v.is_number_integer()) {
-    problem("\"" + key + "\" must be a whole number, not " + v.dump());
+  int64_t v = 0;
+  try {
+    v = io::JsonInteger<int64_t>(j.at(key), key);
+  } catch (const std::runtime_error& e) {
+    problem(e.what());
     return fallback;
   }
-  const bool fits = v.is_number_unsigned() ? v.get<uint64_t>() <= static_cast<uint64_t>(hi)
-                                           : v.get<int64_t>() >= lo && v.get<int64_t>() <= hi;
-  if (!fits) {
+  if (v < lo || v > hi) {
     problem("\"" + key + "\" must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-            "], not " + v.dump());
+            "], not " + std::to_string(v));
     return fallback;
   }
-  return static_cast<Int>(v.get<int64_t>());
+  return static_cast<Int>(v);
 }
 
 IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {

@@ -6,7 +6,6 @@
 #include "bus/model_snapshot_codec.hpp"
 #include "bus/sample_fields.hpp"
 #include "io/atomic_file.hpp"
-#include "odonata/ack_t.hpp"
 #include "odonata/prediction_t.hpp"
 #include "snapshot_admission.hpp"
 
@@ -19,6 +18,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       config_(std::move(config)),
       save_model_path_(std::move(save_model_path)),
       models_dir_(std::move(models_dir)),
+      acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel()),
       pairer_(Needs(core_.model().spec())) {
   const auto& ch = config_.channels;
@@ -111,17 +111,7 @@ void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
 void IdentifierNode::Acknowledge(bool always) {
   // Waiting for a snapshot, samples are not learned: no receipt, so a lockstep generator does not
   // count this identifier as having them.
-  if (!started_) return;
-  const int64_t held = pairer_.newest_held_state();
-  if (held < 0 || (!always && held == last_ack_)) return;
-  last_ack_ = held;
-  odonata::ack_t a{};
-  a.utime = bus::NowUtime();
-  a.seq = ack_seq_++;
-  a.service = bus_.options().service;
-  a.instance = bus_.options().instance;
-  a.state_seq = held;
-  bus_.Publish(config_.channels.ack, a);
+  if (started_) acks_.Publish(pairer_.newest_held_state(), always);
 }
 
 void IdentifierNode::Handle(std::vector<Pairer::Event> events) {

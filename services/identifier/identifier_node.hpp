@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "identifier_config.hpp"
 #include "odonata/beat_state_t.hpp"
@@ -63,13 +64,12 @@ class IdentifierNode {
   IdentifierConfig config_;
   std::string save_model_path_;
   std::string models_dir_;  // where SAVE_MODEL with a file name writes ("" = refused)
+  bus::AckPublisher acks_;
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
   Pairer pairer_;
   int64_t prediction_seq_ = 0;
   int64_t snapshot_seq_ = 0;
-  int64_t ack_seq_ = 0;
-  int64_t last_ack_ = -1;
 };
 
 }  // namespace odonata::identifier

@@ -1,6 +1,5 @@
 #include "logger_node.hpp"
 
-#include "odonata/ack_t.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
@@ -13,7 +12,10 @@
 namespace odonata::logger {
 
 LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
-    : bus_(bus), options_(options), writer_(options.prefix, options.split_bytes) {
+    : bus_(bus),
+      options_(options),
+      writer_(options.prefix, options.split_bytes),
+      acks_(bus, bus.channels().ack) {
   bus_.SubscribeRaw(
       options_.channels_regex, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         // LCM 1.3.1 hands on a datagram whose channel name has no terminating NUL with
@@ -68,15 +70,7 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
   // (published right after it) are written too.
   int64_t held = std::min(newest_state_, newest_command_ + 1);
   if (beats_seen_) held = std::min(held, newest_beat_);
-  if (held < 0 || (!is_state && held == last_ack_)) return;
-  last_ack_ = held;
-  odonata::ack_t a{};
-  a.utime = bus::NowUtime();
-  a.seq = ack_seq_++;
-  a.service = bus_.options().service;
-  a.instance = bus_.options().instance;
-  a.state_seq = held;
-  bus_.Publish(ch.ack, a);
+  acks_.Publish(held, is_state);
 }
 
 }  // namespace odonata::logger

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "bus/event_log_writer.hpp"
 
@@ -34,8 +35,7 @@ class LoggerNode {
   bus::EventLogWriter writer_;
   int64_t newest_state_ = -1, newest_command_ = -1, newest_beat_ = -1;
   bool beats_seen_ = false;
-  int64_t last_ack_ = -1;
-  int64_t ack_seq_ = 0;
+  bus::AckPublisher acks_;
 };
 
 }  // namespace odonata::logger

@@ -42,17 +42,8 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
       m.predicted.size() != n || m.free_run.size() != n || m.rules.size() != n) {
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
   }
-  switch (leaps_.Check(m.sample, last_sample_)) {
-    case pipeline::LeapGuard::Verdict::kAccept:
-      break;
-    case pipeline::LeapGuard::Verdict::kHold:
-      throw std::invalid_argument(
-          pipeline::LeapGuard::HeldMessage("prediction sample", m.sample, last_sample_));
-    case pipeline::LeapGuard::Verdict::kReject:
-      throw std::invalid_argument("prediction for sample " + std::to_string(m.sample) +
-                                  ": negative or leaps past the newest, " +
-                                  std::to_string(last_sample_));
-  }
+  const std::string leap = leaps_.Problem("prediction sample", m.sample, last_sample_);
+  if (!leap.empty()) throw std::invalid_argument(leap);
   if (last_sample_ >= 0 && m.sample == last_sample_) {
     throw std::invalid_argument("duplicate prediction for sample " + std::to_string(m.sample));
   }

@@ -43,6 +43,12 @@ stop_all() {
   done
 }
 
+# wait_for_log FILE PATTERN: waits up to 5 s for a line matching PATTERN in FILE (a process's log).
+wait_for_log() {
+  for _ in $(seq 100); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
+  return 1
+}
+
 # Stops a process with SIGTERM and fails unless it exits 0 within 5 s.
 stop_clean() {
   local pid=$1 what=$2

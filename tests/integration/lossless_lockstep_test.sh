@@ -21,7 +21,7 @@ start ident "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --
 sleep 0.5
 start signal "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL"
 # Pause the identifier once the run is under way (the discovery second is over).
-for _ in $(seq 100); do grep -q "waits for receipts" "$OUT/signal.log" && break; sleep 0.05; done
+wait_for_log "$OUT/signal.log" "waits for receipts" || true
 grep -q "waits for receipts from: identifier logger" "$OUT/signal.log" ||
   fail "the generator did not find both consumers: $(cat "$OUT/signal.log")"
 sleep 0.2
@@ -53,7 +53,7 @@ start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0
 sleep 0.5
 start signal2 "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL" \
   --timeout-ms 50 --max-resends 4
-for _ in $(seq 100); do grep -q "waits for receipts" "$OUT/signal2.log" && break; sleep 0.05; done
+wait_for_log "$OUT/signal2.log" "waits for receipts" || true
 sleep 0.2
 kill -KILL "$PID_ident2"
 rc=0

@@ -20,7 +20,7 @@ start ident1 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0
 sleep 0.5
 start signal "$SIGNAL" --preset roll --phase train --duration 20 --mode lockstep --lcm-url "$URL" \
   --timeout-ms 200 --max-resends 40
-for _ in $(seq 100); do grep -q "waits for receipts" "$OUT/signal.log" && break; sleep 0.05; done
+wait_for_log "$OUT/signal.log" "waits for receipts" || true
 sleep 0.3
 # Stopped first, so the run halts at a definite sample (it waits for the receipt), then killed.
 kill -STOP "$PID_ident1"
