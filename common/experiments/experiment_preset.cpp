@@ -6,8 +6,10 @@
 #include <random>
 #include <stdexcept>
 
+#include "signals/aprbs.hpp"
 #include "signals/chirp.hpp"
 #include "signals/gaussian_noise.hpp"
+#include "signals/multisine.hpp"
 #include "signals/taper.hpp"
 
 namespace odonata::experiments {
@@ -125,7 +127,26 @@ struct Builder {
       run.excitation_values.push_back(std::move(u));
     }
   }
+
+  // One more scalar column, read from the (clamped) commands already filled.
+  void AddExcitation(const std::string& name,
+                     const std::function<double(const CommandMatrix&)>& channel) {
+    std::vector<double> u;
+    u.reserve(run.commands.size());
+    for (const CommandMatrix& c : run.commands) u.push_back(channel(c));
+    run.excitation_names.push_back(name);
+    run.excitation_values.push_back(std::move(u));
+  }
 };
+
+// Seed of an APRBS stream: independent per (seed, phase, purpose), like the chirp phases.
+std::uint64_t AprbsSeed(std::uint64_t seed, Phase phase, std::uint64_t purpose) {
+  std::mt19937_64 rng = Stream(seed, phase, 1000 + purpose);
+  return rng();
+}
+
+// Mean flapping frequency of the four wings (Hz).
+double MeanFrequencyHz(const CommandMatrix& c) { return c.col(kFlapFrequency).mean(); }
 
 ExperimentPreset Actuator(const std::string& name, const std::string& output,
                           std::vector<std::string> inputs, double h, const std::string& h_text,
@@ -277,6 +298,85 @@ std::vector<ExperimentPreset> MakePresets() {
     p.held_vehicle = true;
     p.description = std::string("HELD VEHICLE (closed loop, attitude hold inside the model): ") +
                     base + " from the excitation before the hold; runs as " + base;
+    v.push_back(p);
+  }
+  // Beyond the paper: experiments where the physics is nonlinear (docs/identifier.md §10).
+  {
+    ExperimentPreset p;
+    p.name = "vertical_wide";
+    p.description =
+        "beat-averaged vertical velocity over a wide operating range: f and phi0 of all four "
+        "wings held at random levels (lift ~ f^2 phi0^2, damping depends on the climb rate)";
+    p.output_column = "vz_mps_avg";
+    p.input_columns = {"u_freq_hz", "u_vertical_applied_rad"};
+    p.ny = 1;
+    p.nu = 3;
+    p.delay = 1;
+    p.decimate = 5;
+    p.entropy_threshold = 0.5;
+    p.paper_entropy_text = "-";
+    p.paper_accuracy_text = "not in the paper";
+    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
+    p.start_altitude_m = kStartAltitudeM;
+    p.attitude_hold = true;
+    p.beyond_paper = true;
+    p.train_excitation =
+        "all wings: f in 4.6-6.6 Hz and phi0 in 38-84 deg, APRBS levels held 0.3-2 s (one stream "
+        "each); 1 s fade from trim; attitude hold on";
+    p.select_excitation = "as training, levels held 0.25-1.6 s, other streams";
+    p.validate_excitation =
+        "a different family: f = 5.6 + 0.95 log-chirp(0.02->0.6 Hz) Hz, phi0 = 61 + 21.9 deg "
+        "log-chirp(0.03->1 Hz); 1 s fade from trim; attitude hold on";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p;
+    p.name = "force_map_fz";
+    p.description =
+        "static map (f, phi0, beta) -> beat-averaged total vertical force on the test stand: "
+        "levels held 0.25 s (longer than a beat), one row per level";
+    p.output_column = "fz_total_n_avg";
+    p.input_columns = {"w1_freq_hz", "w1_amp_rad", "w1_beta_rad"};
+    p.ny = 0;
+    p.nu = 1;
+    p.delay = 1;
+    p.decimate = 25;
+    p.entropy_threshold = 0.5;
+    p.paper_entropy_text = "-";
+    p.paper_accuracy_text = "not in the paper";
+    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
+    p.clamped_body = true;
+    p.start_altitude_m = kStartAltitudeM;
+    p.beyond_paper = true;
+    p.train_excitation =
+        "all wings: f in 4.5-7.5 Hz, phi0 in 25-84.9 deg, beta in -25..25 deg, independent "
+        "uniform levels, each held 25 samples";
+    p.select_excitation = "as training, other streams";
+    p.validate_excitation =
+        "a different family: levels sampled every 25 samples from slow log-chirps over the same "
+        "ranges (f 0.01->0.5 Hz, phi0 0.02->1.2 Hz, beta 0.015->0.8 Hz)";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p =
+        Attitude("roll_coupled", "roll_rad", "u_roll_applied_rad", 0.5, "-", 0, "not in the paper");
+    p.input_columns = {"u_roll_applied_rad", "vy_mps_avg"};
+    p.ny = 1;
+    p.nu = 8;
+    p.decimate = 3;
+    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
+    p.beyond_paper = true;
+    p.description =
+        "roll with the coupled lateral state: inputs the applied left/right phi0 differential "
+        "and the beat-averaged side velocity v_y (open loop, hold included)";
+    p.train_excitation =
+        "phi0 = trim +/- u (left +, right -), u = 6 deg (0.6 APRBS held 0.15-1 s, smoothed "
+        "0.1 s + 0.4 linear chirp(0.1->3 Hz)), 1 s fades; attitude hold on";
+    p.select_excitation =
+        "as training, u = 5 deg, APRBS held 0.12-0.8 s (other stream), chirp(0.12->3.5 Hz)";
+    p.validate_excitation =
+        "a different family: u = 4.5 deg (0.5 log-chirp(0.15->4 Hz) + 0.5 multisine of 12 "
+        "tones 0.07-2.5 Hz, random phases), 1 s fades; attitude hold on";
     v.push_back(p);
   }
   return v;
@@ -489,6 +589,120 @@ ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, st
         YawChannelRad, "u_yaw_rad");
     return b.run;
   }
+  if (name == "vertical_wide") {
+    // Ranges inside the limits (f ≤ 8 Hz, φ₀ ≤ 85°) with room for the hold's φ₀ differential.
+    constexpr double kFLow = 4.6, kFHigh = 6.6;
+    constexpr double kALow = 38.0 * kRadPerDeg, kAHigh = 84.0 * kRadPerDeg;
+    std::vector<double> f, a;
+    if (phase == Phase::kValidate) {
+      const signals::LogChirp f_chirp(0.02, 0.6, 0.95 * 0.5 * (kFHigh - kFLow), t_end_s, phase0);
+      const signals::LogChirp a_chirp(0.03, 1.0, 0.95 * 0.5 * (kAHigh - kALow), t_end_s, phase1);
+      for (std::size_t k = 0; k < samples; ++k) {
+        const double t = static_cast<double>(k) * dt_s;
+        f.push_back(0.5 * (kFLow + kFHigh) + f_chirp.Value(t));
+        a.push_back(0.5 * (kALow + kAHigh) + a_chirp.Value(t));
+      }
+    } else {
+      const bool train = phase == Phase::kTrain;
+      const int hold_min = train ? 30 : 25, hold_max = train ? 200 : 160;
+      f = signals::AprbsSequence(samples, {kFLow, kFHigh, hold_min, hold_max},
+                                 AprbsSeed(seed, phase, 1));
+      a = signals::AprbsSequence(samples, {kALow, kAHigh, hold_min, hold_max},
+                                 AprbsSeed(seed, phase, 2));
+    }
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          // Fade in from hover trim over kRampS so every run starts in the air at rest.
+          const std::size_t k = static_cast<std::size_t>(std::llround(t / dt_s));
+          const double w = std::min(1.0, t / kRampS);
+          c->col(kFlapFrequency).setConstant(trim.freq_hz + w * (f[k] - trim.freq_hz));
+          c->col(kStrokeAmplitude).setConstant(a0 + w * (a[k] - a0));
+        },
+        [&](const CommandMatrix& c) { return VerticalChannelRad(c, a0); }, "u_vertical_rad");
+    b.AddExcitation("u_freq_hz", MeanFrequencyHz);
+    return b.run;
+  }
+
+  if (name == "force_map_fz") {
+    // Levels change only at multiples of the decimation block, so each decimated row's input is
+    // one level and the next row's output its settled beat mean: y(j + 1) = g(u(j)).
+    const int block = preset.decimate;
+    const double lows[3] = {4.5, 25.0 * kRadPerDeg, -25.0 * kRadPerDeg};
+    const double highs[3] = {7.5, 84.9 * kRadPerDeg, 25.0 * kRadPerDeg};
+    const double bands[3][2] = {{0.01, 0.5}, {0.02, 1.2}, {0.015, 0.8}};
+    std::vector<double> level[3];
+    for (int i = 0; i < 3; ++i) {
+      if (phase == Phase::kValidate) {
+        const signals::LogChirp chirp(bands[i][0], bands[i][1], 0.5 * (highs[i] - lows[i]), t_end_s,
+                                      RandomPhaseRad(seed, phase, 10 + i));
+        for (std::size_t k = 0; k < samples; ++k) {
+          const std::size_t start = k - k % static_cast<std::size_t>(block);
+          level[i].push_back(0.5 * (lows[i] + highs[i]) +
+                             chirp.Value(static_cast<double>(start) * dt_s));
+        }
+      } else {
+        level[i] = signals::AprbsSequence(samples, {lows[i], highs[i], block, block},
+                                          AprbsSeed(seed, phase, 10 + i));
+      }
+    }
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const std::size_t k = static_cast<std::size_t>(std::llround(t / dt_s));
+          c->col(kFlapFrequency).setConstant(level[0][k]);
+          c->col(kStrokeAmplitude).setConstant(level[1][k]);
+          c->col(kStrokePlaneAngle).setConstant(level[2][k]);
+        },
+        nullptr, "");
+    return b.run;
+  }
+
+  if (name == "roll_coupled") {
+    std::vector<double> u(samples);
+    if (phase == Phase::kValidate) {
+      // A different family from training's: a log chirp plus a multisine, no held levels.
+      std::mt19937_64 rng = Stream(seed, phase, 20);
+      std::vector<double> freqs, amps, phases;
+      for (int i = 0; i < 12; ++i) {
+        freqs.push_back(0.07 + (2.5 - 0.07) * i / 11.0);
+        amps.push_back(1.0);
+        phases.push_back(2.0 * kPi * static_cast<double>(rng() >> 11) * 0x1.0p-53);
+      }
+      const signals::Multisine tones(freqs, amps, phases);
+      const signals::LogChirp chirp(0.15, 4.0, 1.0, t_end_s, phase0);
+      double peak = 0.0;
+      for (std::size_t k = 0; k < samples; ++k)
+        peak = std::max(peak, std::abs(tones.Value(static_cast<double>(k) * dt_s)));
+      const double amplitude_rad = 4.5 * kRadPerDeg;
+      for (std::size_t k = 0; k < samples; ++k) {
+        const double t = static_cast<double>(k) * dt_s;
+        u[k] = amplitude_rad * (0.5 * chirp.Value(t) + 0.5 * tones.Value(t) / peak);
+      }
+    } else {
+      const bool train = phase == Phase::kTrain;
+      const double amplitude_rad = (train ? 6.0 : 5.0) * kRadPerDeg;
+      const std::vector<double> levels = signals::AprbsSequence(
+          samples, {-1.0, 1.0, train ? 15 : 12, train ? 100 : 80, 10}, AprbsSeed(seed, phase, 20));
+      const signals::LinearChirp chirp(train ? 0.1 : 0.12, train ? 3.0 : 3.5, 1.0, t_end_s, phase0);
+      for (std::size_t k = 0; k < samples; ++k) {
+        u[k] = amplitude_rad * (0.6 * levels[k] + 0.4 * chirp.Value(static_cast<double>(k) * dt_s));
+      }
+    }
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const std::size_t k = static_cast<std::size_t>(std::llround(t / dt_s));
+          const double uk = fade(t) * u[k];
+          for (int i = 0; i < 2; ++i) {
+            (*c)(kLeft[i], kStrokeAmplitude) = a0 + uk;
+            (*c)(kRight[i], kStrokeAmplitude) = a0 - uk;
+          }
+        },
+        RollChannelRad, "u_roll_rad");
+    return b.run;
+  }
+
   throw std::runtime_error("BuildExperimentRun: no excitation defined for preset " + preset.name);
 }
 

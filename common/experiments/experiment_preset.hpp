@@ -48,6 +48,12 @@ struct ExperimentPreset {
   /// model is of the held (closed-loop) vehicle; the name ends in "_held". Otherwise the input
   /// is what the wings did (an *_applied_* column, or a command on the test stand).
   bool held_vehicle{};
+  /// Identify from one row per this many samples (odonata-sim --decimate: inputs averaged over
+  /// the block, outputs at its first sample); 1 for the paper's six, which use every sample.
+  int decimate = 1;
+  /// Not one of the paper's six: an experiment where the physics is nonlinear (a wide operating
+  /// range, a static force map, a coupled state), there to show what a fuzzy model adds.
+  bool beyond_paper{};
 };
 
 /// The scalar command channels of the free-flight presets (plant.md's actuator mappings), read
@@ -91,7 +97,8 @@ struct ExperimentRun {
 
 /// The six presets, in the paper's order: actuator_fz, actuator_fx, vertical_velocity, roll,
 /// pitch, yaw; then the held-vehicle variants roll_held and pitch_held (the same runs, identified
-/// from the excitation before the hold).
+/// from the excitation before the hold); then the experiments beyond the paper, where the physics
+/// is nonlinear: vertical_wide, force_map_fz, roll_coupled.
 const std::vector<ExperimentPreset>& Presets();
 
 /// The preset called `name`, or nullptr.

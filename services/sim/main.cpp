@@ -23,9 +23,9 @@ void ListPresets() {
     std::printf("%s: %s\n", p.name.c_str(), p.description.c_str());
     std::printf("  output %s, input", p.output_column.c_str());
     for (const std::string& in : p.input_columns) std::printf(" %s", in.c_str());
-    std::printf(", ny %d nu %d delay %d, H %.3g (paper %s, %d MFs, %s)\n", p.ny, p.nu, p.delay,
-                p.entropy_threshold, p.paper_entropy_text.c_str(), p.paper_mf_count,
-                p.paper_accuracy_text.c_str());
+    std::printf(", ny %d nu %d delay %d, decimate %d, H %.3g (paper %s, %d MFs, %s)\n", p.ny, p.nu,
+                p.delay, p.decimate, p.entropy_threshold, p.paper_entropy_text.c_str(),
+                p.paper_mf_count, p.paper_accuracy_text.c_str());
     std::printf("  train %.0f s: %s\n  select %.0f s: %s\n  validate %.0f s: %s\n",
                 p.train_duration_s, p.train_excitation.c_str(), p.select_duration_s,
                 p.select_excitation.c_str(), p.validate_duration_s, p.validate_excitation.c_str());
@@ -51,6 +51,8 @@ void ListPresetsJson() {
                    {"validate_duration_s", p.validate_duration_s},
                    {"select_duration_s", p.select_duration_s},
                    {"held_vehicle", p.held_vehicle},
+                   {"decimate", p.decimate},
+                   {"beyond_paper", p.beyond_paper},
                    {"clamped_body", p.clamped_body},
                    {"attitude_hold", p.attitude_hold},
                    {"train_excitation", p.train_excitation},
@@ -95,10 +97,11 @@ int main(int argc, char** argv) {
   app.add_option("--damage-frequency", damage.frequency_scale,
                  "delivered flapping frequency / commanded (a sagging battery)")
       ->capture_default_str();
-  int decimate = 1;
+  int decimate = 0;
   app.add_option("--decimate", decimate,
                  "write one row per N samples: outputs (and their _avg) at the block's first "
-                 "sample, inputs averaged over the block (N = 19 is about one wing beat at hover)")
+                 "sample, inputs averaged over the block (N = 19 is about one wing beat at hover); "
+                 "default: the preset's (see --list-presets), 1 with --commands")
       ->check(CLI::Range(1, 1000000));
   preset_opt->excludes(commands_opt);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
@@ -132,6 +135,7 @@ int main(int argc, char** argv) {
       }
       const auto phase = *odonata::experiments::ParsePhase(phase_name);
       run = odonata::experiments::BuildExperimentRun(*preset, phase, seed, duration_s, config);
+      if (decimate == 0) decimate = preset->decimate;
     } else {
       run = odonata::sim::ReadCommandFile(commands_path, config, altitude_m);
       if (duration_s > 0.0) {
@@ -144,6 +148,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     run.damage = damage;
+    if (decimate == 0) decimate = 1;
     const odonata::sim::SimResult result =
         odonata::sim::RunAndWrite(config, run, output_path, decimate);
     for (const std::string& m : result.messages)

@@ -22,10 +22,12 @@ std::string BaseName(const ExperimentPreset& p) {
 }
 
 TEST(Presets, AreTheSixPaperExperimentsWithIdentificationMetadata) {
-  ASSERT_EQ(Presets().size(), 8u);
+  ASSERT_EQ(Presets().size(), 11u);
   for (std::size_t i = 0; i < 6; ++i) EXPECT_FALSE(Presets()[i].held_vehicle);
   for (const ExperimentPreset& p : Presets()) {
     SCOPED_TRACE(p.name);
+    if (p.beyond_paper) continue;
+    EXPECT_EQ(p.decimate, 1);
     EXPECT_EQ(FindPreset(p.name), &p);
     EXPECT_DOUBLE_EQ(p.entropy_threshold, kPaperEntropy.at(BaseName(p)));
     EXPECT_EQ(p.paper_mf_count, kPaperMfs.at(BaseName(p)));
@@ -52,7 +54,7 @@ TEST(Presets, FreeFlightInputsAreTheAppliedCommandUnlessNamedHeld) {
     SCOPED_TRACE(p.name);
     const bool named_held = p.name.size() > 5 && p.name.substr(p.name.size() - 5) == "_held";
     EXPECT_EQ(p.held_vehicle, named_held);
-    if (p.clamped_body) continue;
+    if (p.clamped_body || p.beyond_paper) continue;
     ASSERT_EQ(p.input_columns.size(), 1u);
     const std::string& in = p.input_columns.front();
     if (p.held_vehicle) {
@@ -167,10 +169,11 @@ TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
     EXPECT_GT(spread, 0.01);
   }
 
-  // Input columns exist: a command column, an excitation column of the run, or (for a run that
-  // records it) an applied-command column.
+  // Input columns exist: a command column, an excitation column of the run, (for a run that
+  // records it) an applied-command column, or a beat-averaged state.
   for (const std::string& in : p.input_columns) {
-    const bool is_command = in.rfind("w1_", 0) == 0;
+    const bool is_command =
+        in.rfind("w1_", 0) == 0 || (in.size() > 4 && in.substr(in.size() - 4) == "_avg");
     bool is_excitation = false;
     for (const std::string& name : train.excitation_names) is_excitation |= name == in;
     for (const std::string& name : AppliedChannelNames())
@@ -197,7 +200,7 @@ TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
     EXPECT_NEAR(train.initial.state.position_m.z(), 50.0, 1e-12);
     EXPECT_TRUE(train.initial.prior_command == train.trim.command);
     // Attitude excitations are zero-mean.
-    if (p.name != "vertical_velocity") {
+    if (p.name != "vertical_velocity" && p.name != "vertical_wide") {
       const std::vector<double>& u = train.excitation_values.at(0);
       double sum = 0.0, sum_abs = 0.0;
       for (const double x : u) {
@@ -226,6 +229,60 @@ TEST_P(EveryPreset, SeedChangesTheRun) {
 INSTANTIATE_TEST_SUITE_P(Paper, EveryPreset,
                          ::testing::Values("actuator_fz", "actuator_fx", "vertical_velocity",
                                            "roll", "pitch", "yaw", "roll_held", "pitch_held"));
+INSTANTIATE_TEST_SUITE_P(BeyondPaper, EveryPreset,
+                         ::testing::Values("vertical_wide", "force_map_fz", "roll_coupled"));
+
+// The experiments beyond the paper: nonlinear physics, identified at a decimated rate from
+// signals the identifier can read live (an applied channel, an excitation column of the run, a
+// command column on the test stand, or a beat average).
+TEST(Presets, BeyondThePaperAreDecimatedAndReadLiveSignals) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  int count = 0;
+  for (const ExperimentPreset& p : Presets()) {
+    if (!p.beyond_paper) continue;
+    SCOPED_TRACE(p.name);
+    ++count;
+    EXPECT_GT(p.decimate, 1);
+    EXPECT_FALSE(p.held_vehicle);
+    EXPECT_EQ(p.paper_accuracy_text, "not in the paper");
+    const ExperimentRun run = BuildExperimentRun(p, Phase::kTrain, 1, 0.0, config);
+    for (const std::string& in : p.input_columns) {
+      const auto& applied = AppliedChannelNames();
+      const bool ok =
+          (p.attitude_hold && std::find(applied.begin(), applied.end(), in) != applied.end()) ||
+          std::find(run.excitation_names.begin(), run.excitation_names.end(), in) !=
+              run.excitation_names.end() ||
+          (p.clamped_body && in.rfind("w1_", 0) == 0) ||
+          (in.size() > 4 && in.substr(in.size() - 4) == "_avg");
+      EXPECT_TRUE(ok) << in;
+    }
+  }
+  EXPECT_EQ(count, 3);
+}
+
+// The force map changes its levels only at decimation-block boundaries, so each decimated row's
+// input is one level; every block differs from the one before in all three inputs.
+TEST(Presets, ForceMapLevelsAreAlignedToTheDecimationBlocks) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  const ExperimentPreset& p = *FindPreset("force_map_fz");
+  for (const Phase phase : {Phase::kTrain, Phase::kSelect, Phase::kValidate}) {
+    const ExperimentRun run = BuildExperimentRun(p, phase, 2, 0.0, config);
+    const auto block = static_cast<std::size_t>(p.decimate);
+    for (std::size_t k = 0; k < run.commands.size(); ++k) {
+      ASSERT_TRUE(run.commands[k] == run.commands[k - k % block]) << PhaseName(phase) << " " << k;
+      // All four wings fly the same command.
+      for (int w = 1; w < plant::kWingCount; ++w) {
+        ASSERT_TRUE(run.commands[k].row(w) == run.commands[k].row(0));
+      }
+    }
+    for (std::size_t k = block; k < run.commands.size(); k += block) {
+      for (const int input :
+           {plant::kFlapFrequency, plant::kStrokeAmplitude, plant::kStrokePlaneAngle}) {
+        EXPECT_NE(run.commands[k](0, input), run.commands[k - block](0, input)) << k;
+      }
+    }
+  }
+}
 
 // A held variant flies exactly the runs of its preset.
 TEST(Presets, HeldVariantsFlyTheSameRuns) {
