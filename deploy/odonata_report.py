@@ -4,8 +4,22 @@ import html
 import json
 import math
 import os
+import subprocess
+import sys
+import textwrap
 
 import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DT = 0.01  # s per sample: the pipeline runs at 100 Hz
+# A FIT below −999 % (NDEI above 10.99; NDEI = 1 − FIT/100) only says the simulation ran away.
+DIVERGED_FIT = -999.0
+DIVERGED_NDEI = 1 - DIVERGED_FIT / 100
+# Fuzzy and ARX closer than this many FIT points are called equal: below it the difference is
+# within what a different seed or excitation moves.
+EQUAL_POINTS = 1.0
+POOR_FIT = 50.0  # % below which a model is too poor for its agreement with another to mean anything
+MODE_WORDS = {"free_run": "in free run", "one_step": "in one-step prediction"}
 
 
 def _scores(y, yhat):
@@ -21,7 +35,7 @@ def _scores(y, yhat):
             "rmse": rmse, "ndei": float(rmse / np.std(y)), "samples": int(len(y))}
 
 
-def read_predictions(path, output):
+def read_predictions(path, output=None):
     with open(path) as f:
         rows = list(csv.DictReader(f))
     cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0].keys()} if rows else {}
@@ -37,13 +51,92 @@ def live_scores(path, output):
             "free_run": _scores(y, p[f"{output}_free_run"][last])}
 
 
+def _finite(v):
+    return v if isinstance(v, (int, float)) and math.isfinite(v) else None
+
+
 def fmt(v, digits=2):
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+    if _finite(v) is None:
         return "–"
-    if v < -999:
-        return "diverges"  # a FIT below −999 % only says the simulation ran away
+    if v < DIVERGED_FIT:
+        return "diverges"
     return f"{v:.{digits}f}"
 
+
+def fmt_ndei(v):
+    if _finite(v) is None:
+        return "–"
+    if v > DIVERGED_NDEI:
+        return "diverges"
+    return f"{v:.3g}"
+
+
+# --- headline and verdict -------------------------------------------------------------------
+
+def headline_mode(s):
+    """Free run where the loop does not integrate: a model of the dynamics is used to simulate, and
+    free run is where a wrong structure shows. An integrator's free run drifts with any bias, so
+    one-step there; a static map (ny = 0) has no free run, its one-step prediction is its output."""
+    if s["integrator"] or (s["validate"].get("free_run") or {}).get("fit") is None:
+        return "one_step"
+    return "free_run"
+
+
+def headline(s):
+    mode = headline_mode(s)
+    return {"metric": f"{mode.replace('_', '-')} NDEI",
+            "fuzzy": _finite((s["validate"].get(mode) or {}).get("ndei")),
+            "arx": _finite((s["arx"].get(mode) or {}).get("ndei"))}
+
+
+def _fits(s, mode):
+    return (s["validate"].get(mode) or {}).get("fit"), (s["arx"].get(mode) or {}).get("fit")
+
+
+def _compare(f, a, mode, rules):
+    """(sentence, short) for two FITs that both stayed bounded."""
+    d = f - a
+    where = MODE_WORDS[mode]
+    if abs(d) < EQUAL_POINTS:
+        # Equal and both poor says nothing about linearity: neither structure fits.
+        why = (f"neither model fits well (FIT {f:.0f} % and {a:.0f} %)" if max(f, a) < POOR_FIT
+               else "one rule makes the fuzzy model linear, like ARX" if rules == 1
+               else "the loop looks linear at these amplitudes")
+        return f"fuzzy equals ARX {where} (within {EQUAL_POINTS:g} FIT point): {why}", "equals ARX"
+    if d > 0:
+        return f"fuzzy beats ARX by {d:+.1f} FIT points {where}", f"beats ARX {d:+.1f}"
+    return f"fuzzy loses to ARX by {-d:.1f} FIT points {where}", f"loses {d:+.1f}"
+
+
+def verdict(s):
+    """One line on fuzzy against linear ARX in the headline mode: (sentence, short for the terminal)."""
+    mode = headline_mode(s)
+    f, a = _fits(s, mode)
+    if _finite(f) is None or _finite(a) is None:
+        return "no verdict: a validation score is missing", "–"
+    where = MODE_WORDS[mode]
+    if f < DIVERGED_FIT and a < DIVERGED_FIT:
+        text = f"both diverge {where}"
+        f1, a1 = _fits(s, "one_step")
+        if mode != "one_step" and _finite(f1) is not None and _finite(a1) is not None:
+            text += "; " + _compare(f1, a1, "one_step", s["rules"])[0]
+        return text, "both diverge"
+    if f < DIVERGED_FIT:
+        return f"fuzzy loses to ARX: its simulation diverges {where} (ARX FIT {a:.1f} %)", "fuzzy diverges"
+    if a < DIVERGED_FIT:
+        return f"fuzzy beats ARX: ARX diverges {where} (fuzzy FIT {f:.1f} %)", "ARX diverges"
+    return _compare(f, a, mode, s["rules"])
+
+
+def _delta(s):
+    """fuzzy − ARX in FIT points, headline mode; '–' where either diverged."""
+    f, a = _fits(s, headline_mode(s))
+    if _finite(f) is None or _finite(a) is None or min(f, a) < DIVERGED_FIT:
+        return "–"
+    return f"{round(f - a, 2) + 0.0:+.2f}"  # + 0.0: no "-0.00"
+
+
+# --- summary ---------------------------------------------------------------------------------
 
 def summarise(r):
     v, b = r["validate"], r["baselines"]
@@ -63,7 +156,7 @@ def summarise(r):
         notes.append("free run worse than ARX's")
     paper_mfs = r["paper"].get("mfs")
     goal_rules = paper_mfs is None or r["rules"] <= paper_mfs
-    return {
+    s = {
         "experiment": r["name"],
         "output": r["preset"]["output"],
         "inputs": r["preset"]["inputs"],
@@ -91,23 +184,25 @@ def summarise(r):
         "notes": notes,
         "rule_text": r["rule_text"],
     }
+    s["headline"] = headline(s)
+    s["verdict"], s["verdict_short"] = verdict(s)
+    return s
 
 
-COLUMNS = [("experiment", "experiment"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "rules"), ("paper_mfs", "paper MFs"),
-           ("paper_h_fit", "paper H: val FIT (MFs)"), ("train_fit", "train FIT"), ("train_fr", "train free-run"),
-           ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"), ("val_fr", "val free-run"),
-           ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"), ("delta", "fuzzy − ARX"),
+# --- tables ----------------------------------------------------------------------------------
+
+# The headline (validation NDEI in the headline mode, fuzzy beside ARX) comes first; the verdict last.
+COLUMNS = [("experiment", "experiment"), ("headline", "headline"), ("hl_fuzzy", "fuzzy"), ("hl_arx", "ARX"),
+           ("delta", "fuzzy − ARX"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "rules"),
+           ("paper_mfs", "paper MFs"), ("paper_h_fit", "paper H: val FIT (rules)"), ("train_fit", "train FIT"),
+           ("train_fr", "train free-run"), ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"),
+           ("val_fr", "val free-run"), ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"),
            ("avg", "beat-avg fuzzy / ARX free-run"), ("pers_fit", "persist. FIT"),
-           ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy")]
-
-
-def _delta(s):
-    """fuzzy − ARX in the headline mode: free run unless the loop integrates (one-step there)."""
-    mode = "one_step" if s.get("integrator") or not (s["validate"].get("free_run") or {}).get("fit") else "free_run"
-    f, a = (s["validate"].get(mode) or {}).get("fit"), (s["arx"].get(mode) or {}).get("fit")
-    if f is None or a is None or not math.isfinite(f) or not math.isfinite(a) or min(f, a) < -999:
-        return "–"
-    return f"{f - a:+.2f} ({mode.replace('_', '-')})"
+           ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy"), ("verdict", "verdict")]
+# The terminal keeps what decides the verdict; VAF, RMSE, training and averaged-output scores are
+# in summary.md and index.html.
+TERMINAL_KEYS = ["experiment", "headline", "hl_fuzzy", "hl_arx", "delta", "order", "rules", "paper_mfs",
+                 "val_fit", "val_fr", "verdict"]
 
 
 def _averaged(s):
@@ -119,19 +214,24 @@ def _averaged(s):
     return f"{fmt(f)} / {fmt(x)}"
 
 
-def table_rows(summary):
+def table_rows(summary, short=False):
     rows = []
     for s in summary["experiments"]:
         ndei = s["validate"]["one_step"]["ndei"]
         pn = s["persistence"]["one_step"]["ndei"]
+        hl = s["headline"]
         rows.append({
             "experiment": s["experiment"],
+            "headline": hl["metric"],
+            "hl_fuzzy": fmt_ndei(hl["fuzzy"]),
+            "hl_arx": fmt_ndei(hl["arx"]),
+            "delta": _delta(s),
             "order": f"{s['ny']}/{s['nu']}",
             "H": f"{s['entropy_threshold']:.4g}",
             "rules": str(s["rules"]),
             "paper_mfs": str(s["paper"].get("mfs", "–")),
             "paper_h_fit": f"{s['paper_threshold_run']['entropy_threshold']:.4g}: "
-                           f"{fmt(s['paper_threshold_run']['validate_one_step_fit'])} ({s['paper_threshold_run']['rules']} MFs)",
+                           f"{fmt(s['paper_threshold_run']['validate_one_step_fit'])} ({s['paper_threshold_run']['rules']} rules)",
             "train_fit": fmt(s["train"]["one_step"]["fit"]),
             "train_fr": fmt((s["train"]["free_run"] or {}).get("fit")),
             "val_fit": fmt(s["validate"]["one_step"]["fit"]),
@@ -139,23 +239,32 @@ def table_rows(summary):
             "val_rmse": fmt(s["validate"]["one_step"]["rmse"], 4),
             "val_fr": fmt((s["validate"]["free_run"] or {}).get("fit")),
             "arx_fit": fmt(s["arx"]["one_step"]["fit"]),
-            "arx_fr": fmt(s["arx"].get("free_run", {}).get("fit")),
-            "delta": _delta(s),
+            "arx_fr": fmt((s["arx"].get("free_run") or {}).get("fit")),
             "avg": _averaged(s),
             "pers_fit": fmt(s["persistence"]["one_step"]["fit"]),
             "ndei_ratio": fmt(ndei / pn if ndei is not None and pn else None),
             "paper_acc": s["paper"].get("accuracy", "–"),
+            "verdict": s["verdict_short"] if short else s["verdict"],
         })
     return rows
 
 
+TABLE_NOTE = ("headline: validation NDEI (lower is better), free run unless the loop integrates or has no "
+              "output lags; fuzzy − ARX in FIT points in that mode (FIT = 100 (1 − NDEI)), |Δ| < 1 counts as "
+              "equal. FIT/VAF in %, one-step unless 'free-run'; validation uses a different excitation.")
+
+
 def terminal_table(summary):
-    rows = table_rows(summary)
-    widths = {k: max(len(h), *(len(r[k]) for r in rows)) for k, h in COLUMNS}
-    lines = ["  ".join(h.rjust(widths[k]) for k, h in COLUMNS)]
+    rows = table_rows(summary, short=True)
+    cols = [(k, h) for k, h in COLUMNS if k in TERMINAL_KEYS]
+    widths = {k: max(len(h), *(len(r[k]) for r in rows)) for k, h in cols}
+    # Text columns read left-aligned, numbers right-aligned.
+    just = {k: (str.ljust if k in ("experiment", "headline", "verdict") else str.rjust) for k, _ in cols}
+    lines = ["  ".join(just[k](h, widths[k]) for k, h in cols).rstrip()]
     for r in rows:
-        lines.append("  ".join(r[k].rjust(widths[k]) for k, _ in COLUMNS))
-    lines.append("FIT/VAF in %, one-step unless 'free-run'; validation uses a different excitation.")
+        lines.append("  ".join(just[k](r[k], widths[k]) for k, _ in cols).rstrip())
+    lines += textwrap.wrap(TABLE_NOTE + " VAF, RMSE, training and beat-averaged scores, persistence and the "
+                           "paper's figures: summary.md.", width=max(100, len(lines[0])))
     return "\n".join(lines)
 
 
@@ -163,12 +272,19 @@ def markdown(summary):
     rows = table_rows(summary)
     md = ["# odonata — the paper's six identifications through the LCM pipeline", "",
           f"Mode: {summary['mode']}; consequents: {summary['consequent']}; seed {summary['seed']}.", "",
+          TABLE_NOTE, "",
           "| " + " | ".join(h for _, h in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
     for r in rows:
         md.append("| " + " | ".join(r[k] for k, _ in COLUMNS) + " |")
     md.append("")
     for s in summary["experiments"]:
+        hl = s["headline"]
         md.append(f"## {s['experiment']}: {s['output']} from {', '.join(s['inputs'])}")
+        md.append("")
+        md.append(f"**Verdict:** {s['verdict']}.")
+        md.append("")
+        md.append(f"- headline: validation {hl['metric']} {fmt_ndei(hl['fuzzy'])} (fuzzy) vs "
+                  f"{fmt_ndei(hl['arx'])} (ARX), lower is better")
         for n in s["notes"]:
             md.append(f"- {n}")
         md.append(f"- goals: {', '.join(k + ('' if v else ' NOT MET') for k, v in s['goals'].items())}")
@@ -179,100 +295,234 @@ def markdown(summary):
     return "\n".join(md)
 
 
-def make_plots(out, r):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+# --- plots -----------------------------------------------------------------------------------
+
+UNITS = {"n": "N", "rad": "rad", "mps": "m/s", "hz": "Hz", "radps": "rad/s", "m": "m", "s": "s"}
+
+
+def _with_unit(signal):
+    """'fz1_n' → 'fz1_n (N)': the unit is the signal name's last suffix (ignoring _avg)."""
+    parts = [p for p in signal.split("_") if p != "avg"]
+    unit = UNITS.get(parts[-1].lower()) if len(parts) > 1 else None
+    return f"{signal} ({unit})" if unit else signal
+
+
+def _regressors(model):
+    """(signal, lag) of each regressor, in the model's order: output lags from 1, input lags from 0."""
+    spec = model["regressor"]
+    return [(o, l + 1) for o in spec["outputs"] for l in range(spec["output_lags"])] + \
+        [(u, l) for u in spec["inputs"] for l in range(spec["input_lags"])]
+
+
+def _save(plt, fig, out, r, kind):
+    fig.tight_layout()
+    name = f"{r['name']}-{kind}.png"
+    fig.savefig(os.path.join(out, name), dpi=90)
+    plt.close(fig)
+    return name
+
+
+def arx_predictions(r, build):
+    """ARX one-step and free-run predictions on the pipeline's recorded samples, from odonata-fit
+    (the live pipeline runs only the fuzzy model). {set: columns}, set 0 training and 1 validation;
+    None when the tool is missing or fails, so the report still comes out."""
     d = r["dir"]
+    pipe = os.path.join(d, "pipeline")
+    dest = os.path.join(d, "fit-predictions.csv")
+    exe = os.path.join(build, "services/fit/odonata-fit")
+    try:
+        subprocess.run([exe, "--load-model", os.path.join(pipe, "model.json"), "--train", os.path.join(pipe, "train.csv"),
+                        "--validate", os.path.join(pipe, "validate.csv"), "--predictions", dest],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        p = read_predictions(dest)
+    except (OSError, ValueError, subprocess.CalledProcessError) as e:
+        print(f"odonata_report: {r['name']}: no ARX traces ({e})", file=sys.stderr)
+        return None
+    missing = {"set", "sample", "arx_one_step", "arx_free_run"} - set(p)
+    if missing:
+        print(f"odonata_report: {r['name']}: no ARX traces ({dest} lacks {', '.join(sorted(missing))})",
+              file=sys.stderr)
+        return None
+    return {k: {c: v[p["set"] == k] for c, v in p.items()} for k in (0, 1)}
+
+
+def _aligned(arx_set, sample, column):
+    """ARX column at the given sample indices (NaN where odonata-fit has no prediction)."""
+    out = np.full(len(sample), np.nan)
+    index = {int(s): i for i, s in enumerate(arx_set["sample"])}
+    for j, s in enumerate(sample):
+        i = index.get(int(s))
+        if i is not None:
+            out[j] = arx_set[column][i]
+    return out
+
+
+def _y_window(y):
+    """Measured range plus a margin: the y-limits of the output panels, so a diverging free run
+    cannot squash the measured signal into a flat line."""
+    lo, hi = float(np.nanmin(y)), float(np.nanmax(y))
+    span = hi - lo or max(abs(hi), 1e-9)
+    return lo - 0.15 * span, hi + 0.15 * span, span
+
+
+def _diverges(v, lo, hi, span):
+    """Leaves the measured range by more than the range itself, or overflows. NaN is a sample
+    odonata-fit did not predict (alignment), not a divergence."""
+    v = v[~np.isnan(v)]
+    return bool(len(v)) and bool(np.isinf(v).any() or v.max() > hi + span or v.min() < lo - span)
+
+
+def _trace(ax, t, v, colour, label, window):
+    lo, hi, span = window
+    if _diverges(v, lo, hi, span):
+        label += " (diverges)"
+    # Clipped just outside the view: Agg mishandles coordinates like 1e100, and the view is clipped anyway.
+    v = np.clip(np.where(np.isfinite(v), v, np.nan), lo - 10 * span, hi + 10 * span)
+    ax.plot(t, v, color=colour, lw=1.8, alpha=0.75, label=label, zorder=2)
+
+
+FUZZY, ARX = "tab:blue", "tab:orange"
+
+
+def _legend_measured_first(ax):
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda i: labels[i] != "measured")
+    ax.legend([handles[i] for i in order], [labels[i] for i in order], loc="upper right", fontsize=8)
+
+
+def _clip_spikes(ax, errors):
+    """Limit the error axis to the bulk of the errors: one start-up spike of the online learner
+    (or a rare outlier) otherwise flattens everything else. True when something was cut off."""
+    e = np.concatenate([np.abs(v[np.isfinite(v)]) for v in errors])
+    if not len(e):
+        return False
+    lim = 2 * float(np.percentile(e, 99.9))
+    if lim <= 0 or e.max() <= lim:
+        return False
+    ax.set_ylim(-lim, lim)
+    return True
+
+
+def plot_output(plt, out, r, p, arx):
+    """Per run: one-step and free-run predictions (fuzzy and ARX) under the measured signal, and the
+    one-step errors. Measured is drawn last and thin, in black, so it stays visible on top of
+    predictions that match it; wide coloured traces show around it where they differ."""
     out_name = r["preset"]["output"]
-    p = read_predictions(os.path.join(d, "pipeline", "predictions.csv"), out_name)
-    files = {}
-    dt = 0.01
     runs = sorted(set(p["run"].astype(int)))
-    fig, axes = plt.subplots(2, len(runs), figsize=(6 * len(runs), 6), sharex="col", squeeze=False)
+    free_title = "free run (simulation)" if r["config"].get("ny", 1) else \
+        "free run (same as one-step: a static map has no output lags)"
+    fig, axes = plt.subplots(3, len(runs), figsize=(6.5 * len(runs), 9), sharex="col", squeeze=False)
     for c, run in enumerate(runs):
         m = p["run"] == run
-        t = p["sample"][m] * dt
-        y, yh, fr = p[f"{out_name}_measured"][m], p[f"{out_name}_predicted"][m], p[f"{out_name}_free_run"][m]
-        title = "training (learning online)" if c == 0 and len(runs) > 1 else "validation (frozen model)"
-        axes[0][c].plot(t, y, "k", lw=1, label="measured")
-        axes[0][c].plot(t, yh, "C0", lw=0.8, label="one-step")
-        axes[0][c].plot(t, fr, "C1", lw=0.8, alpha=0.8, label="free run")
-        axes[0][c].set_title(f"{r['name']}: {title}")
-        axes[0][c].set_ylabel(out_name)
-        axes[0][c].legend(loc="upper right", fontsize=8)
-        axes[1][c].plot(t, y - yh, "C0", lw=0.8, label="one-step error")
-        axes[1][c].plot(t, y - fr, "C1", lw=0.8, alpha=0.6, label="free-run error")
-        axes[1][c].set_xlabel("time (s)")
-        axes[1][c].set_ylabel("error")
-        axes[1][c].legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
-    files["output"] = f"{r['name']}-output.png"
-    fig.savefig(os.path.join(out, files["output"]), dpi=90)
-    plt.close(fig)
+        training = c == 0 and len(runs) > 1
+        t, sample = p["sample"][m] * DT, p["sample"][m]
+        y = p[f"{out_name}_measured"][m]
+        fuzzy = {"one_step": p[f"{out_name}_predicted"][m], "free_run": p[f"{out_name}_free_run"][m]}
+        # The last run is validation (set 1 in odonata-fit's file), the one before it training.
+        a_set = arx[0 if training else 1] if arx else None
+        a = {mode: _aligned(a_set, sample, f"arx_{mode}") for mode in fuzzy} if a_set else None
+        window = _y_window(y)
+        phase = ("training (fuzzy learning online; ARX fitted on these data)" if training
+                 else "validation (frozen models, a different excitation)")
+        for row, (mode, what) in enumerate((("one_step", "one-step"), ("free_run", "free run"))):
+            ax = axes[row][c]
+            _trace(ax, t, fuzzy[mode], FUZZY, f"fuzzy {what}", window)
+            if a:
+                _trace(ax, t, a[mode], ARX, f"ARX {what}", window)
+            ax.plot(t, y, "k", lw=0.8, label="measured", zorder=3)
+            ax.set_ylim(window[0], window[1])
+            ax.set_ylabel(_with_unit(out_name))
+            ax.set_title(f"{r['name']}: {phase}\none-step prediction" if row == 0 else free_title, fontsize=10)
+            _legend_measured_first(ax)
+        errors = [y - fuzzy["one_step"]] + ([y - a["one_step"]] if a else [])
+        ax = axes[2][c]
+        ax.plot(t, errors[0], color=FUZZY, lw=0.8, label="fuzzy")
+        if a:
+            ax.plot(t, errors[1], color=ARX, lw=0.8, alpha=0.8, label="ARX")
+        clipped = _clip_spikes(ax, errors)
+        ax.set_title("one-step error (measured − predicted)" + (", rare spikes clipped" if clipped else ""),
+                     fontsize=10)
+        ax.set_ylabel(_with_unit(out_name))
+        ax.set_xlabel("time (s)")
+        ax.legend(loc="upper right", fontsize=8)
+    return _save(plt, fig, out, r, "output")
 
-    m = p["run"] == runs[0]
+
+def plot_learning(plt, out, r, p):
+    out_name = r["preset"]["output"]
+    m = p["run"] == min(p["run"])
     fig, ax = plt.subplots(2, 1, figsize=(7, 4.5), sharex=True)
-    ax[0].step(p["sample"][m] * dt, p[f"{out_name}_rules"][m], where="post")
-    ax[0].set_ylabel("rules (MFs)")
+    ax[0].step(p["sample"][m] * DT, p[f"{out_name}_rules"][m], where="post")
+    ax[0].set_ylabel("rules")
     ax[0].set_title(f"{r['name']}: structure learning (H = {r['chosen_entropy_threshold']:.4g})")
-    ax[1].plot(p["sample"][m] * dt, p[f"{out_name}_max_entropy"][m], lw=0.6)
+    ax[1].plot(p["sample"][m] * DT, p[f"{out_name}_max_entropy"][m], lw=0.6)
     ax[1].axhline(r["chosen_entropy_threshold"], color="r", ls="--", lw=0.8, label="H threshold")
     ax[1].set_ylabel("H_max")
     ax[1].set_xlabel("time (s)")
     ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    files["learning"] = f"{r['name']}-learning.png"
-    fig.savefig(os.path.join(out, files["learning"]), dpi=90)
-    plt.close(fig)
+    return _save(plt, fig, out, r, "learning")
 
-    snaps = json.load(open(os.path.join(d, "pipeline", "snapshots.json")))
+
+def plot_parameters(plt, out, r):
+    """Antecedent centres and widths and each rule's consequent over training. Colour = signal: the
+    lags of one signal share a colour (their centres nearly coincide, and with ten or more regressors
+    a colour per regressor would repeat)."""
+    from matplotlib.lines import Line2D
+    snaps = json.load(open(os.path.join(r["dir"], "pipeline", "snapshots.json")))
     snaps = [s for s in snaps if s["model"]["models"]]
-    if snaps:
-        fig, ax = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
-        for s_idx, key, label in ((0, "centre", "centres (raw units)"), (1, "sigma", "widths (raw units)")):
-            series = {}
-            for s in snaps:
-                sc = s["model"]["scaling"]
-                for j, rule in enumerate(s["model"]["models"][0]["rules"]):
-                    for i, v in enumerate(rule[key]):
-                        raw = sc["regressor_mid"][i] + sc["regressor_half"][i] * v if key == "centre" \
-                            else sc["regressor_half"][i] * v
-                        series.setdefault((j, i), ([], []))
-                        series[(j, i)][0].append(s["samples_learned"] * dt)
-                        series[(j, i)][1].append(raw)
-            for (j, i), (t, v) in series.items():
-                ax[s_idx].plot(t, v, lw=0.8, color=f"C{i % 10}")
-            ax[s_idx].set_ylabel(label)
+    if not snaps:
+        return None
+    regs = _regressors(snaps[-1]["model"])
+    signals = list(dict.fromkeys(sig for sig, _ in regs))
+    colour = [f"C{signals.index(sig) % 10}" for sig, _ in regs]
+    fig, ax = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+    for s_idx, key, label in ((0, "centre", "centres (raw units)"), (1, "sigma", "widths (raw units)")):
         series = {}
         for s in snaps:
             sc = s["model"]["scaling"]
-            cons = s["model"]["models"][0]["consequent"]
-            vals = cons["centres"] if cons["kind"] == "singleton" else [c[0] for c in cons["coefficients"]]
-            for j, v in enumerate(vals):
-                series.setdefault(j, ([], []))
-                series[j][0].append(s["samples_learned"] * dt)
-                series[j][1].append(sc["output_mean"][0] + sc["output_std"][0] * v)
-        for j, (t, v) in series.items():
-            ax[2].plot(t, v, lw=0.8)
-        ax[2].set_ylabel("consequent b / a0")
-        ax[2].set_xlabel("training time (s)")
-        ax[0].set_title(f"{r['name']}: parameters over time (colour = input)")
-        fig.tight_layout()
-        files["parameters"] = f"{r['name']}-parameters.png"
-        fig.savefig(os.path.join(out, files["parameters"]), dpi=90)
-        plt.close(fig)
+            for j, rule in enumerate(s["model"]["models"][0]["rules"]):
+                for i, v in enumerate(rule[key]):
+                    raw = sc["regressor_mid"][i] + sc["regressor_half"][i] * v if key == "centre" \
+                        else sc["regressor_half"][i] * v
+                    series.setdefault((j, i), ([], []))
+                    series[(j, i)][0].append(s["samples_learned"] * DT)
+                    series[(j, i)][1].append(raw)
+        for (j, i), (t, v) in series.items():
+            ax[s_idx].plot(t, v, lw=0.8, color=colour[i])
+        ax[s_idx].set_ylabel(label)
+    # One legend entry per signal, not per line: there is a line per rule and regressor.
+    lags = {sig: [l for q, l in regs if q == sig] for sig in signals}
+    ax[0].legend([Line2D([], [], color=f"C{k % 10}") for k in range(len(signals))],
+                 [f"{_with_unit(sig)}\nlags {lags[sig][0]}–{lags[sig][-1]}" for sig in signals], title="signal",
+                 fontsize=7, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    series = {}
+    cons = snaps[-1]["model"]["models"][0]["consequent"]
+    for s in snaps:
+        sc = s["model"]["scaling"]
+        cons = s["model"]["models"][0]["consequent"]
+        vals = cons["centres"] if cons["kind"] == "singleton" else [c[0] for c in cons["coefficients"]]
+        for j, v in enumerate(vals):
+            series.setdefault(j, ([], []))
+            series[j][0].append(s["samples_learned"] * DT)
+            series[j][1].append(sc["output_mean"][0] + sc["output_std"][0] * v)
+    for j, (t, v) in series.items():
+        ax[2].plot(t, v, lw=0.8, color=f"C{j % 10}", label=f"rule {j + 1}")
+    what = "singleton b" if cons["kind"] == "singleton" else "offset a0"
+    ax[2].set_ylabel(f"consequent {what}\n{_with_unit(r['preset']['output'])}")
+    ax[2].set_xlabel("training time (s)")
+    if len(series) <= 10:  # beyond ten the colours repeat and a list of rules says nothing
+        ax[2].legend(title="rule", fontsize=7, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    else:
+        ax[2].legend([Line2D([], [], color="grey")], [f"one line per rule\n({len(series)} rules)"],
+                     fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax[0].set_title(f"{r['name']}: parameters over time (colour = signal, one line per rule and lag)")
+    return _save(plt, fig, out, r, "parameters")
 
-    model = json.load(open(os.path.join(d, "pipeline", "model.json")))
+
+def plot_membership(plt, out, r):
+    model = json.load(open(os.path.join(r["dir"], "pipeline", "model.json")))
     sc = model["scaling"]
-    spec = model["regressor"]
-    regs = []
-    for o in spec["outputs"]:
-        for l in range(spec["output_lags"]):
-            regs.append(f"{o} lag {l + 1}")
-    for u in spec["inputs"]:
-        for l in range(spec["input_lags"]):
-            regs.append(f"{u} lag {l}")
+    regs = [f"{sig} lag {lag}" for sig, lag in _regressors(model)]
     rules = model["models"][0]["rules"]
     n = len(regs)
     fig, ax = plt.subplots(n, 1, figsize=(7, 1.6 * n + 0.5), squeeze=False)
@@ -287,49 +537,133 @@ def make_plots(out, r):
         ax[i][0].set_ylabel(regs[i], fontsize=8)
         ax[i][0].set_ylim(0, 1.05)
     ax[0][0].set_title(f"{r['name']}: membership functions at the end ({len(rules)} rules)")
-    fig.tight_layout()
-    files["membership"] = f"{r['name']}-membership.png"
-    fig.savefig(os.path.join(out, files["membership"]), dpi=90)
-    plt.close(fig)
+    return _save(plt, fig, out, r, "membership")
 
-    pts = r["sweep"]["points"]
-    fig, ax = plt.subplots(figsize=(6, 3.5))
-    for key in sorted(set((q.get("ny", 0), q.get("nu", 0), q["kappa"]) for q in pts)):
-        sel = sorted([q for q in pts if (q.get("ny", 0), q.get("nu", 0), q["kappa"]) == key and q["score"] is not None],
-                     key=lambda q: q["entropy_threshold"])
-        ax.plot([q["rules"] for q in sel], [q["score"] for q in sel], "o-", ms=3,
-                label=f"ny/nu {key[0]}/{key[1]}, κ {key[2]:g}")
-    ch = pts[r["sweep"]["chosen_index"]]
-    ax.plot([ch["rules"]], [ch["score"]], "r*", ms=12, label=f"chosen (H={ch['entropy_threshold']:.3g})")
-    ax.set_xlabel("rules")
-    ax.set_ylabel(f"hold-out {r['sweep']['criterion'].replace('_', '-')} NDEI")
+
+def _label_where_legible(fig, ax, points, texts):
+    """Annotate points, dropping any label that would overlap one already placed or leave the axes."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    placed = []
+    for (x, y), text in zip(points, texts):
+        a = ax.annotate(text, (x, y), xytext=(4, 3), textcoords="offset points", fontsize=6.5, color="0.25")
+        box = a.get_window_extent(renderer).expanded(1.05, 1.1)
+        inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+        if not inside or any(box.overlaps(b) for b in placed):
+            a.remove()
+        else:
+            placed.append(box)
+
+
+def _plain_log_ticks(axis, values):
+    """Log axis ticked at 1-2-5 steps (finer within one decade, decades only beyond three)
+    and labelled in plain numbers: 0.2 reads faster than 2×10⁻¹."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+    lo, hi = min(values), max(values)
+    decades = math.log10(hi / lo) if lo > 0 else 0
+    steps = (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8) if decades < 0.5 else (1, 1.5, 2, 3, 5, 7) if decades < 1 \
+        else (1, 2, 5) if decades <= 3 else (1,)
+    ticks = [m * 10.0 ** e for e in range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
+             for m in steps if lo / 1.3 <= m * 10.0 ** e <= hi * 1.3]
+    axis.set_major_locator(FixedLocator(ticks))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def plot_sweep(plt, out, r):
+    """Selection scores: colour = model order, marker = κ, each curve runs over H; H is written
+    next to a point wherever it fits. Diverged scores sit on the top edge instead of stretching
+    the log axis over a hundred decades."""
+    from matplotlib.lines import Line2D
+    pts = [q for q in r["sweep"]["points"] if q["score"] is not None]
+    chosen = r["sweep"]["points"][r["sweep"]["chosen_index"]]
+    crit = r["sweep"]["criterion"].replace("_", "-")
+    orders = sorted(set((q.get("ny", 0), q.get("nu", 0)) for q in pts))
+    kappas = sorted(set(q["kappa"] for q in pts))
+    markers = "osD^v<>p"
+    top = min(max(q["score"] for q in pts), DIVERGED_NDEI)
+    shown = lambda q: min(q["score"], top)  # noqa: E731
+    fig, ax = plt.subplots(figsize=(8, 4.8))
+    for oi, order in enumerate(orders):
+        for ki, kappa in enumerate(kappas):
+            sel = sorted((q for q in pts if (q.get("ny", 0), q.get("nu", 0)) == order and q["kappa"] == kappa),
+                         key=lambda q: q["entropy_threshold"])
+            if sel:
+                ax.plot([q["rules"] for q in sel], [shown(q) for q in sel], "-", color=f"C{oi}",
+                        marker=markers[ki % len(markers)], ms=4.5, lw=0.9, alpha=0.85)
+    ax.plot([chosen["rules"]], [shown(chosen)], "r*", ms=14, zorder=4)
+    off = [q for q in pts if q["score"] > top]
+    if off:
+        ax.axhline(top, color="0.5", ls=":", lw=0.8)
+        ax.annotate("diverged (off scale)", (0.01, top), xycoords=("axes fraction", "data"), xytext=(0, -9),
+                    textcoords="offset points", fontsize=7, color="0.4")
+    ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_title(f"{r['name']}: model selection on the training hold-out")
-    ax.legend(fontsize=7)
+    _plain_log_ticks(ax.xaxis, [q["rules"] for q in pts])
+    _plain_log_ticks(ax.yaxis, [shown(q) for q in pts])
+    ax.set_xlabel("rules (count, log scale)")
+    ax.set_ylabel(f"{crit} NDEI on the selection data\n(dimensionless, lower is better)")
+    ax.set_title(f"{r['name']}: choice of H, κ and order — {crit} NDEI on the SELECTION excitation\n"
+                 "(a third excitation; validation takes no part in the choice)", fontsize=10)
+    handles = [Line2D([], [], color=f"C{i}", lw=2) for i in range(len(orders))] + \
+              [Line2D([], [], color="0.3", ls="", marker=markers[i % len(markers)]) for i in range(len(kappas))] + \
+              [Line2D([], [], color="r", ls="", marker="*", ms=10)]
+    labels = [f"ny/nu {o[0]}/{o[1]}" for o in orders] + [f"κ {k:g}" for k in kappas] + \
+             [f"chosen: ny/nu {chosen.get('ny', 0)}/{chosen.get('nu', 0)}, κ {chosen['kappa']:g}, "
+              f"H {chosen['entropy_threshold']:.3g}, {chosen['rules']} rules"]
+    if off:
+        labels[-1] += f"\n{len(off)} diverged point(s) drawn on the top edge"
+    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
-    files["sweep"] = f"{r['name']}-sweep.png"
-    fig.savefig(os.path.join(out, files["sweep"]), dpi=90)
-    plt.close(fig)
+    # The chosen point's H first, so it is never the one dropped for lack of room.
+    ordered = [chosen] + [q for q in pts if q is not chosen]
+    _label_where_legible(fig, ax, [(q["rules"], shown(q)) for q in ordered],
+                         [f"H {q['entropy_threshold']:.2g}" for q in ordered])
+    return _save(plt, fig, out, r, "sweep")
+
+
+def make_plots(out, r, build=None):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    p = read_predictions(os.path.join(r["dir"], "pipeline", "predictions.csv"))
+    arx = arx_predictions(r, build or os.path.join(ROOT, "build"))
+    files = {"output": plot_output(plt, out, r, p, arx), "learning": plot_learning(plt, out, r, p)}
+    parameters = plot_parameters(plt, out, r)
+    if parameters:
+        files["parameters"] = parameters
+    files["membership"] = plot_membership(plt, out, r)
+    files["sweep"] = plot_sweep(plt, out, r)
     return files
 
+
+# --- page ------------------------------------------------------------------------------------
 
 def page(summary, figures):
     rows = table_rows(summary)
     h = ["<!doctype html><html><head><meta charset='utf-8'><title>odonata report</title>",
          "<style>body{font-family:sans-serif;max-width:1400px;margin:auto}table{border-collapse:collapse;font-size:13px}"
          "td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#eee}"
+         "td[data-key=verdict],td[data-key=experiment],td[data-key=headline]{text-align:left}"
+         ".verdict{font-size:16px;background:#f4f4f4;padding:6px;border-left:4px solid #555}"
          "img{max-width:100%;border:1px solid #ddd;margin:4px}li{font-family:monospace;font-size:12px}</style></head><body>",
          "<h1>odonata — the paper's six identifications through the LCM pipeline</h1>",
          f"<p>Mode {html.escape(summary['mode'])}, {html.escape(summary['consequent'])} consequents, seed {summary['seed']}. "
-         "FIT/VAF in %, one-step unless marked free-run; validation always uses a different excitation. "
+         f"{html.escape(TABLE_NOTE)} "
          "Persistence (ŷ(k+1) = y(k)) and linear ARX on the same regressors are the baselines.</p>",
-         "<table id='summary'><tr>" + "".join(f"<th>{html.escape(hd)}</th>" for _, hd in COLUMNS) + "</tr>"]
+         "<div style='overflow-x:auto'><table id='summary'><tr>" +
+         "".join(f"<th>{html.escape(hd)}</th>" for _, hd in COLUMNS) + "</tr>"]
     for r in rows:
         h.append("<tr>" + "".join(f"<td data-key='{k}'>{html.escape(r[k])}</td>" for k, _ in COLUMNS) + "</tr>")
-    h.append("</table>")
+    h.append("</table></div>")
     for s in summary["experiments"]:
         name = s["experiment"]
+        hl = s["headline"]
         h.append(f"<h2 id='{name}'>{html.escape(name)}: {html.escape(s['output'])} from {html.escape(', '.join(s['inputs']))}</h2>")
+        h.append(f"<p class='verdict'><b>Verdict:</b> {html.escape(s['verdict'])}.<br>"
+                 f"Headline: validation {html.escape(hl['metric'])} {fmt_ndei(hl['fuzzy'])} (fuzzy) vs "
+                 f"{fmt_ndei(hl['arx'])} (ARX), lower is better.</p>")
         if s["notes"]:
             h.append("<ul>" + "".join(f"<li style='font-family:sans-serif'>{html.escape(n)}</li>" for n in s["notes"]) + "</ul>")
         goals = ", ".join(f"{k}: {'met' if v else 'NOT met'}" for k, v in s["goals"].items())
@@ -352,7 +686,7 @@ def write_report(out, results, args, plots=True):
     figures = {}
     if plots:
         for r in results:
-            figures[r["name"]] = make_plots(out, r)
+            figures[r["name"]] = make_plots(out, r, getattr(args, "build", None))
     with open(os.path.join(out, "index.html"), "w") as f:
         f.write(page(summary, figures))
     return summary

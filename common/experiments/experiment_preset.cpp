@@ -379,6 +379,47 @@ std::vector<ExperimentPreset> MakePresets() {
         "tones 0.07-2.5 Hz, random phases), 1 s fades; attitude hold on";
     v.push_back(p);
   }
+  // The damage scenarios: one stationary excitation family in all three phases (so accuracy
+  // before and after the change is comparable), the vehicle changing halfway through the
+  // validation run.
+  {
+    ExperimentPreset p = Actuator("wing_damage", "fz1_n", {"w1_freq_hz", "w1_amp_rad"}, 0.5, "-", 0,
+                                  "not in the paper");
+    p.description =
+        "DAMAGE: wing 1's vertical force on the test stand; halfway through the validation run "
+        "wing 1 loses 30 % of its stroke amplitude (it still receives the full command)";
+    p.train_duration_s = 60.0;
+    p.select_duration_s = 30.0;
+    p.validate_duration_s = 60.0;
+    p.beyond_paper = true;
+    p.validate_damage.at_s = 30.0;
+    p.validate_damage.wing = 1;
+    p.validate_damage.amplitude_scale = 0.7;
+    p.train_excitation =
+        "all wings: f in 5-7 Hz and phi0 in 35-80 deg, APRBS levels held 0.3-1 s (one stream "
+        "each)";
+    p.select_excitation = "as training, other streams";
+    p.validate_excitation = "as training, other streams; from 30 s wing 1 flies 0.7 phi0";
+    v.push_back(p);
+  }
+  {
+    ExperimentPreset p = *std::find_if(
+        v.begin(), v.end(), [](const ExperimentPreset& q) { return q.name == "vertical_wide"; });
+    p.name = "battery_sag";
+    p.description =
+        "DAMAGE: beat-averaged vertical velocity in free flight; halfway through the validation "
+        "run every wing's flapping frequency sags to 90 % of the command (a tired battery)";
+    p.train_duration_s = p.validate_duration_s = 60.0;
+    p.select_duration_s = 30.0;
+    p.validate_damage.at_s = 30.0;
+    p.validate_damage.wing = 0;
+    p.validate_damage.frequency_scale = 0.9;
+    p.train_excitation = "as vertical_wide training (APRBS f and phi0, hold on)";
+    p.select_excitation = "as vertical_wide selection";
+    p.validate_excitation =
+        "as vertical_wide selection, other streams; from 30 s all wings flap at 0.9 f";
+    v.push_back(p);
+  }
   return v;
 }
 
@@ -589,12 +630,32 @@ ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, st
         YawChannelRad, "u_yaw_rad");
     return b.run;
   }
-  if (name == "vertical_wide") {
+  if (phase == Phase::kValidate) b.run.damage = preset.validate_damage;
+
+  if (name == "wing_damage") {
+    const int hold_min = 30, hold_max = 100;
+    const std::vector<double> f =
+        signals::AprbsSequence(samples, {5.0, 7.0, hold_min, hold_max}, AprbsSeed(seed, phase, 30));
+    const std::vector<double> a =
+        signals::AprbsSequence(samples, {35.0 * kRadPerDeg, 80.0 * kRadPerDeg, hold_min, hold_max},
+                               AprbsSeed(seed, phase, 32));
+    b.Fill(
+        samples, dt_s,
+        [&](double t, CommandMatrix* c) {
+          const std::size_t k = static_cast<std::size_t>(std::llround(t / dt_s));
+          c->col(kFlapFrequency).setConstant(f[k]);
+          c->col(kStrokeAmplitude).setConstant(a[k]);
+        },
+        nullptr, "");
+    return b.run;
+  }
+
+  if (name == "vertical_wide" || name == "battery_sag") {
     // Ranges inside the limits (f ≤ 8 Hz, φ₀ ≤ 85°) with room for the hold's φ₀ differential.
     constexpr double kFLow = 4.6, kFHigh = 6.6;
     constexpr double kALow = 38.0 * kRadPerDeg, kAHigh = 84.0 * kRadPerDeg;
     std::vector<double> f, a;
-    if (phase == Phase::kValidate) {
+    if (phase == Phase::kValidate && name == "vertical_wide") {
       const signals::LogChirp f_chirp(0.02, 0.6, 0.95 * 0.5 * (kFHigh - kFLow), t_end_s, phase0);
       const signals::LogChirp a_chirp(0.03, 1.0, 0.95 * 0.5 * (kAHigh - kALow), t_end_s, phase1);
       for (std::size_t k = 0; k < samples; ++k) {

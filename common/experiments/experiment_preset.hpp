@@ -54,6 +54,9 @@ struct ExperimentPreset {
   /// Not one of the paper's six: an experiment where the physics is nonlinear (a wide operating
   /// range, a static force map, a coupled state), there to show what a fuzzy model adds.
   bool beyond_paper{};
+  /// The damage scenarios: what fails during the validation run (a vehicle that changes in
+  /// flight), which the online identifier must follow while it keeps learning. Never by default.
+  plant::ActuatorDamage validate_damage{};
 };
 
 /// The scalar command channels of the free-flight presets (plant.md's actuator mappings), read
@@ -90,15 +93,17 @@ struct ExperimentRun {
   /// Samples whose designed command left the actuator limits and was clamped: a well-designed
   /// excitation has none, since clamping distorts the spectrum it was designed to have.
   std::size_t clamped_samples{};
-  /// A wing that fails mid-run (the damage scenario); none by default. The commands above stay
-  /// what was commanded; the plant flies damage.Apply(command, t).
+  /// A wing that fails mid-run (the damage scenario): the preset's validate_damage in its
+  /// validation phase, none otherwise. The commands above stay what was commanded; the plant
+  /// flies damage.Apply(command, t).
   plant::ActuatorDamage damage{};
 };
 
 /// The six presets, in the paper's order: actuator_fz, actuator_fx, vertical_velocity, roll,
 /// pitch, yaw; then the held-vehicle variants roll_held and pitch_held (the same runs, identified
 /// from the excitation before the hold); then the experiments beyond the paper, where the physics
-/// is nonlinear: vertical_wide, force_map_fz, roll_coupled.
+/// is nonlinear: vertical_wide, force_map_fz, roll_coupled; then the damage scenarios
+/// wing_damage and battery_sag, whose validation run changes the vehicle halfway.
 const std::vector<ExperimentPreset>& Presets();
 
 /// The preset called `name`, or nullptr.

@@ -5,13 +5,14 @@
 namespace odonata::metrics {
 
 AccuracyAlarm::AccuracyAlarm(const AccuracyAlarmOptions& options)
-    : options_(options), window_(options.window) {}
+    : options_(options),
+      window_(options.window, options.span > 0 ? options.span : 10 * options.window) {}
 
 std::optional<AccuracyEvent> AccuracyAlarm::Push(long sample, double measured, double predicted) {
   if (!std::isfinite(measured) || !std::isfinite(predicted)) return std::nullopt;
   window_.Add(measured, predicted);
-  if (!window_.full()) return std::nullopt;
-  window_fit_ = window_.Get().fit_percent;
+  if (!window_.ready()) return std::nullopt;
+  window_fit_ = window_.fit_percent();
   if (!std::isfinite(window_fit_)) return std::nullopt;  // a constant window says nothing
   if (!alarmed_) {
     // The reference needs a window's worth of settled history before it means anything.

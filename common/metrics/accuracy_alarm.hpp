@@ -4,12 +4,14 @@
 
 #include <optional>
 
-#include "metrics/running_accuracy.hpp"
+#include "metrics/tracking_accuracy.hpp"
 
 namespace odonata::metrics {
 
 struct AccuracyAlarmOptions {
-  std::size_t window = 100;          ///< samples in the sliding window (1 s at 100 Hz)
+  std::size_t window = 100;  ///< samples in the sliding window (1 s at 100 Hz)
+  /// Samples over which the output's spread is measured (TrackingAccuracy); 0: 10 windows.
+  std::size_t span = 0;
   double drop_points = 5.0;          ///< alarm when window FIT < reference − drop_points
   double recover_points = 1.0;       ///< recovered when window FIT ≥ pre-alarm reference − this
   double reference_samples = 300.0;  ///< time constant of the reference (settled) level
@@ -20,12 +22,13 @@ struct AccuracyEvent {
   enum class Kind { kAlarm, kRecovered };
   Kind kind = Kind::kAlarm;
   long sample = 0;
-  double window_fit = 0.0;     ///< window FIT % at the event
+  double window_fit = 0.0;     ///< tracking FIT % at the event (TrackingAccuracy)
   double reference_fit = 0.0;  ///< the settled level it is compared with
 };
 
-/// Fed (measured, predicted) sample by sample, in order. The reference is an exponential average
-/// of the window FIT while no alarm is raised, frozen while one is; so a slow drift moves the
+/// Fed (measured, predicted) sample by sample, in order. It watches the tracking FIT (the
+/// window's error against the span's spread, TrackingAccuracy). The reference is an exponential
+/// average of it while no alarm is raised, frozen while one is; so a slow drift moves the
 /// reference, a sudden loss raises the alarm, and recovery means back near the level before it.
 class AccuracyAlarm {
  public:
@@ -39,7 +42,7 @@ class AccuracyAlarm {
 
  private:
   AccuracyAlarmOptions options_;
-  WindowAccuracy window_;
+  TrackingAccuracy window_;
   bool alarmed_ = false;
   bool have_reference_ = false;
   double reference_ = 0.0;

@@ -5,6 +5,7 @@
 
 #include "io/csv_table.hpp"
 #include "pipeline/command_limits.hpp"
+#include "pipeline/vehicle_setup.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -27,7 +28,7 @@ CommandSchedule PresetSchedule(const experiments::ExperimentPreset& preset,
   s.excitation_values = std::move(run.excitation_values);
   s.sample_period_s = run.sample_period_s;
   s.source = "preset:" + preset.name + "/" + experiments::PhaseName(phase);
-  s.setup_name = preset.name;
+  s.setup_name = SetupName(preset, phase);
   return s;
 }
 

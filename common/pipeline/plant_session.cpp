@@ -51,7 +51,10 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
       plant_.ClampToLimits(setup_.attitude_hold ? experiments::ApplyAttitudeHold(
                                                       setup_.hold_gains, command, plant_.output())
                                                 : command);
-  const plant::StepStatus status = plant_.Step(applied);
+  // A damaged wing flies less than it is told (the damage scenarios); what was applied, as far
+  // as the vehicle's own command path knows, stays `applied`, as in odonata-sim's CSV.
+  const double t_s = static_cast<double>(last_.seq) / plant_.config().integration.sample_rate_hz;
+  const plant::StepStatus status = plant_.Step(setup_.damage.Apply(applied, t_s));
   PlantSample next{last_.seq + 1, command_seq, plant_.output(), StatusOf(plant_.output()), applied};
   if (status == plant::StepStatus::kReset) next.status = SampleStatus::kReset;
   if (status == plant::StepStatus::kStopped) next.status = SampleStatus::kDiverged;

@@ -7,7 +7,8 @@ namespace odonata::plant {
 
 std::string ActuatorDamage::Problems() const {
   std::ostringstream p;
-  if (wing < 1 || wing > kWingCount) p << "damaged wing must be 1…4, not " << wing << "\n";
+  if (wing < 0 || wing > kWingCount)
+    p << "damaged wing must be 1…4 (0: every wing), not " << wing << "\n";
   if (!(amplitude_scale > 0.0 && amplitude_scale <= 1.0))
     p << "amplitude scale must be in (0, 1], not " << amplitude_scale << "\n";
   if (!(frequency_scale > 0.0 && frequency_scale <= 1.0))
@@ -21,8 +22,11 @@ std::string ActuatorDamage::Problems() const {
 CommandMatrix ActuatorDamage::Apply(const CommandMatrix& commanded, double t_s) const {
   if (!active(t_s)) return commanded;
   CommandMatrix delivered = commanded;
-  delivered(wing - 1, kStrokeAmplitude) *= amplitude_scale;
-  delivered(wing - 1, kFlapFrequency) *= frequency_scale;
+  for (int w = 0; w < kWingCount; ++w) {
+    if (wing != 0 && w != wing - 1) continue;
+    delivered(w, kStrokeAmplitude) *= amplitude_scale;
+    delivered(w, kFlapFrequency) *= frequency_scale;
+  }
   return delivered;
 }
 

@@ -12,7 +12,7 @@ namespace odonata::plant {
 
 struct ActuatorDamage {
   double at_s = std::numeric_limits<double>::infinity();  ///< when it happens (never by default)
-  int wing = 1;                                           ///< 1…4
+  int wing = 1;                  ///< 1…4, or 0 for every wing (a sagging battery slows all four)
   double amplitude_scale = 1.0;  ///< delivered φ₀ = scale · commanded φ₀ (0.7: 30 % lost)
   double frequency_scale = 1.0;  ///< delivered f = scale · commanded f (a sagging battery)
 

@@ -12,6 +12,7 @@
 #include "metrics/accuracy_alarm.hpp"
 #include "metrics/accuracy_json.hpp"
 #include "metrics/running_accuracy.hpp"
+#include "metrics/tracking_accuracy.hpp"
 #include "progress_bar.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
@@ -125,14 +126,22 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
 /// (online), of a frozen copy and of ARX, each with its accuracy alarm.
 nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
                      const sysid::NarxModel& trained, const sysid::ArxModel& arx,
-                     const std::string& output) {
+                     const std::string& output, int window) {
   sysid::NarxModel online = trained;
   const sysid::NarxModel& frozen = trained;
   const sysid::RegressionData d = sysid::BuildRegression(spec, s);
   const char* names[] = {"online", "frozen", "arx"};
-  metrics::AccuracyAlarm alarms[3];
-  metrics::WindowAccuracy windows[3] = {metrics::WindowAccuracy(100), metrics::WindowAccuracy(100),
-                                        metrics::WindowAccuracy(100)};
+  metrics::AccuracyAlarmOptions alarm_options;
+  alarm_options.window = static_cast<std::size_t>(window);
+  // The settled level averages three windows' worth of samples, whatever the rate.
+  alarm_options.reference_samples = 3.0 * window;
+  metrics::AccuracyAlarm alarms[3] = {metrics::AccuracyAlarm(alarm_options),
+                                      metrics::AccuracyAlarm(alarm_options),
+                                      metrics::AccuracyAlarm(alarm_options)};
+  const auto w = static_cast<std::size_t>(window);
+  metrics::TrackingAccuracy windows[3] = {metrics::TrackingAccuracy(w, 10 * w),
+                                          metrics::TrackingAccuracy(w, 10 * w),
+                                          metrics::TrackingAccuracy(w, 10 * w)};
   nlohmann::json events[3] = {nlohmann::json::array(), nlohmann::json::array(),
                               nlohmann::json::array()};
   std::optional<io::CsvWriter> out;
@@ -153,7 +162,7 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
     for (int m = 0; m < 3; ++m) {
       yhat(r, m) = p[m];
       windows[m].Add(y, p[m]);
-      row[static_cast<std::size_t>(5 + m)] = windows[m].full() ? windows[m].Get().fit_percent : NAN;
+      row[static_cast<std::size_t>(5 + m)] = windows[m].fit_percent();
       if (const auto e = alarms[m].Push(long(t0 + r), y, p[m])) {
         events[m].push_back(
             {{"kind", e->kind == metrics::AccuracyEvent::Kind::kAlarm ? "alarm" : "recovered"},
@@ -351,7 +360,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     }
     if (!o.track_csv.empty()) {
       const sysid::Series track = LoadSeries(o.track_csv, output, spec.inputs, spec);
-      report["track"] = Track(spec, track, *model, arx, o.track_output);
+      report["track"] = Track(spec, track, *model, arx, o.track_output, o.track_window);
     }
     if (!o.predictions.empty()) {
       std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};

@@ -41,6 +41,9 @@ struct FitJobOptions {
   /// accuracy alarm on each; a vehicle that changes mid-run shows what online learning is for.
   std::string track_csv;
   std::string track_output;  ///< optional per-sample CSV of the tracking run
+  /// Samples in the tracking run's accuracy window (and the alarm's): one second of data,
+  /// 100 at 100 Hz, 20 after decimation by 5.
+  int track_window = 100;
   bool progress = false;     ///< draw a progress bar on stderr
   std::string ranges;        ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;   ///< optional: write the training data's ranges (JSON)

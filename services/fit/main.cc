@@ -120,8 +120,13 @@ int main(int argc, char** argv) {
                  "accuracy alarm on each (a vehicle that changes mid-run)")
       ->check(CLI::ExistingFile);
   app.add_option("--track-output", o.track_output,
-                 "per-sample CSV of the --track run: measured, online, frozen, arx and their 1 s "
+                 "per-sample CSV of the --track run: measured, online, frozen, arx and their "
                  "window FIT");
+  app.add_option("--track-window", o.track_window,
+                 "samples in the --track run's accuracy window and alarm: one second of data "
+                 "(100 at 100 Hz, 20 at 20 Hz)")
+      ->capture_default_str()
+      ->check(CLI::Range(5, 100000));
   app.add_option("--ranges", o.ranges,
                  "JSON {signal: [min, max]}: fixes the scaling instead of deriving it from the "
                  "training data (what the online identifier uses)")

@@ -1,5 +1,6 @@
 #include "plant_node.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -182,6 +183,14 @@ void PlantNode::Reset(const std::string& setup_name) {
   diverged_reported_ = false;
   std::fprintf(stderr, "[%s] reset to the initial condition of %s\n",
                bus_.options().instance.c_str(), setup.name.c_str());
+  if (std::isfinite(setup.damage.at_s)) {
+    std::fprintf(stderr,
+                 "[%s] this run damages the vehicle: from t = %.3g s wing %s flies %.3g of the "
+                 "commanded stroke amplitude and %.3g of the frequency\n",
+                 bus_.options().instance.c_str(), setup.damage.at_s,
+                 setup.damage.wing == 0 ? "every" : std::to_string(setup.damage.wing).c_str(),
+                 setup.damage.amplitude_scale, setup.damage.frequency_scale);
+  }
   bus_.SetState(session_.mode() == pipeline::PlantSession::Mode::kLockstep ? "waiting" : "running");
   Publish(session_.last());
 }

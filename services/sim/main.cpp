@@ -88,15 +88,22 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "Plant configuration JSON (default: built-in 40 g set)");
   app.add_option("--output", output_path, "Output CSV file");
   odonata::plant::ActuatorDamage damage;
-  app.add_option("--damage-at", damage.at_s,
-                 "damage scenario: from this time (s) on, one wing delivers less than commanded");
-  app.add_option("--damage-wing", damage.wing, "the damaged wing, 1…4")->capture_default_str();
+  auto* damage_opt = app.add_option(
+      "--damage-at", damage.at_s,
+      "damage scenario: from this time (s) on, one wing delivers less than commanded (default: "
+      "the preset's, none outside the damage presets' validation run)");
+  app.add_option("--damage-wing", damage.wing,
+                 "the damaged wing, 1…4, or 0 for all four (a sagging battery)")
+      ->capture_default_str()
+      ->needs(damage_opt);
   app.add_option("--damage-amplitude", damage.amplitude_scale,
                  "delivered stroke amplitude / commanded (0.7: 30 % lost)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(damage_opt);
   app.add_option("--damage-frequency", damage.frequency_scale,
                  "delivered flapping frequency / commanded (a sagging battery)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(damage_opt);
   int decimate = 0;
   app.add_option("--decimate", decimate,
                  "write one row per N samples: outputs (and their _avg) at the block's first "
@@ -147,7 +154,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "odonata-sim: %s\n", p.c_str());
       return 2;
     }
-    run.damage = damage;
+    if (damage_opt->count() > 0) run.damage = damage;
     if (decimate == 0) decimate = 1;
     const odonata::sim::SimResult result =
         odonata::sim::RunAndWrite(config, run, output_path, decimate);

@@ -22,7 +22,7 @@ std::string BaseName(const ExperimentPreset& p) {
 }
 
 TEST(Presets, AreTheSixPaperExperimentsWithIdentificationMetadata) {
-  ASSERT_EQ(Presets().size(), 11u);
+  ASSERT_EQ(Presets().size(), 13u);
   for (std::size_t i = 0; i < 6; ++i) EXPECT_FALSE(Presets()[i].held_vehicle);
   for (const ExperimentPreset& p : Presets()) {
     SCOPED_TRACE(p.name);
@@ -200,7 +200,7 @@ TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
     EXPECT_NEAR(train.initial.state.position_m.z(), 50.0, 1e-12);
     EXPECT_TRUE(train.initial.prior_command == train.trim.command);
     // Attitude excitations are zero-mean.
-    if (p.name != "vertical_velocity" && p.name != "vertical_wide") {
+    if (p.name != "vertical_velocity" && p.name != "vertical_wide" && p.name != "battery_sag") {
       const std::vector<double>& u = train.excitation_values.at(0);
       double sum = 0.0, sum_abs = 0.0;
       for (const double x : u) {
@@ -230,7 +230,8 @@ INSTANTIATE_TEST_SUITE_P(Paper, EveryPreset,
                          ::testing::Values("actuator_fz", "actuator_fx", "vertical_velocity",
                                            "roll", "pitch", "yaw", "roll_held", "pitch_held"));
 INSTANTIATE_TEST_SUITE_P(BeyondPaper, EveryPreset,
-                         ::testing::Values("vertical_wide", "force_map_fz", "roll_coupled"));
+                         ::testing::Values("vertical_wide", "force_map_fz", "roll_coupled",
+                                           "wing_damage", "battery_sag"));
 
 // The experiments beyond the paper: nonlinear physics, identified at a decimated rate from
 // signals the identifier can read live (an applied channel, an excitation column of the run, a
@@ -242,7 +243,10 @@ TEST(Presets, BeyondThePaperAreDecimatedAndReadLiveSignals) {
     if (!p.beyond_paper) continue;
     SCOPED_TRACE(p.name);
     ++count;
-    EXPECT_GT(p.decimate, 1);
+    const bool damage = std::isfinite(p.validate_damage.at_s);
+    if (!damage) {
+      EXPECT_GT(p.decimate, 1);
+    }
     EXPECT_FALSE(p.held_vehicle);
     EXPECT_EQ(p.paper_accuracy_text, "not in the paper");
     const ExperimentRun run = BuildExperimentRun(p, Phase::kTrain, 1, 0.0, config);
@@ -257,7 +261,33 @@ TEST(Presets, BeyondThePaperAreDecimatedAndReadLiveSignals) {
       EXPECT_TRUE(ok) << in;
     }
   }
-  EXPECT_EQ(count, 3);
+  EXPECT_EQ(count, 5);
+}
+
+// The damage presets damage the vehicle halfway through the validation run, and only there.
+TEST(Presets, DamagePresetsChangeTheVehicleOnlyInValidation) {
+  const plant::PlantConfig config = plant::DefaultPlantConfig();
+  for (const char* name : {"wing_damage", "battery_sag"}) {
+    SCOPED_TRACE(name);
+    const ExperimentPreset& p = *FindPreset(name);
+    EXPECT_NE(p.description.find("DAMAGE"), std::string::npos);
+    EXPECT_DOUBLE_EQ(p.validate_damage.at_s, 0.5 * p.validate_duration_s);
+    EXPECT_EQ(p.validate_damage.Problems(), "");
+    for (const Phase phase : {Phase::kTrain, Phase::kSelect, Phase::kValidate}) {
+      const ExperimentRun run = BuildExperimentRun(p, phase, 1, 2.0, config);
+      EXPECT_EQ(std::isfinite(run.damage.at_s), phase == Phase::kValidate) << PhaseName(phase);
+    }
+  }
+  EXPECT_DOUBLE_EQ(FindPreset("wing_damage")->validate_damage.amplitude_scale, 0.7);
+  EXPECT_EQ(FindPreset("wing_damage")->validate_damage.wing, 1);
+  EXPECT_DOUBLE_EQ(FindPreset("battery_sag")->validate_damage.frequency_scale, 0.9);
+  EXPECT_EQ(FindPreset("battery_sag")->validate_damage.wing, 0);
+  // Every other preset flies an intact vehicle in every phase.
+  for (const ExperimentPreset& p : Presets()) {
+    if (p.name == "wing_damage" || p.name == "battery_sag") continue;
+    EXPECT_FALSE(std::isfinite(BuildExperimentRun(p, Phase::kValidate, 1, 1.0, config).damage.at_s))
+        << p.name;
+  }
 }
 
 // The force map changes its levels only at decimation-block boundaries, so each decimated row's

@@ -78,6 +78,42 @@ TEST_F(PlantSessionTest, LockstepStepsExactlyAsOdonataSimDoes) {
   }
 }
 
+// A damage preset's validation set-up carries its damage, which the session flies exactly as
+// odonata-sim does (the damaged command is stepped; the recorded applied command is the
+// commanded one); the other phases and the bare name fly an intact vehicle.
+TEST_F(PlantSessionTest, DamagePresetValidationFliesTheDamageAsOdonataSimDoes) {
+  const experiments::ExperimentPreset& preset = *experiments::FindPreset("wing_damage");
+  EXPECT_EQ(SetupName(preset, experiments::Phase::kValidate), "wing_damage@validate");
+  EXPECT_EQ(SetupName(preset, experiments::Phase::kTrain), "wing_damage");
+  EXPECT_EQ(SetupName(*experiments::FindPreset("roll"), experiments::Phase::kValidate), "roll");
+  EXPECT_FALSE(std::isfinite(VehicleSetupByName("wing_damage", config_).damage.at_s));
+  EXPECT_FALSE(std::isfinite(VehicleSetupByName("wing_damage@select", config_).damage.at_s));
+  EXPECT_THROW(VehicleSetupByName("wing_damage@later", config_), std::invalid_argument);
+  VehicleSetup damaged = VehicleSetupByName("wing_damage@validate", config_);
+  ASSERT_DOUBLE_EQ(damaged.damage.at_s, 30.0);
+  damaged.damage.at_s = 0.2;  // early, so a short run sees it
+
+  auto run =
+      experiments::BuildExperimentRun(preset, experiments::Phase::kValidate, 3, 0.5, config_);
+  run.damage = damaged.damage;
+  PlantSession session(config_, Mode::kLockstep, damaged);
+  plant::DimavPlant reference(config_);
+  reference.Reset(run.initial);
+  plant::DimavPlant intact(config_);
+  intact.Reset(run.initial);
+  for (std::size_t k = 0; k < run.commands.size(); ++k) {
+    const CommandOutcome out = session.Submit(static_cast<int64_t>(k), run.commands[k]);
+    ASSERT_TRUE(out.publish.has_value());
+    const plant::CommandMatrix applied = reference.ClampToLimits(run.commands[k]);
+    reference.Step(run.damage.Apply(applied, static_cast<double>(k) * run.sample_period_s));
+    intact.Step(applied);
+    ASSERT_TRUE(SameBits(out.publish->output, reference.output())) << "sample " << k + 1;
+    EXPECT_TRUE(out.publish->applied_command == applied);
+  }
+  // The damaged wing lifts less than the intact vehicle's by the end of the run.
+  EXPECT_LT(session.last().output.force_z_n(0), 0.8 * intact.output().force_z_n(0));
+}
+
 TEST_F(PlantSessionTest, LockstepRepeatStaleGapAndRejection) {
   PlantSession session(config_, Mode::kLockstep, roll_);
   const plant::CommandMatrix trim = roll_.trim_command;

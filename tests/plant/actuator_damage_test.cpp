@@ -43,3 +43,29 @@ TEST(ActuatorDamage, NamesEveryProblem) {
 
 }  // namespace
 }  // namespace odonata::plant
+
+namespace odonata::plant {
+namespace {
+
+// Wing 0 is a sagging battery: every wing flies the scaled frequency.
+TEST(ActuatorDamage, WingZeroDamagesEveryWing) {
+  CommandMatrix c = CommandMatrix::Zero();
+  c.col(kFlapFrequency).setConstant(6.0);
+  c.col(kStrokeAmplitude).setConstant(1.0);
+  ActuatorDamage d;
+  d.at_s = 1.0;
+  d.wing = 0;
+  d.frequency_scale = 0.9;
+  EXPECT_EQ(d.Problems(), "");
+  EXPECT_EQ(d.Apply(c, 0.5), c);
+  const CommandMatrix after = d.Apply(c, 1.0);
+  for (int w = 0; w < kWingCount; ++w) {
+    EXPECT_DOUBLE_EQ(after(w, kFlapFrequency), 5.4);
+    EXPECT_DOUBLE_EQ(after(w, kStrokeAmplitude), 1.0);
+  }
+  d.wing = -1;
+  EXPECT_NE(d.Problems(), "");
+}
+
+}  // namespace
+}  // namespace odonata::plant
