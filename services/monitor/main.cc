@@ -28,6 +28,15 @@ int main(int argc, char** argv) {
                  "seconds between table prints when not on a terminal")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--alarm-window", o.alarm_window_samples,
+                 "change alarm: samples in its window, one second of data (100 at 100 Hz)")
+      ->capture_default_str()
+      ->check(CLI::Range(5, 100000));
+  app.add_option("--alarm-drop", o.alarm_drop_points,
+                 "change alarm: raise it when the tracking FIT falls this many points below its "
+                 "settled level (and clear it within 1 point of that level)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 100.0));
   app.add_option("--warn-fit", o.warn_fit_percent, "warn below this window FIT %")
       ->capture_default_str();
   app.add_option("--heartbeat-timeout", o.heartbeat_timeout_s,

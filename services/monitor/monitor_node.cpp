@@ -74,7 +74,11 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   for (std::size_t o = 0; o < n; ++o) {
     auto it = outputs_.find(m.names[o]);
     if (it == outputs_.end()) {
-      it = outputs_.emplace(m.names[o], Output(options_.window_samples)).first;
+      metrics::AccuracyAlarmOptions alarm;
+      alarm.window = options_.alarm_window_samples;
+      alarm.drop_points = options_.alarm_drop_points;
+      alarm.reference_samples = 3.0 * static_cast<double>(options_.alarm_window_samples);
+      it = outputs_.emplace(m.names[o], Output(options_.window_samples, alarm)).first;
       order_.push_back(m.names[o]);
     }
     Output& out = it->second;
@@ -83,6 +87,23 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
     out.total_free_run.Add(m.measured[o], m.free_run[o]);
     out.window_free_run.Add(m.measured[o], m.free_run[o]);
     out.rules = m.rules[o];
+    if (const auto e = out.alarm.Push(static_cast<long>(m.sample), m.measured[o], m.predicted[o])) {
+      const bool alarm = e->kind == metrics::AccuracyEvent::Kind::kAlarm;
+      std::fprintf(stderr,
+                   alarm ? "[%s] ALARM: %s accuracy fell at sample %ld: tracking FIT %.1f %% "
+                           "against a settled %.1f %%\n"
+                         : "[%s] RECOVERED: %s accuracy back at sample %ld: tracking FIT %.1f "
+                           "%% against the %.1f %% before the alarm\n",
+                   bus_.options().instance.c_str(), m.names[o].c_str(), e->sample, e->window_fit,
+                   e->reference_fit);
+      if (out.alarm_events.size() >= kMaxAlarmEvents) {
+        out.alarm_events.erase(out.alarm_events.begin());
+      }
+      out.alarm_events.push_back({{"kind", alarm ? "alarm" : "recovered"},
+                                  {"sample", e->sample},
+                                  {"tracking_fit", e->window_fit},
+                                  {"reference_fit", e->reference_fit}});
+    }
     if (out.window_one_step.full()) {
       const double fit = out.window_one_step.Get().fit_percent;
       if (fit < options_.warn_fit_percent && !out.warned) {
@@ -230,7 +251,9 @@ nlohmann::json MonitorNode::RunSummary() const {
     j["outputs"][name] = {{"rules", o.rules},
                           {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
                           {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
-                          {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())}};
+                          {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())},
+                          {"alarm_events", o.alarm_events},
+                          {"alarmed", o.alarm.alarmed()}};
   }
   return j;
 }

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/bus_node.hpp"
+#include "metrics/accuracy_alarm.hpp"
 #include "metrics/running_accuracy.hpp"
 #include "odonata/accuracy_t.hpp"
 #include "odonata/control_t.hpp"
@@ -29,6 +30,10 @@ struct MonitorOptions {
   double publish_hz = 2.0;           ///< accuracy_t rate
   double print_period_s = 5.0;       ///< terminal line period when stdout is not a terminal
   double warn_fit_percent = 80.0;    ///< warn when the window's one-step FIT drops below
+  /// The change alarm (metrics::AccuracyAlarm on the one-step predictions): its window, one
+  /// second of samples (100 at 100 Hz), and how far below the settled level raises it.
+  std::size_t alarm_window_samples = 100;
+  double alarm_drop_points = 5.0;
   double heartbeat_timeout_s = 3.0;  ///< warn when a service is silent this long
   std::string summary_json;          ///< write final accuracy here on exit (optional)
   bool live_table = false;           ///< redraw a table (stdout is a terminal)
@@ -46,6 +51,7 @@ class MonitorNode {
   static constexpr std::size_t kMaxPeers = 256;
   static constexpr std::size_t kMaxSnapshots = 64;
   static constexpr std::size_t kMaxFinishedRuns = 16;  ///< earlier runs kept in the summary
+  static constexpr std::size_t kMaxAlarmEvents = 64;   ///< alarm events kept per output and run
   std::size_t peer_count() const { return peers_.size(); }
   std::size_t snapshot_count() const { return snapshots_.size(); }
 
@@ -55,14 +61,23 @@ class MonitorNode {
     const auto it = outputs_.find(output);
     return it != outputs_.end() && it->second.warned;
   }
+  /// True while `output`'s change alarm is raised (accuracy fell well below its settled level
+  /// and has not come back).
+  bool Alarmed(const std::string& output) const {
+    const auto it = outputs_.find(output);
+    return it != outputs_.end() && it->second.alarm.alarmed();
+  }
 
  private:
   struct Output {
     metrics::CumulativeAccuracy total_one_step, total_free_run;
     metrics::WindowAccuracy window_one_step, window_free_run;
+    metrics::AccuracyAlarm alarm;
+    std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents
     int rules = 0;
     bool warned = false;
-    explicit Output(std::size_t w) : window_one_step(w), window_free_run(w) {}
+    Output(std::size_t w, const metrics::AccuracyAlarmOptions& a)
+        : window_one_step(w), window_free_run(w), alarm(a) {}
   };
   struct Peer {
     std::string service, state;

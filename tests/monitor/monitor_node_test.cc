@@ -102,6 +102,29 @@ TEST_F(MonitorNodeTest, WarnsWhenTheWindowFitDropsAndClearsWhenItRecovers) {
   EXPECT_FALSE(node_->Warned("roll_rad"));
 }
 
+// The change alarm: quiet while the model is steady, raised within one alarm window (100
+// samples) of a sudden loss, cleared when accuracy is back, each event in the summary.
+TEST_F(MonitorNodeTest, RaisesTheChangeAlarmWithinAWindowAndReportsTheRecovery) {
+  const auto bias = [](int64_t k) { return k >= 1500 && k < 1800 ? 0.3 : 0.0; };
+  int64_t raised = -1, cleared = -1;
+  for (int64_t k = 0; k < 2600; ++k) {
+    Send(k, OneStep(k) + bias(k), FreeRun(k));
+    if (raised < 0 && node_->Alarmed("roll_rad")) raised = k;
+    if (raised >= 0 && cleared < 0 && !node_->Alarmed("roll_rad")) cleared = k;
+  }
+  ASSERT_GE(raised, 1500) << "no alarm before the change";
+  EXPECT_LT(raised, 1600) << "within one window (1 s at 100 Hz) of the change";
+  ASSERT_GT(cleared, 1800);
+  EXPECT_LT(cleared, 2000) << "within a window of the model's return";
+  const nlohmann::json events = node_->Summary()["outputs"]["roll_rad"]["alarm_events"];
+  ASSERT_EQ(events.size(), 2u) << events.dump();
+  EXPECT_EQ(events[0]["kind"], "alarm");
+  EXPECT_EQ(events[0]["sample"].get<int64_t>(), raised);
+  EXPECT_EQ(events[1]["kind"], "recovered");
+  EXPECT_EQ(events[1]["sample"].get<int64_t>(), cleared);
+  EXPECT_GT(events[0]["reference_fit"].get<double>(), 95.0);
+}
+
 TEST_F(MonitorNodeTest, AForgedFarAheadPredictionIsDroppedAndTheScoreGoesOn) {
   for (int64_t k = 0; k < 50; ++k) Send(k, OneStep(k), FreeRun(k));
   Send(int64_t{1} << 40, 0.0, 0.0);
