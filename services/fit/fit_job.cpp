@@ -126,8 +126,11 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
 /// (online), of a frozen copy and of ARX, each with its accuracy alarm.
 nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
                      const sysid::NarxModel& trained, const sysid::ArxModel& arx,
-                     const std::string& output, int window) {
+                     const std::string& output, int window, double forgetting) {
   sysid::NarxModel online = trained;
+  if (forgetting > 0.0) {
+    for (int o = 0; o < online.outputs(); ++o) online.mutable_model(o).set_forgetting(forgetting);
+  }
   const sysid::NarxModel& frozen = trained;
   const sysid::RegressionData d = sysid::BuildRegression(spec, s);
   const char* names[] = {"online", "frozen", "arx"};
@@ -360,7 +363,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     }
     if (!o.track_csv.empty()) {
       const sysid::Series track = LoadSeries(o.track_csv, output, spec.inputs, spec);
-      report["track"] = Track(spec, track, *model, arx, o.track_output, o.track_window);
+      report["track"] = Track(spec, track, *model, arx, o.track_output, o.track_window,
+                              o.track_forgetting);
     }
     if (!o.predictions.empty()) {
       std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};

@@ -44,6 +44,9 @@ struct FitJobOptions {
   /// Samples in the tracking run's accuracy window (and the alarm's): one second of data,
   /// 100 at 100 Hz, 20 after decimation by 5.
   int track_window = 100;
+  /// RLS forgetting factor of the model that keeps learning over --track (0: keep the trained
+  /// model's), as `odonata-control set-forgetting` sets it on a running identifier.
+  double track_forgetting = 0.0;
   bool progress = false;     ///< draw a progress bar on stderr
   std::string ranges;        ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;   ///< optional: write the training data's ranges (JSON)

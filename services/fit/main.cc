@@ -127,6 +127,10 @@ int main(int argc, char** argv) {
                  "(100 at 100 Hz, 20 at 20 Hz)")
       ->capture_default_str()
       ->check(CLI::Range(5, 100000));
+  app.add_option("--track-forgetting", o.track_forgetting,
+                 "forgetting factor of the model learning over --track, in (0, 1] (default: the "
+                 "trained model's); 1 − 1/(samples per second) forgets in about a second")
+      ->check(CLI::Range(1e-6, 1.0));
   app.add_option("--ranges", o.ranges,
                  "JSON {signal: [min, max]}: fixes the scaling instead of deriving it from the "
                  "training data (what the online identifier uses)")
