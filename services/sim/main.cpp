@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -53,6 +54,9 @@ void ListPresetsJson() {
                    {"held_vehicle", p.held_vehicle},
                    {"decimate", p.decimate},
                    {"beyond_paper", p.beyond_paper},
+                   {"damage_at_s", std::isfinite(p.validate_damage.at_s)
+                                       ? nlohmann::json(p.validate_damage.at_s)
+                                       : nlohmann::json(nullptr)},
                    {"clamped_body", p.clamped_body},
                    {"attitude_hold", p.attitude_hold},
                    {"train_excitation", p.train_excitation},
