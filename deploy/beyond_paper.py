@@ -246,8 +246,10 @@ def damage_verdict(r):
     alarm = (f"alarm {_f(m['alarm_s'], 2)} s after the change" if m["alarm_s"] is not None else
              "no alarm: the learner absorbed the change within its window (the frozen copy's alarm: "
              f"{_f(m['frozen_alarm_s'], 2)} s)")
-    return (f"{alarm} ({'met' if ok['alarm_within_1_s'] else 'NOT met'}); "
-            f"back within 1 point of {_f(m['pre_level'])} % after {_f(m['recovery_s'], 1)} s "
+    back = (f"never a whole second below 1 point under its pre-damage {_f(m['pre_level'])} %"
+            if m["recovery_s"] == 0 else
+            f"back within 1 point of {_f(m['pre_level'])} % after {_f(m['recovery_s'], 1)} s")
+    return (f"{alarm} ({'met' if ok['alarm_within_1_s'] else 'NOT met'}); {back} "
             f"({'met' if ok['recovered_within_10_s'] else 'NOT met'}); frozen {_f(m['frozen_gap'])} points below "
             f"from 5 s after the change on ({'met' if ok['frozen_5_points_below'] else 'NOT met'})")
 

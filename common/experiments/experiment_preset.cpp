@@ -300,7 +300,7 @@ std::vector<ExperimentPreset> MakePresets() {
                     base + " from the excitation before the hold; runs as " + base;
     v.push_back(p);
   }
-  // Beyond the paper: experiments where the physics is nonlinear (docs/identifier.md §10).
+  // Beyond the paper: experiments where the physics is nonlinear (docs/identifier.md §11).
   {
     ExperimentPreset p;
     p.name = "vertical_wide";

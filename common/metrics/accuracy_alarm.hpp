@@ -1,6 +1,6 @@
 #pragma once
 // A change detector on live accuracy: raises an alarm when the sliding-window FIT falls well
-// below the level the model had settled at, and says when it is back (docs/identifier.md §5).
+// below the level the model had settled at, and says when it is back (docs/identifier.md §5.1).
 
 #include <optional>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Live accuracy for change detection: the error over a short window, measured against the
-// output's spread over a longer span (docs/identifier.md §5).
+// output's spread over a longer span (docs/identifier.md §5.1).
 
 #include <cstddef>
 #include <deque>

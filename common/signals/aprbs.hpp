@@ -2,7 +2,7 @@
 // Amplitude-modulated pseudo-random binary sequence (APRBS): random levels held for random
 // times. Where a chirp visits each amplitude only briefly, an APRBS holds levels across the whole
 // input range long enough for the output to settle, which is what a nonlinear static map or a
-// state-dependent gain needs to be seen (docs/identifier.md §10).
+// state-dependent gain needs to be seen (docs/identifier.md §11).
 
 #include <cstddef>
 #include <cstdint>

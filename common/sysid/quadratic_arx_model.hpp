@@ -1,7 +1,7 @@
 #pragma once
 // The second linear-in-parameters baseline: ARX with squared inputs. If a fuzzy model only beats
 // ARX because the input enters squared (lift ∝ f²φ₀²), this baseline closes the gap; if it does
-// not, the nonlinearity involves the state (docs/identifier.md §10).
+// not, the nonlinearity involves the state (docs/identifier.md §8).
 
 #include <Eigen/Dense>
 
