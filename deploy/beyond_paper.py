@@ -5,9 +5,9 @@
   decimated rate, fuzzy against ARX and ARX with squared inputs on the validation excitation;
 - the damage scenarios (wing_damage, battery_sag): the vehicle changes halfway through the
   validation run; the model keeps learning, beside a frozen copy and ARX fitted before the change,
-  with the accuracy alarm. wing_damage runs through the LCM pipeline (odonata-monitor raises the
-  alarm live); battery_sag is identified at 20 Hz, a rate the online identifier does not decimate
-  to, so odonata-fit --track runs it (the same learner and the same alarm, offline).
+  with the accuracy alarm. Both run through the LCM pipeline at the preset's rate (battery_sag:
+  the identifier decimates to 20 Hz), odonata-monitor raising the alarm live; odonata-fit --track
+  replays the same learner offline, bit for bit, beside a frozen copy and ARX.
 
 Targets are issue 9's; each result says whether it met them.
 """
@@ -135,10 +135,11 @@ def damage_metrics(track, change, rate, alarm_events, frozen_events=()):
             break
     late = [i for i, k in enumerate(s) if k >= change + 5 * w]
     gap = lambda other: statistics.mean(on[i] - other[i] for i in late) if late else float("nan")  # noqa: E731
-    after = [e for e in alarm_events if e["kind"] == "alarm" and e["sample"] >= change]
+    # An alarm more than 10 s after the change answers something else (a dip of the excitation).
+    after = [e for e in alarm_events if e["kind"] == "alarm" and change <= e["sample"] < change + 10 * w]
     before = [e for e in alarm_events if e["kind"] == "alarm" and e["sample"] < change]
     alarm_s = (after[0]["sample"] - change) / rate if after else None
-    frozen_after = [e for e in frozen_events if e["kind"] == "alarm" and e["sample"] >= change]
+    frozen_after = [e for e in frozen_events if e["kind"] == "alarm" and change <= e["sample"] < change + 10 * w]
     m = {"pre_level": pre_level, "recovery_s": recovery, "alarm_s": alarm_s, "false_alarms_before": len(before),
          # The same alarm on the frozen copy: it sees a change the learner has already absorbed.
          "frozen_alarm_s": (frozen_after[0]["sample"] - change) / rate if frozen_after else None,
@@ -169,43 +170,35 @@ def damage(name, preset, args, out, learner_flags):
     track_csv = os.path.join(d, "track.csv")
     result = {"kind": "damage", "name": name, "dir": d, "preset": preset, "rate_hz": rate,
               "forgetting": forgetting, "change_s": preset["damage_at_s"], "track_csv": track_csv}
-    if preset["decimate"] == 1:
-        # Through the pipeline: H and kappa chosen on the selection excitation with the online
-        # learner's settings (as for the paper's six), then the identifier learns on through the
-        # damaged validation run with forgetting; the monitor's alarm is the live one.
-        cfg_path = os.path.join(d, "identifier.json")
-        ranges = os.path.join(d, "ranges.json")
-        subprocess.run([sys.executable, os.path.join(ROOT, "deploy/make-identifier-config"), "--preset", name,
-                        "--seed", str(args.seed), "--build", args.build, "--output", cfg_path,
-                        "--ranges-output", ranges, "--consequent", args.consequent, *duration], check=True)
-        cfg = json.load(open(cfg_path))
-        sweep = _fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--ranges", ranges,
-                                       *_signals(preset), *learner_flags(cfg)])
-        cfg["entropy_threshold"], cfg["kappa"] = sweep["entropy_threshold"], sweep["kappa"]
-        json.dump(cfg, open(cfg_path, "w"), indent=1)
-        pipe = os.path.join(d, "pipeline")
-        subprocess.run([sys.executable, os.path.join(ROOT, "deploy/odonata-run"), "--preset", name, "--mode", args.mode,
-                        "--identifier-config", cfg_path, "--seed", str(args.seed), "--out", pipe, "--build", args.build,
-                        "--keep-learning", "--forgetting", repr(forgetting), *duration],
-                       check=True, stderr=open(os.path.join(d, "pipeline.stderr.txt"), "wb"))
-        track = _fit_json(args.build, ["--load-model", os.path.join(pipe, "model-trained.json"), "--train",
-                                       os.path.join(pipe, "train.csv"), "--track", os.path.join(pipe, "validate.csv"),
-                                       "--track-forgetting", repr(forgetting), "--track-window", str(int(rate)),
-                                       "--track-output", track_csv])
-        monitor = json.load(open(os.path.join(pipe, "monitor-summary.json")))
-        events = monitor["outputs"][preset["output"]]["alarm_events"]
-        result.update(where="pipeline (odonata-monitor's live alarm)", rules=track["rules"],
-                      entropy_threshold=cfg["entropy_threshold"], kappa=cfg["kappa"], alarm_events=events,
-                      pipeline_equals_offline=_same_online(os.path.join(pipe, "predictions.csv"), track_csv,
-                                                           preset["output"]))
-    else:
-        track = _fit_json(args.build, ["--train", files["train"], "--select", files["select"], *_signals(preset),
-                                       "--track", files["validate"], "--track-forgetting", repr(forgetting),
-                                       "--track-window", str(int(rate)), "--track-output", track_csv])
-        events = track["track"]["online"]["events"]
-        result.update(where=f"offline (odonata-fit --track at {rate:g} Hz, the monitor's alarm class)",
-                      rules=track["rules"], entropy_threshold=track["entropy_threshold"], kappa=track["kappa"],
-                      alarm_events=events)
+    # Through the pipeline: H and kappa chosen on the selection excitation with the online
+    # learner's settings (as for the paper's six), then the identifier learns on through the
+    # damaged validation run with forgetting, at the preset's rate; the monitor's alarm is the
+    # live one. odonata-fit --track replays the same learner offline beside a frozen copy and ARX.
+    cfg_path = os.path.join(d, "identifier.json")
+    ranges = os.path.join(d, "ranges.json")
+    subprocess.run([sys.executable, os.path.join(ROOT, "deploy/make-identifier-config"), "--preset", name,
+                    "--seed", str(args.seed), "--build", args.build, "--output", cfg_path,
+                    "--ranges-output", ranges, "--consequent", args.consequent, *duration], check=True)
+    cfg = json.load(open(cfg_path))
+    sweep = _fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--ranges", ranges,
+                                   *_signals(preset), *learner_flags(cfg)])
+    cfg["entropy_threshold"], cfg["kappa"] = sweep["entropy_threshold"], sweep["kappa"]
+    json.dump(cfg, open(cfg_path, "w"), indent=1)
+    pipe = os.path.join(d, "pipeline")
+    subprocess.run([sys.executable, os.path.join(ROOT, "deploy/odonata-run"), "--preset", name, "--mode", args.mode,
+                    "--identifier-config", cfg_path, "--seed", str(args.seed), "--out", pipe, "--build", args.build,
+                    "--keep-learning", "--forgetting", repr(forgetting), *duration],
+                   check=True, stderr=open(os.path.join(d, "pipeline.stderr.txt"), "wb"))
+    track = _fit_json(args.build, ["--load-model", os.path.join(pipe, "model-trained.json"), "--train",
+                                   os.path.join(pipe, "train.csv"), "--track", os.path.join(pipe, "validate.csv"),
+                                   "--track-forgetting", repr(forgetting), "--track-window", str(int(rate)),
+                                   "--track-output", track_csv])
+    monitor = json.load(open(os.path.join(pipe, "monitor-summary.json")))
+    events = monitor["outputs"][preset["output"]]["alarm_events"]
+    result.update(where=f"pipeline at {rate:g} Hz (odonata-monitor's live alarm)", rules=track["rules"],
+                  entropy_threshold=cfg["entropy_threshold"], kappa=cfg["kappa"], alarm_events=events,
+                  pipeline_equals_offline=_same_online(os.path.join(pipe, "predictions.csv"), track_csv,
+                                                       preset["output"]))
     result["one_step"] = {m: track["track"][m]["one_step"]["fit"] for m in ("online", "frozen", "arx")}
     result["rules_after"] = track["track"]["rules_after"]
     result["metrics"] = damage_metrics(_read_track(track_csv), change, rate, events,
@@ -244,8 +237,8 @@ def damage_verdict(r):
     m = r["metrics"]
     ok = m["targets"]
     alarm = (f"alarm {_f(m['alarm_s'], 2)} s after the change" if m["alarm_s"] is not None else
-             "no alarm: the learner absorbed the change within its window (the frozen copy's alarm: "
-             f"{_f(m['frozen_alarm_s'], 2)} s)")
+             "no alarm within 10 s: the learner absorbed the change within its memory (the frozen copy's "
+             f"alarm: {_f(m['frozen_alarm_s'], 2)} s)")
     back = (f"never a whole second below 1 point under its pre-damage {_f(m['pre_level'])} %"
             if m["recovery_s"] == 0 else
             f"back within 1 point of {_f(m['pre_level'])} % after {_f(m['recovery_s'], 1)} s")

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 #include "io/csv_writer.hpp"
+#include "io/row_decimator.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/prediction_t.hpp"
@@ -89,6 +90,9 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     for (const auto& n : AppliedFieldNames()) header.push_back(n);
   }
   io::CsvWriter out(csv_path, header);
+  std::vector<bool> is_input;
+  for (const auto& n : header) is_input.push_back(IsAveragedSignal(n));
+  io::RowDecimator decimator(options.decimate, is_input);
   for (auto it = run.states.begin(); it != run.states.end(); ++it) {
     const auto next = run.states.find(it->first + 1);
     if (next == run.states.end()) {
@@ -120,10 +124,13 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
       for (const auto& n : BeatFieldNames()) row.push_back(*BeatStateField(beat->second, n));
       for (const auto& n : AppliedFieldNames()) row.push_back(*BeatStateField(applied->second, n));
     }
-    out.WriteRow(row);
-    ++summary.rows;
+    if (const auto block = decimator.Push(it->first, row)) {
+      out.WriteRow(*block);
+      ++summary.rows;
+    }
   }
   out.Close();
+  summary.dropped_blocks = decimator.dropped_blocks();
   if (summary.rows == 0)
     throw std::runtime_error("no complete samples in the log (states and commands never matched)");
   return summary;

@@ -14,6 +14,10 @@ struct ExportOptions {
   std::string state_channel = "DIMAV_STATE";
   std::string beat_state_channel = "DIMAV_BEAT_STATE";  ///< optional: older logs have none
   int run = -1;  ///< which run (a plant reset starts a new one); negative counts from the end
+  /// One row per block of this many samples (io::RowDecimator: commands, excitations and
+  /// applied channels averaged, the rest at the block's first sample), as odonata-sim
+  /// --decimate and an identifier configured with "decimate" cut them. @pre ≥ 1.
+  int decimate = 1;
 };
 
 struct ExportSummary {
@@ -23,6 +27,7 @@ struct ExportSummary {
   long undecodable = 0;       ///< events on the three channels that did not decode (skipped)
   bool beat_columns = false;  ///< the log had beat states: _avg and _applied_ columns written
   long incomplete = 0;        ///< states without a following state or matching command (gaps)
+  long dropped_blocks = 0;    ///< with decimation: blocks given up for a missing sample
 };
 
 /// Reads the logs in order (a rotated log's files, oldest first) and writes `csv_path`. Columns:

@@ -79,6 +79,15 @@ const std::vector<std::string>& StateFieldNames() {
   return names;
 }
 
+bool IsAveragedSignal(const std::string& name) {
+  if (name == "t_s" || name == "window_s") return false;
+  for (const auto& n : StateFieldNames())
+    if (n == name) return false;
+  for (const auto& n : BeatFieldNames())
+    if (n == name) return false;
+  return true;  // command fields, applied channels and any excitation name
+}
+
 std::optional<double> CommandField(const odonata::wing_command_t& m, const std::string& name) {
   if (name.size() > 3 && name[0] == 'w' && name[2] == '_' && name[1] >= '1' && name[1] <= '4') {
     const int wing = name[1] - '1';

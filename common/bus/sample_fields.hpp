@@ -30,6 +30,11 @@ const std::vector<std::string>& AppliedFieldNames();
 /// nullopt when `name` is neither.
 std::optional<int> BeatStateOffset(const std::string& name);
 
+/// True for a signal that holds over [t_k, t_k+1) — a command field, an excitation, an applied
+/// channel — which decimation averages over a block; false for a measurement at t_k (a state
+/// field, a beat average, "t_s"), which it takes at the block's first sample.
+bool IsAveragedSignal(const std::string& name);
+
 /// The value of a named command field or excitation; nullopt when the name is unknown.
 std::optional<double> CommandField(const odonata::wing_command_t& msg, const std::string& name);
 /// The value of a named state field; nullopt when the name is unknown.

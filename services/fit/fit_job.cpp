@@ -159,7 +159,10 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
     const double y = d.y(r, 0);
     const double p_frozen = frozen.Predict(x)(0);
     const double p_arx = arx.Predict(x)(0);
-    const double p_online = online.Learn(x, d.y.row(r).transpose())[0].prediction;
+    // The prediction before learning from y, as the online identifier reports it: Learn()'s own
+    // prediction already includes a rule created for this very sample.
+    const double p_online = online.Predict(x)(0);
+    online.Learn(x, d.y.row(r).transpose());
     const double p[3] = {p_online, p_frozen, p_arx};
     std::vector<double> row = {double(t0 + r), y, p_online, p_frozen, p_arx, 0, 0, 0};
     for (int m = 0; m < 3; ++m) {
@@ -363,8 +366,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     }
     if (!o.track_csv.empty()) {
       const sysid::Series track = LoadSeries(o.track_csv, output, spec.inputs, spec);
-      report["track"] = Track(spec, track, *model, arx, o.track_output, o.track_window,
-                              o.track_forgetting);
+      report["track"] =
+          Track(spec, track, *model, arx, o.track_output, o.track_window, o.track_forgetting);
     }
     if (!o.predictions.empty()) {
       std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};

@@ -68,6 +68,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "snapshot_period_s",
                                           "snapshot_every_samples",
                                           "resume_wait_s",
+                                          "decimate",
                                           "ranges",
                                           "channels"};
 
@@ -138,6 +139,7 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
         IntegerField<int64_t>(j, "snapshot_every_samples", c.snapshot_every_samples, 0,
                               std::numeric_limits<int64_t>::max(), problem);
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
+    c.decimate = IntegerField<int>(j, "decimate", c.decimate, 1, 100000, problem);
     if (j.contains("ranges")) c.ranges = sysid::RangesFromJson(j["ranges"]);
     if (j.contains("channels")) c.channels.Override(j["channels"]);
     try {
@@ -181,6 +183,7 @@ std::string ExampleIdentifierConfig() {
   j["snapshot_period_s"] = 1.0;
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
+  j["decimate"] = 1;
   j["channels"] = {
       {"command", "DIMAV_COMMAND"}, {"state", "DIMAV_STATE"}, {"beat_state", "DIMAV_BEAT_STATE"}};
   return j.dump(2) + "\n";

@@ -20,7 +20,8 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       models_dir_(std::move(models_dir)),
       acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel()),
-      pairer_(Needs(core_.model().spec())) {
+      pairer_(Needs(core_.model().spec())),
+      decimator_(config_.decimate, AveragedSignals(core_.model().spec())) {
   const auto& ch = config_.channels;
   bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
@@ -119,6 +120,7 @@ void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
     switch (e.kind) {
       case Pairer::Event::Kind::kRestart:
         core_.RestartHistory();
+        decimator_.Reset();
         break;
       case Pairer::Event::Kind::kGap:
         bus_.stats().gaps += e.lost;
@@ -129,6 +131,13 @@ void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
         break;
     }
   }
+}
+
+std::vector<bool> IdentifierNode::AveragedSignals(const sysid::RegressorSpec& spec) {
+  std::vector<bool> averaged;
+  for (const auto& o : spec.outputs) averaged.push_back(bus::IsAveragedSignal(o));
+  for (const auto& i : spec.inputs) averaged.push_back(bus::IsAveragedSignal(i));
+  return averaged;
 }
 
 pipeline::PairingNeeds IdentifierNode::Needs(const sysid::RegressorSpec& spec) {
@@ -174,6 +183,18 @@ void IdentifierNode::FormSample(const Pairer::Event& paired) {
     if (!v) v = bus::StateField(state, spec.inputs[i]);
     if (!v) throw std::invalid_argument("no command or state signal '" + spec.inputs[i] + "'");
     sample.inputs(static_cast<Eigen::Index>(i)) = *v;
+  }
+  if (decimator_.factor() > 1) {
+    // Learn from the block's sample, indexed by block: the model runs at the decimated rate.
+    std::vector<double> row(sample.outputs.data(), sample.outputs.data() + sample.outputs.size());
+    row.insert(row.end(), sample.inputs.data(), sample.inputs.data() + sample.inputs.size());
+    const auto block = decimator_.Push(sample.index, row);
+    if (!block) return;
+    const auto no = sample.outputs.size();
+    for (Eigen::Index o = 0; o < no; ++o) sample.outputs(o) = (*block)[static_cast<std::size_t>(o)];
+    for (Eigen::Index i = 0; i < sample.inputs.size(); ++i)
+      sample.inputs(i) = (*block)[static_cast<std::size_t>(no + i)];
+    sample.index /= decimator_.factor();
   }
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);

@@ -16,6 +16,7 @@
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "identifier_config.hpp"
+#include "io/row_decimator.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
@@ -59,6 +60,8 @@ class IdentifierNode {
   void PublishSnapshot();
   void SaveModel(const std::string& path);
   sysid::NarxModel EmptyModel() const;
+  // Which of the spec's signals (outputs, then inputs) decimation averages.
+  static std::vector<bool> AveragedSignals(const sysid::RegressorSpec& spec);
 
   bus::BusNode& bus_;
   IdentifierConfig config_;
@@ -68,6 +71,7 @@ class IdentifierNode {
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
   Pairer pairer_;
+  io::RowDecimator decimator_;  // config_.decimate: one learned sample per block (1: every one)
   int64_t prediction_seq_ = 0;
   int64_t snapshot_seq_ = 0;
 };

@@ -60,6 +60,11 @@ int main(int argc, char** argv) {
   std::string prediction_channel = "ODONATA_PREDICTION", model_channel = "ODONATA_MODEL";
   exp->add_option("--prediction-channel", prediction_channel)->capture_default_str();
   exp->add_option("--model-channel", model_channel)->capture_default_str();
+  exp->add_option("--decimate", ex.decimate,
+                  "one row per N samples, as odonata-sim --decimate (commands, excitations and "
+                  "applied channels averaged over the block, the rest at its first sample)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
   exp->add_option(
          "--run", ex.run,
          "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
@@ -76,6 +81,9 @@ int main(int argc, char** argv) {
       if (s.undecodable || s.incomplete)
         std::fprintf(stderr, "; skipped %ld undecodable events and %ld incomplete samples",
                      s.undecodable, s.incomplete);
+      if (s.dropped_blocks)
+        std::fprintf(stderr, "; %ld decimation blocks dropped for a missing sample",
+                     s.dropped_blocks);
       std::fprintf(stderr, "\n");
       if (!predictions_csv.empty()) {
         const long n =

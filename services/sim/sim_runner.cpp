@@ -5,6 +5,7 @@
 
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
+#include "io/row_decimator.hpp"
 
 namespace odonata::sim {
 
@@ -59,8 +60,7 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
       is_input[c] = true;
     }
   }
-  std::vector<double> block(header.size());
-  int in_block = 0;
+  io::RowDecimator decimator(decimate, is_input);
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const plant::PlantOutput& o = plant.output();
     // The command actually applied (clamped) is what the wings did, so that is what is written.
@@ -94,21 +94,9 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
         row[c++] = v;
       }
     }
-    if (decimate <= 1) {
-      writer.WriteRow(row);
+    if (const auto block = decimator.Push(static_cast<int64_t>(k), row)) {
+      writer.WriteRow(*block);
       ++result.rows_written;
-    } else {
-      for (std::size_t i = 0; i < row.size(); ++i) {
-        if (in_block == 0 || is_input[i]) block[i] = in_block == 0 ? row[i] : block[i] + row[i];
-      }
-      if (++in_block == decimate) {
-        for (std::size_t i = 0; i < block.size(); ++i) {
-          if (is_input[i]) block[i] /= decimate;
-        }
-        writer.WriteRow(block);
-        ++result.rows_written;
-        in_block = 0;
-      }
     }
 
     // A damaged wing flies less than it is told; the CSV keeps what was commanded.

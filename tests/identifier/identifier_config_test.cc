@@ -59,5 +59,14 @@ TEST(IdentifierConfig, IntegersAreNeverSilentlyConverted) {
   EXPECT_NE(lags.find("max_rules"), std::string::npos) << lags;
 }
 
+TEST(IdentifierConfig, DecimationIsAWholeFactorOfAtLeastOne) {
+  for (const nlohmann::json& bad : {nlohmann::json(0), nlohmann::json(2.5), nlohmann::json(-5)}) {
+    const std::string e = LoadEdited([&bad](nlohmann::json& j) { j["decimate"] = bad; });
+    EXPECT_NE(e.find("decimate"), std::string::npos) << bad.dump() << ": " << e;
+  }
+  EXPECT_EQ(LoadEdited([](nlohmann::json& j) { j["decimate"] = 5; }), "");
+  EXPECT_EQ(ParseIdentifierConfig(ExampleIdentifierConfig(), "example").decimate, 1);
+}
+
 }  // namespace
 }  // namespace odonata::identifier

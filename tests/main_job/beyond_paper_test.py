@@ -59,6 +59,8 @@ def main():
         bs = damage.get("battery_sag")
         if not bs or not bs["metrics"]["online_after"] > bs["metrics"]["frozen_after"]:
             failures.append(f"battery_sag: the learner is not above the frozen model after the sag: {bs}")
+        elif not bs["pipeline_equals_offline"]:
+            failures.append("battery_sag: the decimated pipeline's predictions differ from odonata-fit --track's")
         for name in damage:
             if not os.path.getsize(os.path.join(out, f"{name}-recovery.png")):
                 failures.append(f"{name}: empty recovery plot")
