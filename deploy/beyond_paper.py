@@ -279,7 +279,7 @@ def markdown(s):
         for r in s["nonlinear"]:
             t = r["target"]
             target = f"≥ {t['fit']:g} %" + (f", ≥ ARX + {t['above_arx']:g}" if "above_arx" in t else "")
-            md.append(f"| {r['name']} | {r['rate_hz']:g} Hz | {r['rules']} | {_f(r['fuzzy'], 2)} | {_f(r['arx'], 2)} | "
+            md.append(f"| {r['name']} | {r['rate_hz']:.3g} Hz | {r['rules']} | {_f(r['fuzzy'], 2)} | {_f(r['arx'], 2)} | "
                       f"{_f(r['arx_squared'], 2)} | {r['fuzzy'] - r['arx']:+.2f} | {target}: "
                       f"{'met' if r['target_met'] else 'NOT met'} | {r['verdict']} |")
         md.append("")
