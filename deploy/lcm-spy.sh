@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Starts lcm-spy with odonata's message types, on Debian's LCM 1.3.1 and any current Java.
-# (Debian's own /usr/bin/lcm-spy passes -Xincgc, which Java 9+ rejects; see docs/lcm.md §10.)
+# (Debian's own /usr/bin/lcm-spy passes -Xincgc, which Java 9+ rejects; see docs/lcm.md §12.)
 set -euo pipefail
 
 here=${BASH_SOURCE[0]%/*}

@@ -1,7 +1,7 @@
 #pragma once
-// A lockstep consumer's receipts (ack_t on ODONATA_ACK, docs/lcm.md §10), for every consumer the
-// same: sent after every state, a resend's too, so a lost receipt is repaired by the generator's
-// resend; otherwise only when the held state moved.
+// The receipts a lockstep consumer sends as ack_t on ODONATA_ACK, alike for every consumer: after
+// every state, a resend's too, so a lost receipt is repaired by the generator's resend; otherwise
+// only when the held state moved. The protocol: docs/lcm.md §10.
 
 #include <cstdint>
 #include <string>
