@@ -193,6 +193,18 @@ ExperimentPreset Attitude(const std::string& name, const std::string& output,
   return p;
 }
 
+constexpr const char* kNotInPaper = "not in the paper";
+
+// What the experiments beyond the paper share: 60 s phases, identified at a decimated rate.
+ExperimentPreset BeyondPaper(ExperimentPreset p, int ny, int nu, int decimate) {
+  p.ny = ny;
+  p.nu = nu;
+  p.decimate = decimate;
+  p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
+  p.beyond_paper = true;
+  return p;
+}
+
 std::vector<ExperimentPreset> MakePresets() {
   std::vector<ExperimentPreset> v;
   {
@@ -302,24 +314,13 @@ std::vector<ExperimentPreset> MakePresets() {
   }
   // Beyond the paper: experiments where the physics is nonlinear (docs/identifier.md §11).
   {
-    ExperimentPreset p;
-    p.name = "vertical_wide";
+    ExperimentPreset p = BeyondPaper(
+        Attitude("vertical_wide", "vz_mps_avg", "u_vertical_applied_rad", 0.5, "-", 0, kNotInPaper),
+        1, 3, 5);
+    p.input_columns = {"u_freq_hz", "u_vertical_applied_rad"};
     p.description =
         "beat-averaged vertical velocity over a wide operating range: f and phi0 of all four "
         "wings held at random levels (lift ~ f^2 phi0^2, damping depends on the climb rate)";
-    p.output_column = "vz_mps_avg";
-    p.input_columns = {"u_freq_hz", "u_vertical_applied_rad"};
-    p.ny = 1;
-    p.nu = 3;
-    p.delay = 1;
-    p.decimate = 5;
-    p.entropy_threshold = 0.5;
-    p.paper_entropy_text = "-";
-    p.paper_accuracy_text = "not in the paper";
-    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
-    p.start_altitude_m = kStartAltitudeM;
-    p.attitude_hold = true;
-    p.beyond_paper = true;
     p.train_excitation =
         "all wings: f in 4.6-6.6 Hz and phi0 in 38-84 deg, APRBS levels held 0.3-2 s (one stream "
         "each); 1 s fade from trim; attitude hold on";
@@ -330,24 +331,13 @@ std::vector<ExperimentPreset> MakePresets() {
     v.push_back(p);
   }
   {
-    ExperimentPreset p;
-    p.name = "force_map_fz";
+    ExperimentPreset p =
+        BeyondPaper(Actuator("force_map_fz", "fz_total_n_avg",
+                             {"w1_freq_hz", "w1_amp_rad", "w1_beta_rad"}, 0.5, "-", 0, kNotInPaper),
+                    0, 1, 25);
     p.description =
         "static map (f, phi0, beta) -> beat-averaged total vertical force on the test stand: "
         "levels held 0.25 s (longer than a beat), one row per level";
-    p.output_column = "fz_total_n_avg";
-    p.input_columns = {"w1_freq_hz", "w1_amp_rad", "w1_beta_rad"};
-    p.ny = 0;
-    p.nu = 1;
-    p.delay = 1;
-    p.decimate = 25;
-    p.entropy_threshold = 0.5;
-    p.paper_entropy_text = "-";
-    p.paper_accuracy_text = "not in the paper";
-    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
-    p.clamped_body = true;
-    p.start_altitude_m = kStartAltitudeM;
-    p.beyond_paper = true;
     p.train_excitation =
         "all wings: f in 4.5-7.5 Hz, phi0 in 25-84.9 deg, beta in -25..25 deg, independent "
         "uniform levels, each held 25 samples";
@@ -358,14 +348,10 @@ std::vector<ExperimentPreset> MakePresets() {
     v.push_back(p);
   }
   {
-    ExperimentPreset p =
-        Attitude("roll_coupled", "roll_rad", "u_roll_applied_rad", 0.5, "-", 0, "not in the paper");
+    ExperimentPreset p = BeyondPaper(
+        Attitude("roll_coupled", "roll_rad", "u_roll_applied_rad", 0.5, "-", 0, kNotInPaper), 1, 8,
+        3);
     p.input_columns = {"u_roll_applied_rad", "vy_mps_avg"};
-    p.ny = 1;
-    p.nu = 8;
-    p.decimate = 3;
-    p.train_duration_s = p.select_duration_s = p.validate_duration_s = 60.0;
-    p.beyond_paper = true;
     p.description =
         "roll with the coupled lateral state: inputs the applied left/right phi0 differential "
         "and the beat-averaged side velocity v_y (open loop, hold included)";
@@ -383,15 +369,13 @@ std::vector<ExperimentPreset> MakePresets() {
   // before and after the change is comparable), the vehicle changing halfway through the
   // validation run.
   {
-    ExperimentPreset p = Actuator("wing_damage", "fz1_n", {"w1_freq_hz", "w1_amp_rad"}, 0.5, "-", 0,
-                                  "not in the paper");
+    ExperimentPreset p = BeyondPaper(
+        Actuator("wing_damage", "fz1_n", {"w1_freq_hz", "w1_amp_rad"}, 0.5, "-", 0, kNotInPaper), 2,
+        2, 1);
     p.description =
         "DAMAGE: wing 1's vertical force on the test stand; halfway through the validation run "
         "wing 1 loses 30 % of its stroke amplitude (it still receives the full command)";
-    p.train_duration_s = 60.0;
     p.select_duration_s = 30.0;
-    p.validate_duration_s = 60.0;
-    p.beyond_paper = true;
     p.validate_damage.at_s = 30.0;
     p.validate_damage.wing = 1;
     p.validate_damage.amplitude_scale = 0.7;
@@ -409,7 +393,6 @@ std::vector<ExperimentPreset> MakePresets() {
     p.description =
         "DAMAGE: beat-averaged vertical velocity in free flight; halfway through the validation "
         "run every wing's flapping frequency sags to 90 % of the command (a tired battery)";
-    p.train_duration_s = p.validate_duration_s = 60.0;
     p.select_duration_s = 30.0;
     p.validate_damage.at_s = 30.0;
     p.validate_damage.wing = 0;
