@@ -19,6 +19,8 @@ import statistics
 import subprocess
 import sys
 
+from fit_tools import fit_json, signal_flags, simulate_phases
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 NONLINEAR = ["vertical_wide", "force_map_fz", "roll_coupled"]
 DAMAGE = ["wing_damage", "battery_sag"]
@@ -29,31 +31,6 @@ TARGETS = {
     "roll_coupled": {"fit": 94.0},
 }
 DAMAGE_TARGETS = {"alarm_s": 1.0, "recovery_s": 10.0, "frozen_gap": 5.0, "recover_points": 1.0}
-
-
-def _exe(build, name):
-    return os.path.join(build, "services", name.replace("odonata-", ""), name)
-
-
-def _fit_json(build, args):
-    out = subprocess.run([_exe(build, "odonata-fit"), *args, "--json"], check=True, capture_output=True,
-                         text=True).stdout
-    return json.loads(out)
-
-
-def _simulate(build, name, phase, seed, duration, path):
-    cmd = [_exe(build, "odonata-sim"), "--preset", name, "--phase", phase, "--seed", str(seed), "--output", path]
-    if duration > 0:
-        cmd += ["--duration", str(duration)]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-
-
-def _signals(preset):
-    s = ["--output", preset["output"], "--ny", str(preset["ny"]), "--nu", str(preset["nu"]),
-         "--delay", str(preset["delay"])]
-    for i in preset["inputs"]:
-        s += ["--input", i]
-    return s
 
 
 def _headline(block):
@@ -77,13 +54,10 @@ def nonlinear(name, preset, args, out):
     validation."""
     d = os.path.join(out, name)
     os.makedirs(d, exist_ok=True)
-    files = {}
-    for phase in ("train", "select", "validate"):
-        files[phase] = os.path.join(d, f"offline-{phase}.csv")
-        _simulate(args.build, name, phase, args.seed, args.duration, files[phase])
+    files = simulate_phases(args.build, name, args.seed, args.duration, d)
     budget = rule_budget(preset, files["train"])
-    fit = _fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--validate",
-                                 files["validate"], *_signals(preset), "--max-rules", str(budget), "--predictions",
+    fit = fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--validate",
+                                 files["validate"], *signal_flags(preset), "--max-rules", str(budget), "--predictions",
                                  os.path.join(d, "predictions.csv"), "--save-model", os.path.join(d, "model.json")])
     b = fit["baselines"]
     result = {
@@ -163,10 +137,7 @@ def damage(name, preset, args, out, learner_flags):
     forgetting = 1.0 - 1.0 / rate
     change = int(round(preset["damage_at_s"] * rate))
     duration = ["--duration", str(args.duration)] if args.duration > 0 else []
-    files = {}
-    for phase in ("train", "select", "validate"):
-        files[phase] = os.path.join(d, f"offline-{phase}.csv")
-        _simulate(args.build, name, phase, args.seed, args.duration, files[phase])
+    files = simulate_phases(args.build, name, args.seed, args.duration, d)
     track_csv = os.path.join(d, "track.csv")
     result = {"kind": "damage", "name": name, "dir": d, "preset": preset, "rate_hz": rate,
               "forgetting": forgetting, "change_s": preset["damage_at_s"], "track_csv": track_csv}
@@ -180,8 +151,8 @@ def damage(name, preset, args, out, learner_flags):
                     "--seed", str(args.seed), "--build", args.build, "--output", cfg_path,
                     "--ranges-output", ranges, "--consequent", args.consequent, *duration], check=True)
     cfg = json.load(open(cfg_path))
-    sweep = _fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--ranges", ranges,
-                                   *_signals(preset), *learner_flags(cfg)])
+    sweep = fit_json(args.build, ["--train", files["train"], "--select", files["select"], "--ranges", ranges,
+                                   *signal_flags(preset), *learner_flags(cfg)])
     cfg["entropy_threshold"], cfg["kappa"] = sweep["entropy_threshold"], sweep["kappa"]
     json.dump(cfg, open(cfg_path, "w"), indent=1)
     pipe = os.path.join(d, "pipeline")
@@ -189,7 +160,7 @@ def damage(name, preset, args, out, learner_flags):
                     "--identifier-config", cfg_path, "--seed", str(args.seed), "--out", pipe, "--build", args.build,
                     "--keep-learning", "--forgetting", repr(forgetting), *duration],
                    check=True, stderr=open(os.path.join(d, "pipeline.stderr.txt"), "wb"))
-    track = _fit_json(args.build, ["--load-model", os.path.join(pipe, "model-trained.json"), "--train",
+    track = fit_json(args.build, ["--load-model", os.path.join(pipe, "model-trained.json"), "--train",
                                    os.path.join(pipe, "train.csv"), "--track", os.path.join(pipe, "validate.csv"),
                                    "--track-forgetting", repr(forgetting), "--track-window", str(int(rate)),
                                    "--track-output", track_csv])
