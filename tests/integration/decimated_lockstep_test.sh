@@ -6,8 +6,7 @@
 source "$(dirname "$0")/lib.sh"
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-timeout 180 "$SRC/deploy/odonata-run" --preset vertical_wide --duration 20 --out "$OUT/run" --build "$BUILD" \
-  >"$OUT/run.log" 2>&1 || { cat "$OUT/run.log"; fail "odonata-run failed"; }
+odonata_run 180 --preset vertical_wide --duration 20
 R=$OUT/run
 [[ $(json_get "$R/identifier.json" 'j["decimate"]') == 5 ]] || fail "the identifier config does not decimate"
 rows=$(($(wc -l <"$R/train.csv") - 1))

@@ -59,6 +59,15 @@ stop_clean() {
 }
 
 # json_get FILE EXPR: evaluates a Python expression on the parsed JSON `j`.
+# odonata_run SECONDS ARGS...: deploy/odonata-run ARGS into $OUT/run, its output in $OUT/run.log,
+# which a failure shows.
+odonata_run() {
+  local limit=$1
+  shift
+  timeout "$limit" "$SRC/deploy/odonata-run" "$@" --out "$OUT/run" --build "$BUILD" >"$OUT/run.log" 2>&1 ||
+    { cat "$OUT/run.log"; fail "odonata-run failed"; }
+}
+
 json_get() { "$PY" -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
 
 # Fails unless two model files hold the same model, compared as parsed JSON (doubles exactly).

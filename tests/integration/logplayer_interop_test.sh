@@ -12,8 +12,7 @@ start lcmlogger lcm-logger --lcm-url="$URL" -c 'DIMAV_.*' -f "$OUT/lcm-logger.lo
 sleep 0.3
 # Real time (100 Hz) so lcm-logger, whose subscription queue LCM 1.3.1 caps at 30 messages,
 # never sees a burst; the live and the replayed identifier see the same message sequence.
-timeout 120 "$SRC/deploy/odonata-run" --host --lcm-url "$URL" --preset pitch --phases train --duration 3 --mode realtime \
-  --out "$OUT/run" --build "$BUILD" >"$OUT/run.log" 2>&1 || { cat "$OUT/run.log"; fail "odonata-run failed"; }
+odonata_run 120 --host --lcm-url "$URL" --preset pitch --phases train --duration 3 --mode realtime
 sleep 0.3
 stop_clean "$PID_lcmlogger" lcm-logger
 [[ -s $OUT/run/model.json ]] || fail "no live model"

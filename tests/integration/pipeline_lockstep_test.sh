@@ -4,8 +4,7 @@
 source "$(dirname "$0")/lib.sh"
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-timeout 120 "$SRC/deploy/odonata-run" --preset roll --duration 3 --out "$OUT/run" --build "$BUILD" \
-  >"$OUT/run.log" 2>&1 || { cat "$OUT/run.log"; fail "odonata-run failed"; }
+odonata_run 120 --preset roll --duration 3
 R=$OUT/run
 for f in model.json train.csv validate.csv predictions.csv snapshots.json monitor-summary.json odonata.lcmlog.00000; do
   [[ -s $R/$f ]] || fail "missing $f"
