@@ -6,7 +6,11 @@ namespace odonata::metrics {
 
 AccuracyAlarm::AccuracyAlarm(const AccuracyAlarmOptions& options)
     : options_(options),
-      window_(options.window, options.span > 0 ? options.span : 10 * options.window) {}
+      window_(options.window, options.span > 0 ? options.span : 10 * options.window) {
+  if (!(options_.reference_samples > 0.0)) {
+    options_.reference_samples = 3.0 * static_cast<double>(options_.window);
+  }
+}
 
 std::optional<AccuracyEvent> AccuracyAlarm::Push(long sample, double measured, double predicted) {
   if (!std::isfinite(measured) || !std::isfinite(predicted)) return std::nullopt;

@@ -12,9 +12,10 @@ struct AccuracyAlarmOptions {
   std::size_t window = 100;  ///< samples in the sliding window (1 s at 100 Hz)
   /// Samples over which the output's spread is measured (TrackingAccuracy); 0: 10 windows.
   std::size_t span = 0;
-  double drop_points = 5.0;          ///< alarm when window FIT < reference − drop_points
-  double recover_points = 1.0;       ///< recovered when window FIT ≥ pre-alarm reference − this
-  double reference_samples = 300.0;  ///< time constant of the reference (settled) level
+  double drop_points = 5.0;     ///< alarm when window FIT < reference − drop_points
+  double recover_points = 1.0;  ///< recovered when window FIT ≥ pre-alarm reference − this
+  /// Time constant of the reference (settled) level, samples; 0: three windows.
+  double reference_samples = 0.0;
 };
 
 /// What changed at a sample.
@@ -38,6 +39,8 @@ class AccuracyAlarm {
 
   bool alarmed() const { return alarmed_; }
   double window_fit() const { return window_fit_; }
+  /// The tracking FIT now (NaN until the span is full): what the alarm watches, sample by sample.
+  double tracking_fit() const { return window_.fit_percent(); }
   double reference_fit() const { return reference_; }
 
  private:

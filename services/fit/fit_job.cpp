@@ -12,7 +12,6 @@
 #include "metrics/accuracy_alarm.hpp"
 #include "metrics/accuracy_json.hpp"
 #include "metrics/running_accuracy.hpp"
-#include "metrics/tracking_accuracy.hpp"
 #include "progress_bar.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
@@ -136,15 +135,9 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
   const char* names[] = {"online", "frozen", "arx"};
   metrics::AccuracyAlarmOptions alarm_options;
   alarm_options.window = static_cast<std::size_t>(window);
-  // The settled level averages three windows' worth of samples, whatever the rate.
-  alarm_options.reference_samples = 3.0 * window;
   metrics::AccuracyAlarm alarms[3] = {metrics::AccuracyAlarm(alarm_options),
                                       metrics::AccuracyAlarm(alarm_options),
                                       metrics::AccuracyAlarm(alarm_options)};
-  const auto w = static_cast<std::size_t>(window);
-  metrics::TrackingAccuracy windows[3] = {metrics::TrackingAccuracy(w, 10 * w),
-                                          metrics::TrackingAccuracy(w, 10 * w),
-                                          metrics::TrackingAccuracy(w, 10 * w)};
   nlohmann::json events[3] = {nlohmann::json::array(), nlohmann::json::array(),
                               nlohmann::json::array()};
   std::optional<io::CsvWriter> out;
@@ -167,9 +160,9 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
     std::vector<double> row = {double(t0 + r), y, p_online, p_frozen, p_arx, 0, 0, 0};
     for (int m = 0; m < 3; ++m) {
       yhat(r, m) = p[m];
-      windows[m].Add(y, p[m]);
-      row[static_cast<std::size_t>(5 + m)] = windows[m].fit_percent();
-      if (const auto e = alarms[m].Push(long(t0 + r), y, p[m])) {
+      const auto e = alarms[m].Push(long(t0 + r), y, p[m]);
+      row[static_cast<std::size_t>(5 + m)] = alarms[m].tracking_fit();
+      if (e) {
         events[m].push_back(
             {{"kind", e->kind == metrics::AccuracyEvent::Kind::kAlarm ? "alarm" : "recovered"},
              {"sample", e->sample},

@@ -77,7 +77,6 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
       metrics::AccuracyAlarmOptions alarm;
       alarm.window = options_.alarm_window_samples;
       alarm.drop_points = options_.alarm_drop_points;
-      alarm.reference_samples = 3.0 * static_cast<double>(options_.alarm_window_samples);
       it = outputs_.emplace(m.names[o], Output(options_.window_samples, alarm)).first;
       order_.push_back(m.names[o]);
     }
