@@ -4,7 +4,7 @@
 #include <cmath>
 #include "contract/precondition.hpp"
 
-#include "experiments/attitude_hold.hpp"
+#include "experiments/vehicle_step.hpp"
 #include "pipeline/command_limits.hpp"
 #include "pipeline/sequence_window.hpp"
 
@@ -45,16 +45,11 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
 }
 
 void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command_seq) {
-  // odonata-sim's per-sample order (sim_runner.cpp): hold on the output before the step, clamp,
-  // step. The clamp only ever bites on the hold's correction: received commands are in limits.
-  const plant::CommandMatrix applied =
-      plant_.ClampToLimits(setup_.attitude_hold ? experiments::ApplyAttitudeHold(
-                                                      setup_.hold_gains, command, plant_.output())
-                                                : command);
-  // A damaged wing flies less than it is told (the damage scenarios); what was applied, as far
-  // as the vehicle's own command path knows, stays `applied`, as in odonata-sim's CSV.
   const double t_s = static_cast<double>(last_.seq) / plant_.config().integration.sample_rate_hz;
-  const plant::StepStatus status = plant_.Step(setup_.damage.Apply(applied, t_s));
+  const experiments::VehicleStep step = experiments::StepVehicle(
+      plant_, command, setup_.attitude_hold, setup_.hold_gains, setup_.damage, t_s);
+  const plant::StepStatus status = step.status;
+  const plant::CommandMatrix& applied = step.applied;
   PlantSample next{last_.seq + 1, command_seq, plant_.output(), StatusOf(plant_.output()), applied};
   if (status == plant::StepStatus::kReset) next.status = SampleStatus::kReset;
   if (status == plant::StepStatus::kStopped) next.status = SampleStatus::kDiverged;

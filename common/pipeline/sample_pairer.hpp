@@ -9,10 +9,10 @@
 //   - beat state k: the beat averages up to t_k (odonata-sim's row k: `*_avg`);
 //   - beat state k + 1: the command applied over [t_k, t_k+1) (`u_*_applied_rad`); its
 //     command_seq must equal state k + 1's.
-// exactly as odonata-logger export writes row k (bus/log_csv_export.hpp). Sample k is complete
-// once state k + 1, its command and the beat states it needs (PairingNeeds) have arrived; a state
-// whose sample still lacks a message waits (up to kMaxPendingStates states), then the sample is
-// lost.
+// exactly as odonata-logger export writes row k (log_export/log_csv_export.hpp). Sample k is
+// complete once state k + 1, its command and the beat states it needs (PairingNeeds) have arrived;
+// a state whose sample still lacks a message waits (up to kMaxPendingStates states), then the
+// sample is lost.
 //
 // Seq rules: a state or beat state whose seq is negative or leaps too far ahead
 // (sequence_window.hpp), an older state or beat state than the newest (duplicate or out of
@@ -152,6 +152,16 @@ class SamplePairer {
     return events;
   }
 
+  /// No message will come any more (the end of a recorded log): every waiting sample is now
+  /// complete or lost, instead of waiting for messages that would have completed it.
+  std::vector<Event> Finish() {
+    std::vector<Event> events;
+    finished_ = true;
+    Process(&events);
+    finished_ = false;
+    return events;
+  }
+
   /// The newest state held with everything the samples up to it need from the messages
   /// published up to it: every earlier sample is complete (or lost), and its own beat state is in
   /// hand when beat averages are needed. -1 before any. This is what a lockstep receipt (ack_t)
@@ -244,7 +254,7 @@ class SamplePairer {
         }
       }
       if (!what.empty()) {
-        if (pending_.size() < kMaxPendingStates) return;  // it may still come
+        if (pending_.size() < kMaxPendingStates && !finished_) return;  // it may still come
         events->push_back(Gap(1, what, why + " (sample " + std::to_string(k) + " lost)"));
         Advance();
         continue;
@@ -262,6 +272,7 @@ class SamplePairer {
   int64_t newest_beat_ = -1;
   std::optional<State> previous_;
   std::deque<State> pending_;  // waiting for the next state or a message their sample needs
+  bool finished_ = false;      // inside Finish(): nothing waits
 };
 
 }  // namespace odonata::pipeline

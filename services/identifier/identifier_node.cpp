@@ -3,13 +3,25 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "bus/model_snapshot_codec.hpp"
-#include "bus/sample_fields.hpp"
+#include "experiments/sample_columns.hpp"
 #include "io/atomic_file.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
+#include "model_messages/model_snapshot_message.hpp"
+#include "model_messages/prediction_message.hpp"
 #include "odonata/prediction_t.hpp"
 #include "snapshot_admission.hpp"
 
 namespace odonata::identifier {
+namespace {
+// The model's signals: outputs, then inputs (the order of a decimated row).
+std::vector<std::string> SpecSignals(const sysid::RegressorSpec& spec) {
+  std::vector<std::string> names = spec.outputs;
+  names.insert(names.end(), spec.inputs.begin(), spec.inputs.end());
+  return names;
+}
+}  // namespace
 
 IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                                std::optional<sysid::NarxModel> initial, std::string save_model_path,
@@ -20,7 +32,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       models_dir_(std::move(models_dir)),
       acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel()),
-      pairer_(Needs(core_.model().spec())),
+      pairer_(messages::PairingNeedsOf(SpecSignals(core_.model().spec()))),
       decimator_(config_.decimate, AveragedSignals(core_.model().spec())) {
   const auto& ch = config_.channels;
   bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
@@ -81,7 +93,8 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
                   "' on the bus does not fit this identifier (" + mismatch + ")");
     return;
   }
-  sysid::NarxModel model = bus::DecodeSnapshot(msg);  // throws on a malformed snapshot: counted
+  sysid::NarxModel model =
+      model_messages::DecodeSnapshot(msg);  // throws on a malformed snapshot: counted
   if (msg.samples_learned < 0) throw std::invalid_argument("snapshot with a negative sample count");
   core_.ReplaceModel(std::move(model), msg.samples_learned);
   if (msg.learning == 0) core_.Freeze();  // frozen before it stopped: frozen again
@@ -90,21 +103,21 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
 }
 
 void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
-  if (!bus::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
-  const std::string count = bus::CountProblems(msg);
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
+  const std::string count = messages::CountProblems(msg);
   if (!count.empty()) throw std::invalid_argument("command: " + count);
   Handle(pairer_.OnCommand(msg));
   Acknowledge(false);
 }
 
 void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
-  if (!bus::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
   Handle(pairer_.OnState(msg));
   Acknowledge(true);
 }
 
 void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
-  if (!bus::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
   Handle(pairer_.OnBeat(msg));
   Acknowledge(false);
 }
@@ -135,52 +148,24 @@ void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
 
 std::vector<bool> IdentifierNode::AveragedSignals(const sysid::RegressorSpec& spec) {
   std::vector<bool> averaged;
-  for (const auto& o : spec.outputs) averaged.push_back(bus::IsAveragedSignal(o));
-  for (const auto& i : spec.inputs) averaged.push_back(bus::IsAveragedSignal(i));
+  for (const auto& name : SpecSignals(spec))
+    averaged.push_back(experiments::IsAveragedSignal(name));
   return averaged;
 }
 
-pipeline::PairingNeeds IdentifierNode::Needs(const sysid::RegressorSpec& spec) {
-  pipeline::PairingNeeds needs;
-  auto need = [&needs](const std::string& name) {
-    const auto offset = bus::BeatStateOffset(name);
-    if (offset) (*offset == 0 ? needs.beat : needs.next_beat) = true;
-  };
-  for (const auto& o : spec.outputs) need(o);
-  for (const auto& i : spec.inputs) need(i);
-  return needs;
-}
-
-namespace {
-// A signal of sample k from beat state k (averages) or k + 1 (applied command), or nullopt when
-// `name` is no beat-state signal.
-std::optional<double> BeatSignal(const IdentifierNode::Pairer::Event& e, const std::string& name) {
-  const auto offset = bus::BeatStateOffset(name);
-  if (!offset) return std::nullopt;
-  const auto& beat = *offset == 0 ? e.beat : e.next_beat;
-  // Only a model replaced by one with other signals can get here without its beat state.
-  if (!beat) throw std::invalid_argument("no beat state paired for '" + name + "'");
-  return bus::BeatStateField(*beat, name);
-}
-}  // namespace
-
 void IdentifierNode::FormSample(const Pairer::Event& paired) {
   const auto& spec = core_.model().spec();
-  const odonata::plant_state_t& state = paired.state;
   sysid::Sample sample;
   sample.index = paired.index;
   sample.outputs.resize(static_cast<Eigen::Index>(spec.outputs.size()));
   sample.inputs.resize(static_cast<Eigen::Index>(spec.inputs.size()));
   for (std::size_t o = 0; o < spec.outputs.size(); ++o) {
-    auto v = BeatSignal(paired, spec.outputs[o]);
-    if (!v) v = bus::StateField(state, spec.outputs[o]);
+    const auto v = messages::PairedSignal(paired, spec.outputs[o]);
     if (!v) throw std::invalid_argument("the state has no signal '" + spec.outputs[o] + "'");
     sample.outputs(static_cast<Eigen::Index>(o)) = *v;
   }
   for (std::size_t i = 0; i < spec.inputs.size(); ++i) {
-    auto v = BeatSignal(paired, spec.inputs[i]);
-    if (!v) v = bus::CommandField(paired.command, spec.inputs[i]);
-    if (!v) v = bus::StateField(state, spec.inputs[i]);
+    const auto v = messages::PairedSignal(paired, spec.inputs[i]);
     if (!v) throw std::invalid_argument("no command or state signal '" + spec.inputs[i] + "'");
     sample.inputs(static_cast<Eigen::Index>(i)) = *v;
   }
@@ -205,21 +190,8 @@ void IdentifierNode::FormSample(const Pairer::Event& paired) {
     return;
   }
   if (!report) return;
-  odonata::prediction_t p;
-  p.utime = bus::NowUtime();
-  p.seq = prediction_seq_++;
-  p.sample = report->index;
-  p.num_outputs = static_cast<int32_t>(spec.outputs.size());
-  p.names = spec.outputs;
-  for (Eigen::Index o = 0; o < report->measured.size(); ++o) {
-    p.measured.push_back(report->measured(o));
-    p.predicted.push_back(report->predicted(o));
-    p.free_run.push_back(report->free_run(o));
-    p.next.push_back(report->next(o));
-    p.rules.push_back(report->rules(o));
-    p.max_entropy.push_back(report->max_entropy(o));
-  }
-  p.learning = report->learned ? 1 : 0;
+  const odonata::prediction_t p = model_messages::ToPredictionMessage(
+      *report, spec.outputs, prediction_seq_++, bus::NowUtime());
   bus_.Publish(config_.channels.prediction, p);
   if (config_.snapshot_every_samples > 0 && report->learned &&
       core_.samples_learned() % config_.snapshot_every_samples == 0) {
@@ -278,7 +250,7 @@ void IdentifierNode::OnControl(const odonata::control_t& msg) {
 }
 
 void IdentifierNode::PublishSnapshot() {
-  odonata::model_snapshot_t s = bus::EncodeSnapshot(core_.model());
+  odonata::model_snapshot_t s = model_messages::EncodeSnapshot(core_.model());
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;
   s.samples_learned = core_.samples_learned();

@@ -5,7 +5,7 @@
 // Inputs:  DIMAV_COMMAND (wing_command_t), DIMAV_STATE (plant_state_t), DIMAV_BEAT_STATE
 //          (beat_state_t, only when the model uses a beat average or an applied-command
 //          channel), ODONATA_CONTROL (control_t), ODONATA_MODEL (model_snapshot_t, only to resume)
-// Which messages make sample k is pipeline::SamplePairer's rule.
+// Which messages make sample k is pipeline::SamplePairer's rule (messages/paired_sample.hpp).
 // Outputs: ODONATA_PREDICTION (prediction_t, one per sample), ODONATA_MODEL (periodic and on
 //          request), ODONATA_HEARTBEAT (via BusNode)
 
@@ -17,12 +17,12 @@
 #include "bus/bus_node.hpp"
 #include "identifier_config.hpp"
 #include "io/row_decimator.hpp"
+#include "messages/paired_sample.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
-#include "pipeline/sample_pairer.hpp"
 #include "sysid/online_identifier.hpp"
 
 namespace odonata::identifier {
@@ -37,13 +37,7 @@ class IdentifierNode {
 
   const sysid::OnlineIdentifier& core() const { return core_; }
 
-  using Pairer = pipeline::SamplePairer<odonata::plant_state_t, odonata::wing_command_t,
-                                        odonata::beat_state_t>;
-
-  /// The beat states the model's signals need: beat state k for a beat average (`*_avg`), beat
-  /// state k + 1 for an applied-command channel (`u_*_applied_rad`). (The command is always
-  /// needed.)
-  static pipeline::PairingNeeds Needs(const sysid::RegressorSpec& spec);
+  using Pairer = messages::MessagePairer;
 
  private:
   void OnCommand(const odonata::wing_command_t& msg);

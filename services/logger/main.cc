@@ -7,10 +7,10 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus/log_csv_export.hpp"
 #include "cli/channel_options.hpp"
 #include "cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
+#include "log_export/log_csv_export.hpp"
 #include "logger_node.hpp"
 
 int main(int argc, char** argv) {
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> logs;
   std::string csv;
-  odonata::bus::ExportOptions ex;
+  odonata::log_export::ExportOptions ex;
   auto* exp = app.add_subcommand("export", "write a recorded log as CSV for odonata-fit");
   exp->add_option("logs", logs, "event log file(s), oldest first")
       ->required()
@@ -75,24 +75,27 @@ int main(int argc, char** argv) {
 
   try {
     if (*exp) {
-      const auto s = odonata::bus::ExportLogToCsv(logs, csv, ex);
+      const auto s = odonata::log_export::ExportLogToCsv(logs, csv, ex);
       std::fprintf(stderr, "odonata-logger: %ld samples of run %d (of %d) written to %s", s.rows,
                    s.exported_run, s.runs, csv.c_str());
-      if (s.undecodable || s.incomplete)
-        std::fprintf(stderr, "; skipped %ld undecodable events and %ld incomplete samples",
-                     s.undecodable, s.incomplete);
+      if (s.undecodable || s.incomplete || s.rejected)
+        std::fprintf(stderr,
+                     "; skipped %ld undecodable events, %ld incomplete samples and %ld messages "
+                     "out of sequence",
+                     s.undecodable, s.incomplete, s.rejected);
       if (s.dropped_blocks)
         std::fprintf(stderr, "; %ld decimation blocks dropped for a missing sample",
                      s.dropped_blocks);
       std::fprintf(stderr, "\n");
       if (!predictions_csv.empty()) {
         const long n =
-            odonata::bus::ExportPredictionsToCsv(logs, prediction_channel, predictions_csv);
+            odonata::log_export::ExportPredictionsToCsv(logs, prediction_channel, predictions_csv);
         std::fprintf(stderr, "odonata-logger: %ld predictions written to %s\n", n,
                      predictions_csv.c_str());
       }
       if (!snapshots_json.empty()) {
-        const long n = odonata::bus::ExportSnapshotsToJson(logs, model_channel, snapshots_json);
+        const long n =
+            odonata::log_export::ExportSnapshotsToJson(logs, model_channel, snapshots_json);
         std::fprintf(stderr, "odonata-logger: %ld model snapshots written to %s\n", n,
                      snapshots_json.c_str());
       }

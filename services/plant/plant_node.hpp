@@ -28,17 +28,6 @@ inline constexpr const char* kServiceName = "odonata-plant";
 /// Lockstep: period of state 0 while no command has come, so a late generator finds it.
 inline constexpr std::chrono::milliseconds kInitialStatePeriodMs{200};
 
-/// Converts a state to its message (utime = now).
-odonata::plant_state_t ToStateMessage(const pipeline::PlantSample& sample);
-
-/// Converts a state's beat averages and applied command to their message (utime = now). The
-/// applied channels are read around the set-up's hover trim amplitude.
-odonata::beat_state_t ToBeatStateMessage(const pipeline::PlantSample& sample,
-                                         const pipeline::VehicleSetup& setup);
-
-/// The 24 commands of a message as a matrix (rows = wings).
-plant::CommandMatrix ToCommandMatrix(const odonata::wing_command_t& msg);
-
 class PlantNode {
  public:
   /// Subscribes, arms the timers and publishes state 0.

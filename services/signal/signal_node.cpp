@@ -4,35 +4,13 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "messages/wing_command_message.hpp"
+
 namespace odonata::signal_service {
 namespace {
 // Terminal progress refresh period.
 constexpr std::chrono::milliseconds kProgressPeriodMs{100};
 }  // namespace
-
-odonata::wing_command_t ToCommandMessage(const pipeline::CommandSchedule& schedule, std::size_t k) {
-  const plant::CommandMatrix& c = schedule.commands[k];
-  odonata::wing_command_t m{};
-  m.utime = bus::NowUtime();
-  m.seq = static_cast<int64_t>(k);
-  m.t_s = schedule.TimeOf(k);
-  for (int w = 0; w < plant::kWingCount; ++w) {
-    m.beta_rad[w] = c(w, plant::kStrokePlaneAngle);
-    m.freq_hz[w] = c(w, plant::kFlapFrequency);
-    m.amp_rad[w] = c(w, plant::kStrokeAmplitude);
-    m.pitch_mean_rad[w] = c(w, plant::kPitchMean);
-    m.pitch_amp_rad[w] = c(w, plant::kPitchAmplitude);
-    m.phase_rad[w] = c(w, plant::kPitchPhase);
-  }
-  // encode() trusts the count: keep it equal to both vector sizes.
-  m.num_excitations = static_cast<int32_t>(schedule.excitation_names.size());
-  m.excitation_names = schedule.excitation_names;
-  for (const std::vector<double>& values : schedule.excitation_values) {
-    m.excitations.push_back(values[k]);
-  }
-  m.source = schedule.source;
-  return m;
-}
 
 SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, SignalOptions options)
     : bus_(bus),
@@ -116,8 +94,7 @@ void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
 }
 
 void SignalNode::OnControl(const odonata::control_t& msg) {
-  if (!msg.target.empty() && msg.target != bus_.options().instance && msg.target != kServiceName)
-    return;
+  if (!bus_.AcceptControl(msg)) return;
   if (msg.command == odonata::control_t::SHUTDOWN) bus_.Stop(0);
 }
 
@@ -206,7 +183,8 @@ void SignalNode::RealtimeTick() {
 }
 
 void SignalNode::SendCommand(int64_t k) {
-  bus_.Publish(bus_.channels().command, ToCommandMessage(schedule_, static_cast<std::size_t>(k)));
+  bus_.Publish(bus_.channels().command,
+               messages::ToCommandMessage(schedule_, static_cast<std::size_t>(k), bus::NowUtime()));
   ++commands_sent_;
 }
 

@@ -51,10 +51,6 @@ struct SignalOptions {
   bool progress = false;  ///< show "sample k of N" on stderr (only for a terminal)
 };
 
-/// Builds command message k of `schedule` (utime = now).
-/// @pre k < schedule.size().
-odonata::wing_command_t ToCommandMessage(const pipeline::CommandSchedule& schedule, std::size_t k);
-
 class SignalNode {
  public:
   /// Subscribes and starts the run (sends RESET or the first command as the mode asks). When the

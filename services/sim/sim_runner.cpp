@@ -3,39 +3,18 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "experiments/sample_columns.hpp"
+#include "experiments/vehicle_step.hpp"
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "io/row_decimator.hpp"
+#include "plant/output_signals.hpp"
 
 namespace odonata::sim {
 
-const std::vector<std::string>& BeatColumnNames() {
-  static const std::vector<std::string> kNames = {"vx_mps_avg",     "vy_mps_avg",    "vz_mps_avg",
-                                                  "p_radps_avg",    "q_radps_avg",   "r_radps_avg",
-                                                  "roll_rad_avg",   "pitch_rad_avg", "yaw_rad_avg",
-                                                  "fx_total_n_avg", "fz_total_n_avg"};
-  return kNames;
-}
-
 std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns,
                                    bool applied_columns) {
-  std::vector<std::string> h = {"t_s"};
-  for (int w = 0; w < plant::kWingCount; ++w) {
-    for (int i = 0; i < plant::kCommandsPerWing; ++i) h.push_back(plant::CommandColumnName(w, i));
-  }
-  for (const char* name : {"vx_mps", "vy_mps", "vz_mps", "p_radps", "q_radps", "r_radps",
-                           "roll_rad", "pitch_rad", "yaw_rad", "x_m", "y_m", "z_m"}) {
-    h.push_back(name);
-  }
-  for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fx" + std::to_string(w) + "_n");
-  for (int w = 1; w <= plant::kWingCount; ++w) h.push_back("fz" + std::to_string(w) + "_n");
-  h.insert(h.end(), extra_columns.begin(), extra_columns.end());
-  h.insert(h.end(), BeatColumnNames().begin(), BeatColumnNames().end());
-  if (applied_columns) {
-    const std::vector<std::string>& applied = experiments::AppliedChannelNames();
-    h.insert(h.end(), applied.begin(), applied.end());
-  }
-  return h;
+  return experiments::SampleColumnNames(extra_columns, /*beat_averages=*/true, applied_columns);
 }
 
 SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::ExperimentRun& run,
@@ -46,51 +25,28 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
   io::CsvWriter writer(output_path, header);
   SimResult result;
   std::vector<double> row(header.size());
-  // Decimation: inputs (commands, excitation, applied channels) are averaged over a block, the
-  // rest is taken at the block's first sample.
-  std::vector<bool> is_input(header.size(), false);
-  const std::size_t commands = plant::kWingCount * plant::kCommandsPerWing;
-  const std::size_t first_excitation = 1 + commands + 12 + 2 * plant::kWingCount;  // after fz4_n
-  for (std::size_t c = 1; c <= commands; ++c) is_input[c] = true;
-  for (std::size_t e = 0; e < run.excitation_names.size(); ++e)
-    is_input[first_excitation + e] = true;
-  if (run.record_applied) {
-    for (std::size_t c = header.size() - experiments::AppliedChannelNames().size();
-         c < header.size(); ++c) {
-      is_input[c] = true;
-    }
-  }
+  // Decimation averages what holds over a sample (commands, excitation, applied channels) and
+  // takes the rest at the block's first sample.
+  std::vector<bool> is_input;
+  for (const std::string& name : header) is_input.push_back(experiments::IsAveragedSignal(name));
   io::RowDecimator decimator(decimate, is_input);
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
-    const plant::PlantOutput& o = plant.output();
-    // The command actually applied (clamped) is what the wings did, so that is what is written.
-    const plant::CommandMatrix command = plant.ClampToLimits(
-        run.attitude_hold ? experiments::ApplyAttitudeHold(run.hold_gains, run.commands[k], o)
-                          : run.commands[k]);
+    const plant::PlantOutput o = plant.output();  // row k: the outputs at t_k, before the step
+    const double t_s = static_cast<double>(k) * run.sample_period_s;
+    const experiments::VehicleStep step = experiments::StepVehicle(
+        plant, run.commands[k], run.attitude_hold, run.hold_gains, run.damage, t_s);
+    // The command actually applied (hold added, clamped) is what the wings did, so that is what
+    // is written; a damaged wing flies less, and the CSV keeps what was commanded.
     std::size_t c = 0;
-    row[c++] = static_cast<double>(k) * run.sample_period_s;
+    row[c++] = t_s;
     for (int w = 0; w < plant::kWingCount; ++w) {
-      for (int i = 0; i < plant::kCommandsPerWing; ++i) row[c++] = command(w, i);
+      for (int i = 0; i < plant::kCommandsPerWing; ++i) row[c++] = step.applied(w, i);
     }
-    for (int i = 0; i < 3; ++i) row[c++] = o.velocity_body_mps(i);
-    for (int i = 0; i < 3; ++i) row[c++] = o.rate_body_radps(i);
-    row[c++] = o.roll_rad;
-    row[c++] = o.pitch_rad;
-    row[c++] = o.yaw_rad;
-    for (int i = 0; i < 3; ++i) row[c++] = o.position_m(i);
-    for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_x_n(w);
-    for (int w = 0; w < plant::kWingCount; ++w) row[c++] = o.force_z_n(w);
+    for (const double v : plant::StateSignalValues(o)) row[c++] = v;
     for (const std::vector<double>& values : run.excitation_values) row[c++] = values[k];
-    const plant::BeatAverages& b = o.beat;
-    for (int i = 0; i < 3; ++i) row[c++] = b.velocity_body_mps(i);
-    for (int i = 0; i < 3; ++i) row[c++] = b.rate_body_radps(i);
-    row[c++] = b.roll_rad;
-    row[c++] = b.pitch_rad;
-    row[c++] = b.yaw_rad;
-    row[c++] = b.force_x_n;
-    row[c++] = b.force_z_n;
+    for (const double v : plant::BeatSignalValues(o.beat)) row[c++] = v;
     if (run.record_applied) {
-      for (const double v : experiments::AppliedChannelValues(command, run.trim.amp_rad)) {
+      for (const double v : experiments::AppliedChannelValues(step.applied, run.trim.amp_rad)) {
         row[c++] = v;
       }
     }
@@ -98,14 +54,10 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
       writer.WriteRow(*block);
       ++result.rows_written;
     }
-
-    // A damaged wing flies less than it is told; the CSV keeps what was commanded.
-    const plant::StepStatus status =
-        plant.Step(run.damage.Apply(command, double(k) * run.sample_period_s));
-    if (status == plant::StepStatus::kReset) {
+    if (step.status == plant::StepStatus::kReset) {
       ++result.resets;
       result.messages.push_back(plant.divergence_message());
-    } else if (status == plant::StepStatus::kStopped) {
+    } else if (step.status == plant::StepStatus::kStopped) {
       result.stopped = true;
       result.messages.push_back(plant.divergence_message());
       break;

@@ -18,17 +18,9 @@ struct SimResult {
   std::vector<std::string> messages;  ///< one per divergence, for stderr
 };
 
-/// The beat-averaged output columns (PlantOutput::beat), each an instantaneous column's name
-/// with "_avg": vx_mps_avg vy_mps_avg vz_mps_avg p_radps_avg q_radps_avg r_radps_avg
-/// roll_rad_avg pitch_rad_avg yaw_rad_avg, then the four wings' total forces fx_total_n_avg and
-/// fz_total_n_avg.
-const std::vector<std::string>& BeatColumnNames();
-
-/// The CSV header: t_s, the 24 commands (w{i}_beta_rad … w{i}_phase_rad), the outputs
-/// (vx_mps … z_m, fx{1..4}_n, fz{1..4}_n), `extra_columns` (the excitation), the beat averages
-/// (BeatColumnNames()) and, with `applied_columns`, the applied-command channels
-/// (experiments::AppliedChannelNames()). New columns go after the old ones, so every column
-/// keeps its place.
+/// The CSV header (experiments/sample_columns.hpp): t_s, the commands, the outputs,
+/// `extra_columns` (the excitation), the beat averages and, with `applied_columns`, the
+/// applied-command channels.
 std::vector<std::string> CsvHeader(const std::vector<std::string>& extra_columns,
                                    bool applied_columns = false);
 

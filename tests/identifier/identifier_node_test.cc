@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bus/model_snapshot_codec.hpp"
+#include "model_messages/model_snapshot_message.hpp"
 #include "support/memq_bus.hpp"
 
 namespace odonata::identifier {
@@ -230,7 +230,7 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
   snapshots_.clear();
   Control(odonata::control_t::PUBLISH_SNAPSHOT);
   ASSERT_EQ(snapshots_.size(), 1u);
-  const sysid::NarxModel from_bus = bus::DecodeSnapshot(snapshots_[0]);
+  const sysid::NarxModel from_bus = model_messages::DecodeSnapshot(snapshots_[0]);
   // Everything, the forgetting factor and the pruning bookkeeping included.
   EXPECT_EQ(from_bus.ToJson(), node_->core().model().ToJson());
 

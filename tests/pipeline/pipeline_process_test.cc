@@ -18,12 +18,17 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "bus/sample_fields.hpp"
+#include "experiments/experiment_preset.hpp"
+#include "experiments/sample_columns.hpp"
 #include "io/csv_table.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
+#include "plant/output_signals.hpp"
 
 namespace {
 
@@ -154,8 +159,8 @@ void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, boo
     ASSERT_EQ(rec.states.count(k), 1u) << "state " << k << " missing";
     const odonata::plant_state_t& s = rec.states.at(k);
     ASSERT_EQ(s.command_seq, k - 1);
-    for (const std::string& name : odonata::bus::StateFieldNames()) {
-      const double got = *odonata::bus::StateField(s, name);
+    for (const std::string& name : odonata::plant::StateSignalNames()) {
+      const double got = *odonata::messages::StateField(s, name);
       const double want = sim.Column(name)[static_cast<std::size_t>(k)];
       ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
           << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
@@ -165,17 +170,17 @@ void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, boo
     // applied over [t_k, t_k+1), i.e. the CSV row's applied columns (when the run has them).
     ASSERT_EQ(rec.beats.count(k), 1u) << "beat state " << k << " missing";
     ASSERT_EQ(rec.beats.at(k).command_seq, k - 1);
-    for (const std::string& name : odonata::bus::BeatFieldNames()) {
-      const double got = *odonata::bus::BeatStateField(rec.beats.at(k), name);
+    for (const std::string& name : odonata::plant::BeatSignalNames()) {
+      const double got = *odonata::messages::BeatStateField(rec.beats.at(k), name);
       const double want = sim.Column(name)[static_cast<std::size_t>(k)];
       ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
           << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
     }
     const auto& names = sim.names();
-    for (const std::string& name : odonata::bus::AppliedFieldNames()) {
+    for (const std::string& name : odonata::experiments::AppliedChannelNames()) {
       if (std::find(names.begin(), names.end(), name) == names.end()) continue;
       ASSERT_EQ(rec.beats.count(k + 1), 1u);
-      const double got = *odonata::bus::BeatStateField(rec.beats.at(k + 1), name);
+      const double got = *odonata::messages::BeatStateField(rec.beats.at(k + 1), name);
       const double want = sim.Column(name)[static_cast<std::size_t>(k)];
       ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0)
           << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
@@ -187,8 +192,8 @@ void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, boo
       EXPECT_EQ(c.excitations[e], sim.Column(c.excitation_names[e])[static_cast<std::size_t>(k)]);
     }
     if (commands_too) {  // without the hold the CSV holds exactly the commands sent
-      for (const std::string& name : odonata::bus::CommandFieldNames()) {
-        ASSERT_EQ(*odonata::bus::CommandField(c, name),
+      for (const std::string& name : odonata::experiments::CommandSignalNames()) {
+        ASSERT_EQ(*odonata::messages::CommandField(c, name),
                   sim.Column(name)[static_cast<std::size_t>(k)])
             << name << " at sample " << k;
       }
@@ -238,9 +243,10 @@ TEST_F(PipelineProcess, LockstepRollMatchesOdonataSimBitForBit) {
   ASSERT_EQ(exported.exit_code, 0) << exported.out;
   const auto csv = odonata::io::CsvTable::Read(dir_ + "/export.csv");
   ASSERT_EQ(csv.rows(), table.rows());
-  std::vector<std::string> compared = odonata::bus::StateFieldNames();
+  std::vector<std::string> compared = odonata::plant::StateSignalNames();
   compared.push_back("u_roll_rad");
-  for (const auto* names : {&odonata::bus::BeatFieldNames(), &odonata::bus::AppliedFieldNames()})
+  for (const auto* names :
+       {&odonata::plant::BeatSignalNames(), &odonata::experiments::AppliedChannelNames()})
     compared.insert(compared.end(), names->begin(), names->end());
   for (const std::string& name : compared) {
     const std::vector<double>& got = csv.Column(name);
@@ -285,7 +291,7 @@ TEST_F(PipelineProcess, RealtimeTwoSecondsAtOneHundredHertz) {
   for (std::size_t i = first; i < rec.state_stream.size(); ++i) {
     const odonata::plant_state_t& s = rec.state_stream[i];
     ASSERT_EQ(s.seq, static_cast<int64_t>(i - first)) << "gap in states";
-    EXPECT_TRUE(odonata::bus::AllFinite(s));
+    EXPECT_TRUE(odonata::messages::AllFinite(s));
     EXPECT_GE(s.utime, previous_utime);
     previous_utime = s.utime;
     ASSERT_GE(s.command_seq, newest) << "state " << s.seq << " answers an older command";

@@ -12,10 +12,14 @@
 #include <limits>
 #include <vector>
 
-#include "bus/sample_fields.hpp"
 #include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
+#include "experiments/sample_columns.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
 #include "pipeline/vehicle_setup.hpp"
+#include "plant/output_signals.hpp"
 #include "support/memq_bus.hpp"
 
 namespace odonata::plant_service {
@@ -44,8 +48,8 @@ odonata::wing_command_t Command(int64_t seq, const plant::CommandMatrix& c) {
 }
 
 bool SameState(const odonata::plant_state_t& a, const odonata::plant_state_t& b) {
-  for (const std::string& name : bus::StateFieldNames()) {
-    const double x = *bus::StateField(a, name), y = *bus::StateField(b, name);
+  for (const std::string& name : plant::StateSignalNames()) {
+    const double x = *messages::StateField(a, name), y = *messages::StateField(b, name);
     if (std::memcmp(&x, &y, sizeof x) != 0) return false;
   }
   return a.seq == b.seq && a.command_seq == b.command_seq && a.t_s == b.t_s;
@@ -152,7 +156,7 @@ TEST_F(PlantNodeTest, PublishesTheBeatStateBesideEveryStateWithTheSameSeq) {
     ASSERT_EQ(b.command_seq, states_.back().command_seq);
     EXPECT_EQ(b.t_s, states_.back().t_s);
     ExpectBeatState(b, reference.output(), applied, trim_amp_rad);
-    ASSERT_TRUE(bus::AllFinite(b));
+    ASSERT_TRUE(messages::AllFinite(b));
     hold_acted_rad =
         std::max(hold_acted_rad, std::fabs(b.u_roll_applied_rad - run.excitation_values[0][k]));
   }
@@ -222,7 +226,7 @@ TEST_F(PlantNodeTest, StaleNaNAndOutOfLimitCommandsAreDroppedAndCounted) {
   EXPECT_EQ(states_.back().seq, 6);
   EXPECT_EQ(states_.back().command_seq, 5);
   EXPECT_EQ(bus_->stats().gaps, 3);
-  for (const auto& s : states_) EXPECT_TRUE(bus::AllFinite(s));
+  for (const auto& s : states_) EXPECT_TRUE(messages::AllFinite(s));
 }
 
 TEST_F(PlantNodeTest, StateZeroRepeatsUntilTheFirstCommand) {

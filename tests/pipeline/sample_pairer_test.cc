@@ -152,6 +152,28 @@ TEST(SamplePairer, AMissingBeatStateIsAGapNeverBridged) {
   EXPECT_EQ(held.Lost(), 0);
 }
 
+TEST(SamplePairer, FinishLosesWhatWaitsAndReleasesWhatFollows) {
+  // The end of a recorded log: a missing beat state loses its samples at once, and the samples
+  // after it, already complete, are released instead of waiting for the limit.
+  Pairer p(PairingNeeds{false, true});
+  Log log;
+  for (int64_t k = 0; k < 12; ++k) {
+    log.Add(p.OnState(S(k)));
+    if (k != 10) log.Add(p.OnBeat(B(k)));
+    log.Add(p.OnCommand(C(k)));
+  }
+  EXPECT_EQ(log.Samples().back(), 8);
+  log.Add(p.Finish());
+  EXPECT_EQ(log.Lost(), 1);  // sample 9: no beat state 10
+  EXPECT_EQ(log.Samples().back(), 10);
+  EXPECT_EQ(p.pending_states(), 0u);
+  // Finish() changes nothing for later messages: the pairer waits again.
+  log.Add(p.OnState(S(12)));
+  EXPECT_EQ(log.Samples().back(), 10);  // sample 11 needs beat state 12
+  log.Add(p.OnBeat(B(12)));
+  EXPECT_EQ(log.Samples().back(), 11);
+}
+
 TEST(SamplePairer, ABeatStateAnsweringAnotherCommandIsNotPaired) {
   Pairer p(PairingNeeds{false, true});
   Log log;

@@ -8,9 +8,13 @@
 #include <cstring>
 #include <map>
 
-#include "bus/sample_fields.hpp"
 #include "experiments/experiment_preset.hpp"
+#include "experiments/sample_columns.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
 #include "pipeline/plant_session.hpp"
+#include "plant/output_signals.hpp"
 #include "plant_node.hpp"
 #include "support/memq_bus.hpp"
 
@@ -33,7 +37,7 @@ int RunFenced(bus::BusNode& bus, int seconds = 10) {
 
 TEST(SignalNode, CommandMessageCarriesCommandsExcitationAndSource) {
   const pipeline::CommandSchedule s = Roll(0.1);
-  const odonata::wing_command_t m = ToCommandMessage(s, 4);
+  const odonata::wing_command_t m = messages::ToCommandMessage(s, 4, 0);
   EXPECT_EQ(m.seq, 4);
   EXPECT_EQ(m.t_s, s.TimeOf(4));
   EXPECT_EQ(m.source, "preset:roll/train");
@@ -41,9 +45,9 @@ TEST(SignalNode, CommandMessageCarriesCommandsExcitationAndSource) {
   ASSERT_EQ(m.excitations.size(), 1u);
   EXPECT_EQ(m.excitation_names[0], "u_roll_rad");
   EXPECT_EQ(m.excitations[0], s.excitation_values[0][4]);
-  EXPECT_EQ(*bus::CommandField(m, "w3_amp_rad"), s.commands[4](2, plant::kStrokeAmplitude));
-  EXPECT_EQ(*bus::CommandField(m, "w1_freq_hz"), s.commands[4](0, plant::kFlapFrequency));
-  EXPECT_EQ(bus::CountProblems(m), "");
+  EXPECT_EQ(*messages::CommandField(m, "w3_amp_rad"), s.commands[4](2, plant::kStrokeAmplitude));
+  EXPECT_EQ(*messages::CommandField(m, "w1_freq_hz"), s.commands[4](0, plant::kFlapFrequency));
+  EXPECT_EQ(messages::CountProblems(m), "");
 }
 
 TEST(SignalNode, LockstepRunWithThePlantNodeMatchesTheOfflineSession) {
@@ -68,11 +72,11 @@ TEST(SignalNode, LockstepRunWithThePlantNodeMatchesTheOfflineSession) {
   ASSERT_EQ(states.size(), 31u);
   for (int64_t k = 0; k <= 30; ++k) {
     if (k > 0) reference.Submit(k - 1, schedule.commands[static_cast<std::size_t>(k - 1)]);
-    const odonata::plant_state_t expected = plant_service::ToStateMessage(reference.last());
+    const odonata::plant_state_t expected = messages::ToStateMessage(reference.last(), 0);
     const odonata::plant_state_t& got = states.at(k);
     EXPECT_EQ(got.command_seq, k - 1);
-    for (const std::string& name : bus::StateFieldNames()) {
-      const double a = *bus::StateField(got, name), b = *bus::StateField(expected, name);
+    for (const std::string& name : plant::StateSignalNames()) {
+      const double a = *messages::StateField(got, name), b = *messages::StateField(expected, name);
       ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << name << " at sample " << k;
     }
   }

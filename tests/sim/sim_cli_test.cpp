@@ -13,6 +13,7 @@
 
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
+#include "plant/output_signals.hpp"
 #include "sim_runner.hpp"
 
 namespace {
@@ -157,7 +158,7 @@ TEST_F(SimCli, CsvHasTheDocumentedColumnsAndAnExcitationColumn) {
                       "r_radps_avg", "roll_rad_avg", "pitch_rad_avg", "yaw_rad_avg",
                       "fx_total_n_avg", "fz_total_n_avg", "u_vertical_applied_rad",
                       "u_roll_applied_rad", "u_pitch_applied_rad", "u_yaw_applied_rad"}));
-  for (const std::string& name : odonata::sim::BeatColumnNames()) {
+  for (const std::string& name : odonata::plant::BeatSignalNames()) {
     if (name.rfind("f", 0) == 0) continue;  // the totals have no instantaneous column
     const std::string raw = name.substr(0, name.size() - 4);
     EXPECT_NEAR(t.Column(name)[0], t.Column(raw)[0], 1e-12) << name;  // the initial state

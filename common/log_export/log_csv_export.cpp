@@ -1,34 +1,40 @@
-#include "bus/log_csv_export.hpp"
+#include "log_export/log_csv_export.hpp"
 
-#include <map>
-#include <stdexcept>
-
-#include <lcm/lcm-cpp.hpp>
-
-#include "bus/event_log_reader.hpp"
-#include "bus/model_snapshot_codec.hpp"
-#include "bus/safe_decode.hpp"
-#include "bus/sample_fields.hpp"
-
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <stdexcept>
+#include <variant>
 
+#include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
+
+#include "bus/event_log_reader.hpp"
+#include "bus/safe_decode.hpp"
+#include "experiments/sample_columns.hpp"
 #include "io/csv_writer.hpp"
 #include "io/row_decimator.hpp"
-#include "odonata/beat_state_t.hpp"
-#include "odonata/plant_state_t.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/paired_sample.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
+#include "model_messages/model_snapshot_message.hpp"
 #include "odonata/prediction_t.hpp"
-#include "odonata/wing_command_t.hpp"
 
-namespace odonata::bus {
+namespace odonata::log_export {
 namespace {
 
+using bus::SafeDecode;
+using Message =
+    std::variant<odonata::plant_state_t, odonata::wing_command_t, odonata::beat_state_t>;
+
+// One run of the plant: its messages in the order they were logged, as a live identifier saw
+// them.
 struct Run {
-  std::map<int64_t, odonata::plant_state_t> states;     // by seq, first copy kept
-  std::map<int64_t, odonata::wing_command_t> commands;  // by seq, first copy kept
-  std::map<int64_t, odonata::beat_state_t> beats;       // by seq, first copy kept
+  std::vector<Message> messages;
+  long states = 0, commands = 0, beats = 0;
+  int64_t newest_state = -1;
 };
 
 }  // namespace
@@ -37,33 +43,39 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
                              const ExportOptions& options) {
   ExportSummary summary;
   std::vector<Run> runs(1);
-  ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
+  bus::ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
     if (ev.channel == options.state_channel) {
       odonata::plant_state_t s;
-      if (!SafeDecode(&s, ev.data, ev.datalen) || !AllFinite(s)) {
+      if (!SafeDecode(&s, ev.data, ev.datalen) || !messages::AllFinite(s)) {
         ++summary.undecodable;
         return;
       }
-      // A fresh initial state after others marks a plant reset: a new run.
-      if (s.seq == 0 && s.command_seq < 0 && !runs.back().states.empty() &&
-          (runs.back().states.size() > 1 || !runs.back().commands.empty())) {
+      // A fresh initial state after others marks a plant reset: a new run. (A lockstep plant
+      // re-publishes state 0 until the first command: that is still the same run.)
+      if (s.seq == 0 && s.command_seq < 0 && runs.back().states > 0 &&
+          (runs.back().newest_state > 0 || runs.back().commands > 0)) {
         runs.emplace_back();
       }
-      runs.back().states.emplace(s.seq, s);
+      ++runs.back().states;
+      runs.back().newest_state = std::max(runs.back().newest_state, s.seq);
+      runs.back().messages.emplace_back(std::move(s));
     } else if (ev.channel == options.command_channel) {
       odonata::wing_command_t c;
-      if (!SafeDecode(&c, ev.data, ev.datalen) || !AllFinite(c) || !CountProblems(c).empty()) {
+      if (!SafeDecode(&c, ev.data, ev.datalen) || !messages::AllFinite(c) ||
+          !messages::CountProblems(c).empty()) {
         ++summary.undecodable;
         return;
       }
-      runs.back().commands.emplace(c.seq, c);
+      ++runs.back().commands;
+      runs.back().messages.emplace_back(std::move(c));
     } else if (ev.channel == options.beat_state_channel) {
       odonata::beat_state_t b;
-      if (!SafeDecode(&b, ev.data, ev.datalen) || !AllFinite(b)) {
+      if (!SafeDecode(&b, ev.data, ev.datalen) || !messages::AllFinite(b)) {
         ++summary.undecodable;
         return;
       }
-      runs.back().beats.emplace(b.seq, b);
+      ++runs.back().beats;
+      runs.back().messages.emplace_back(std::move(b));
     }
   });
   summary.runs = static_cast<int>(runs.size());
@@ -76,59 +88,57 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
   }
   summary.exported_run = pick;
   const Run& run = runs[static_cast<std::size_t>(pick)];
-  if (run.commands.empty())
+  const odonata::wing_command_t* first_command = nullptr;
+  for (const Message& m : run.messages) {
+    if ((first_command = std::get_if<odonata::wing_command_t>(&m))) break;
+  }
+  if (!first_command)
     throw std::runtime_error("no commands on " + options.command_channel + " in the log");
 
-  const auto& first_command = run.commands.begin()->second;
-  std::vector<std::string> header{"t_s"};
-  for (const auto& n : CommandFieldNames()) header.push_back(n);
-  for (const auto& n : StateFieldNames()) header.push_back(n);
-  for (const auto& n : first_command.excitation_names) header.push_back(n);
-  summary.beat_columns = !run.beats.empty();
-  if (summary.beat_columns) {
-    for (const auto& n : BeatFieldNames()) header.push_back(n);
-    for (const auto& n : AppliedFieldNames()) header.push_back(n);
-  }
+  // The columns odonata-sim writes; the beat columns when the run has beat states.
+  summary.beat_columns = run.beats > 0;
+  const std::vector<std::string> header = experiments::SampleColumnNames(
+      first_command->excitation_names, summary.beat_columns, summary.beat_columns);
   io::CsvWriter out(csv_path, header);
   std::vector<bool> is_input;
-  for (const auto& n : header) is_input.push_back(IsAveragedSignal(n));
+  for (const auto& n : header) is_input.push_back(experiments::IsAveragedSignal(n));
   io::RowDecimator decimator(options.decimate, is_input);
-  for (auto it = run.states.begin(); it != run.states.end(); ++it) {
-    const auto next = run.states.find(it->first + 1);
-    if (next == run.states.end()) {
-      if (std::next(it) != run.states.end()) ++summary.incomplete;
-      continue;
-    }
-    const auto cmd = run.commands.find(next->second.command_seq);
-    if (cmd == run.commands.end() ||
-        cmd->second.excitation_names != first_command.excitation_names) {
-      ++summary.incomplete;
-      continue;
-    }
-    std::vector<double> row{it->second.t_s};
-    for (const auto& n : CommandFieldNames()) row.push_back(*CommandField(cmd->second, n));
-    for (const auto& n : StateFieldNames()) row.push_back(*StateField(it->second, n));
-    for (double v : cmd->second.excitations) row.push_back(v);
-    if (summary.beat_columns) {
-      // Averages up to t_k from beat state k; the command applied over [t_k, t_k+1) from beat
-      // state k + 1, which answers the same command as state k + 1. The identifier pairs them
-      // the same way (pipeline/sample_pairer.hpp).
-      const auto beat = run.beats.find(it->first);
-      const auto applied = run.beats.find(it->first + 1);
-      if (beat == run.beats.end() || applied == run.beats.end() ||
-          beat->second.command_seq != it->second.command_seq ||
-          applied->second.command_seq != next->second.command_seq) {
+
+  // Row k is sample k as the identifier pairs it (messages/paired_sample.hpp).
+  messages::MessagePairer pairer(
+      pipeline::PairingNeeds{summary.beat_columns, summary.beat_columns});
+  const auto write = [&](const std::vector<messages::PairedMessages>& events) {
+    for (const auto& e : events) {
+      if (e.kind == messages::PairedMessages::Kind::kGap) summary.incomplete += e.lost;
+      if (e.kind != messages::PairedMessages::Kind::kSample) continue;
+      if (e.command.excitation_names != first_command->excitation_names) {
         ++summary.incomplete;
         continue;
       }
-      for (const auto& n : BeatFieldNames()) row.push_back(*BeatStateField(beat->second, n));
-      for (const auto& n : AppliedFieldNames()) row.push_back(*BeatStateField(applied->second, n));
+      std::vector<double> row;
+      row.reserve(header.size());
+      for (const auto& name : header) row.push_back(*messages::PairedSignal(e, name));
+      if (const auto block = decimator.Push(e.index, row)) {
+        out.WriteRow(*block);
+        ++summary.rows;
+      }
     }
-    if (const auto block = decimator.Push(it->first, row)) {
-      out.WriteRow(*block);
-      ++summary.rows;
+  };
+  for (const Message& m : run.messages) {
+    try {
+      std::visit(
+          [&](const auto& msg) {
+            using T = std::decay_t<decltype(msg)>;
+            if constexpr (std::is_same_v<T, odonata::plant_state_t>) write(pairer.OnState(msg));
+            if constexpr (std::is_same_v<T, odonata::wing_command_t>) write(pairer.OnCommand(msg));
+            if constexpr (std::is_same_v<T, odonata::beat_state_t>) write(pairer.OnBeat(msg));
+          },
+          m);
+    } catch (const std::invalid_argument&) {
+      ++summary.rejected;  // out of order, a leap, or a second command: the pairing rules say no
     }
   }
+  write(pairer.Finish());
   out.Close();
   summary.dropped_blocks = decimator.dropped_blocks();
   if (summary.rows == 0)
@@ -139,7 +149,7 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
 namespace {
 void ForEachEvent(const std::vector<std::string>& log_paths, const std::string& channel,
                   const std::function<void(const lcm::LogEvent&)>& fn) {
-  ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
+  bus::ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
     if (ev.channel == channel) fn(ev);
   });
 }
@@ -198,7 +208,7 @@ long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std:
       arr.push_back({{"utime", m.utime},
                      {"samples_learned", m.samples_learned},
                      {"instance", m.instance},
-                     {"model", DecodeSnapshot(m).ToJson()}});
+                     {"model", model_messages::DecodeSnapshot(m).ToJson()}});
     } catch (const std::exception&) {
       // a snapshot that does not describe a valid model is skipped
     }
@@ -209,4 +219,4 @@ long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std:
   return static_cast<long>(arr.size());
 }
 
-}  // namespace odonata::bus
+}  // namespace odonata::log_export

@@ -1,10 +1,10 @@
-#include "bus/model_snapshot_codec.hpp"
+#include "model_messages/model_snapshot_message.hpp"
 
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
-namespace odonata::bus {
+namespace odonata::model_messages {
 odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
   const nlohmann::json j = model.ToJson();
   odonata::model_snapshot_t m;
@@ -151,4 +151,4 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   return sysid::NarxModel::FromJson(j);
 }
 
-}  // namespace odonata::bus
+}  // namespace odonata::model_messages

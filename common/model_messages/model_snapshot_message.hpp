@@ -5,10 +5,10 @@
 #include "odonata/model_snapshot_t.hpp"
 #include "sysid/narx_model.hpp"
 
-namespace odonata::bus {
+namespace odonata::model_messages {
 
 odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model);
 /// @throws std::runtime_error when the snapshot does not describe a valid model.
 sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& msg);
 
-}  // namespace odonata::bus
+}  // namespace odonata::model_messages

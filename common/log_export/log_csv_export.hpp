@@ -1,13 +1,13 @@
 #pragma once
-// Turns a recorded event log into the CSV odonata-sim writes (and odonata-fit reads): row k
-// joins state k with the command the plant applied next (state k+1's command_seq) and, when the
-// log holds beat states, beat state k's averages and beat state k+1's applied-command channels
-// (the command applied over [t_k, t_k+1)).
+// Turns a recorded event log into the CSV odonata-sim writes (and odonata-fit reads): row k is
+// sample k as the online identifier pairs it (messages/paired_sample.hpp): state k, the command
+// state k + 1 answers and, when the log holds beat states, beat state k's averages and beat
+// state k + 1's applied-command channels (the command applied over [t_k, t_k+1)).
 
 #include <string>
 #include <vector>
 
-namespace odonata::bus {
+namespace odonata::log_export {
 
 struct ExportOptions {
   std::string command_channel = "DIMAV_COMMAND";
@@ -26,14 +26,16 @@ struct ExportSummary {
   long rows = 0;
   long undecodable = 0;       ///< events on the three channels that did not decode (skipped)
   bool beat_columns = false;  ///< the log had beat states: _avg and _applied_ columns written
-  long incomplete = 0;        ///< states without a following state or matching command (gaps)
+  long incomplete = 0;        ///< samples lost for a missing state, command or beat state (gaps)
+  long rejected = 0;          ///< messages the pairing rules reject (out of order, a leap, a
+                              ///< second command for a seq): the identifier drops them too
   long dropped_blocks = 0;    ///< with decimation: blocks given up for a missing sample
 };
 
 /// Reads the logs in order (a rotated log's files, oldest first) and writes `csv_path`. Columns:
 /// t_s, the 24 commands received, the state, the excitations, and, if the run has beat states,
-/// BeatFieldNames() and AppliedFieldNames() (odonata-sim's names; a sample missing either beat
-/// state is then incomplete).
+/// the beat averages and applied channels (experiments/sample_columns.hpp: odonata-sim's names;
+/// a sample missing either beat state is then incomplete).
 /// @throws std::runtime_error naming the file on unreadable logs, no samples, or write errors.
 ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const std::string& csv_path,
                              const ExportOptions& options);
@@ -51,4 +53,4 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
 long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
                            const std::string& json_path);
 
-}  // namespace odonata::bus
+}  // namespace odonata::log_export

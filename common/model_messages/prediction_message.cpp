@@ -1,0 +1,29 @@
+#include "model_messages/prediction_message.hpp"
+
+#include "contract/precondition.hpp"
+
+namespace odonata::model_messages {
+
+odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
+                                          const std::vector<std::string>& names, int64_t seq,
+                                          int64_t utime) {
+  ODONATA_EXPECTS(static_cast<Eigen::Index>(names.size()) == report.measured.size());
+  odonata::prediction_t p;
+  p.utime = utime;
+  p.seq = seq;
+  p.sample = report.index;
+  p.num_outputs = static_cast<int32_t>(names.size());
+  p.names = names;
+  for (Eigen::Index o = 0; o < report.measured.size(); ++o) {
+    p.measured.push_back(report.measured(o));
+    p.predicted.push_back(report.predicted(o));
+    p.free_run.push_back(report.free_run(o));
+    p.next.push_back(report.next(o));
+    p.rules.push_back(report.rules(o));
+    p.max_entropy.push_back(report.max_entropy(o));
+  }
+  p.learning = report.learned ? 1 : 0;
+  return p;
+}
+
+}  // namespace odonata::model_messages
