@@ -59,7 +59,7 @@ struct ExperimentPreset {
   plant::ActuatorDamage validate_damage{};
 };
 
-/// The scalar command channels of the free-flight presets (plant.md's actuator mappings), read
+/// The scalar command channels of the free-flight presets (docs/plant.md §12), read
 /// from any command matrix. Excitation columns are these channels of the designed command;
 /// *_applied_* columns the same channels of the command actually applied (hold added, clamped).
 /// Vertical: mean φ₀ of the four wings minus the trim φ₀ (rad).

@@ -6,7 +6,7 @@
 
 #include "experiments/vehicle_step.hpp"
 #include "pipeline/command_limits.hpp"
-#include "pipeline/sequence_window.hpp"
+#include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
 namespace {

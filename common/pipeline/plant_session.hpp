@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "pipeline/sequence_window.hpp"
+#include "sequence/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"

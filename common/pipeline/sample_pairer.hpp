@@ -35,7 +35,7 @@
 #include <utility>
 #include <vector>
 
-#include "pipeline/sequence_window.hpp"
+#include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
 

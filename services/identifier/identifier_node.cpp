@@ -3,25 +3,13 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "experiments/sample_columns.hpp"
 #include "io/atomic_file.hpp"
-#include "messages/beat_state_message.hpp"
-#include "messages/plant_state_message.hpp"
-#include "messages/wing_command_message.hpp"
 #include "model_messages/model_snapshot_message.hpp"
 #include "model_messages/prediction_message.hpp"
 #include "odonata/prediction_t.hpp"
 #include "snapshot_admission.hpp"
 
 namespace odonata::identifier {
-namespace {
-// The model's signals: outputs, then inputs (the order of a decimated row).
-std::vector<std::string> SpecSignals(const sysid::RegressorSpec& spec) {
-  std::vector<std::string> names = spec.outputs;
-  names.insert(names.end(), spec.inputs.begin(), spec.inputs.end());
-  return names;
-}
-}  // namespace
 
 IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                                std::optional<sysid::NarxModel> initial, std::string save_model_path,
@@ -32,12 +20,11 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       models_dir_(std::move(models_dir)),
       acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel()),
-      pairer_(messages::PairingNeedsOf(SpecSignals(core_.model().spec()))),
-      decimator_(config_.decimate, AveragedSignals(core_.model().spec())) {
+      stream_(core_.model().spec(), config_.decimate) {
   const auto& ch = config_.channels;
   bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
-  if (pairer_.needs().beat || pairer_.needs().next_beat) {
+  if (stream_.needs_beat_states()) {
     bus_.Subscribe<odonata::beat_state_t>(ch.beat_state, [this](const auto& m) { OnBeatState(m); });
   }
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
@@ -78,6 +65,7 @@ sysid::NarxModel IdentifierNode::EmptyModel() const {
 
 void IdentifierNode::StartLearning(const std::string& how) {
   started_ = true;
+  stream_.Start();
   bus_.SetState(core_.learning() ? "running" : "frozen");
   std::fprintf(stderr, "[%s] learning %s (%d rules)\n", config_.instance.c_str(), how.c_str(),
                core_.model().total_rules());
@@ -103,84 +91,44 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
 }
 
 void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
-  if (!messages::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
-  const std::string count = messages::CountProblems(msg);
-  if (!count.empty()) throw std::invalid_argument("command: " + count);
-  Handle(pairer_.OnCommand(msg));
+  Handle(stream_.OnCommand(msg));
   Acknowledge(false);
 }
 
 void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
-  if (!messages::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
-  Handle(pairer_.OnState(msg));
+  Handle(stream_.OnState(msg));
   Acknowledge(true);
 }
 
 void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
-  if (!messages::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
-  Handle(pairer_.OnBeat(msg));
+  Handle(stream_.OnBeat(msg));
   Acknowledge(false);
 }
 
 void IdentifierNode::Acknowledge(bool always) {
   // Waiting for a snapshot, samples are not learned: no receipt, so a lockstep generator does not
   // count this identifier as having them.
-  if (started_) acks_.Publish(pairer_.newest_held_state(), always);
+  if (started_) acks_.Publish(stream_.newest_held_state(), always);
 }
 
-void IdentifierNode::Handle(std::vector<Pairer::Event> events) {
+void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {
   for (const auto& e : events) {
     switch (e.kind) {
-      case Pairer::Event::Kind::kRestart:
+      case SampleStream::Event::Kind::kRestart:
         core_.RestartHistory();
-        decimator_.Reset();
         break;
-      case Pairer::Event::Kind::kGap:
+      case SampleStream::Event::Kind::kGap:
         bus_.stats().gaps += e.lost;
         bus_.Report(e.what, e.message);
         break;
-      case Pairer::Event::Kind::kSample:
-        if (started_) FormSample(e);
+      case SampleStream::Event::Kind::kSample:
+        Learn(e.sample);
         break;
     }
   }
 }
 
-std::vector<bool> IdentifierNode::AveragedSignals(const sysid::RegressorSpec& spec) {
-  std::vector<bool> averaged;
-  for (const auto& name : SpecSignals(spec))
-    averaged.push_back(experiments::IsAveragedSignal(name));
-  return averaged;
-}
-
-void IdentifierNode::FormSample(const Pairer::Event& paired) {
-  const auto& spec = core_.model().spec();
-  sysid::Sample sample;
-  sample.index = paired.index;
-  sample.outputs.resize(static_cast<Eigen::Index>(spec.outputs.size()));
-  sample.inputs.resize(static_cast<Eigen::Index>(spec.inputs.size()));
-  for (std::size_t o = 0; o < spec.outputs.size(); ++o) {
-    const auto v = messages::PairedSignal(paired, spec.outputs[o]);
-    if (!v) throw std::invalid_argument("the state has no signal '" + spec.outputs[o] + "'");
-    sample.outputs(static_cast<Eigen::Index>(o)) = *v;
-  }
-  for (std::size_t i = 0; i < spec.inputs.size(); ++i) {
-    const auto v = messages::PairedSignal(paired, spec.inputs[i]);
-    if (!v) throw std::invalid_argument("no command or state signal '" + spec.inputs[i] + "'");
-    sample.inputs(static_cast<Eigen::Index>(i)) = *v;
-  }
-  if (decimator_.factor() > 1) {
-    // Learn from the block's sample, indexed by block: the model runs at the decimated rate.
-    std::vector<double> row(sample.outputs.data(), sample.outputs.data() + sample.outputs.size());
-    row.insert(row.end(), sample.inputs.data(), sample.inputs.data() + sample.inputs.size());
-    const auto block = decimator_.Push(sample.index, row);
-    if (!block) return;
-    const auto no = sample.outputs.size();
-    for (Eigen::Index o = 0; o < no; ++o) sample.outputs(o) = (*block)[static_cast<std::size_t>(o)];
-    for (Eigen::Index i = 0; i < sample.inputs.size(); ++i)
-      sample.inputs(i) = (*block)[static_cast<std::size_t>(no + i)];
-    sample.index /= decimator_.factor();
-  }
+void IdentifierNode::Learn(const sysid::Sample& sample) {
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);
   if (result == sysid::PushResult::kGap)
@@ -190,9 +138,9 @@ void IdentifierNode::FormSample(const Pairer::Event& paired) {
     return;
   }
   if (!report) return;
-  const odonata::prediction_t p = model_messages::ToPredictionMessage(
-      *report, spec.outputs, prediction_seq_++, bus::NowUtime());
-  bus_.Publish(config_.channels.prediction, p);
+  bus_.Publish(config_.channels.prediction,
+               model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,
+                                                   prediction_seq_++, bus::NowUtime()));
   if (config_.snapshot_every_samples > 0 && report->learned &&
       core_.samples_learned() % config_.snapshot_every_samples == 0) {
     PublishSnapshot();

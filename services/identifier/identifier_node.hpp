@@ -5,7 +5,7 @@
 // Inputs:  DIMAV_COMMAND (wing_command_t), DIMAV_STATE (plant_state_t), DIMAV_BEAT_STATE
 //          (beat_state_t, only when the model uses a beat average or an applied-command
 //          channel), ODONATA_CONTROL (control_t), ODONATA_MODEL (model_snapshot_t, only to resume)
-// Which messages make sample k is pipeline::SamplePairer's rule (messages/paired_sample.hpp).
+// Which messages make sample k, and how: SampleStream (sample_stream.hpp).
 // Outputs: ODONATA_PREDICTION (prediction_t, one per sample), ODONATA_MODEL (periodic and on
 //          request), ODONATA_HEARTBEAT (via BusNode)
 
@@ -16,13 +16,12 @@
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "identifier_config.hpp"
-#include "io/row_decimator.hpp"
-#include "messages/paired_sample.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
+#include "sample_stream.hpp"
 #include "sysid/online_identifier.hpp"
 
 namespace odonata::identifier {
@@ -37,8 +36,6 @@ class IdentifierNode {
 
   const sysid::OnlineIdentifier& core() const { return core_; }
 
-  using Pairer = messages::MessagePairer;
-
  private:
   void OnCommand(const odonata::wing_command_t& msg);
   void OnState(const odonata::plant_state_t& msg);
@@ -46,17 +43,14 @@ class IdentifierNode {
   void OnControl(const odonata::control_t& msg);
   void OnSnapshot(const odonata::model_snapshot_t& msg);
   void StartLearning(const std::string& how);
-  void Handle(std::vector<Pairer::Event> events);
+  void Handle(const std::vector<SampleStream::Event>& events);
   // Publishes the lockstep receipt (ack_t): after every state (a resend's too, so a lost receipt
   // is repaired), else only when it advanced.
   void Acknowledge(bool always);
-  void FormSample(const Pairer::Event& paired);
+  void Learn(const sysid::Sample& sample);
   void PublishSnapshot();
   void SaveModel(const std::string& path);
   sysid::NarxModel EmptyModel() const;
-  // Which of the spec's signals (outputs, then inputs) decimation averages.
-  static std::vector<bool> AveragedSignals(const sysid::RegressorSpec& spec);
-
   bus::BusNode& bus_;
   IdentifierConfig config_;
   std::string save_model_path_;
@@ -64,8 +58,7 @@ class IdentifierNode {
   bus::AckPublisher acks_;
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
-  Pairer pairer_;
-  io::RowDecimator decimator_;  // config_.decimate: one learned sample per block (1: every one)
+  SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)
   int64_t prediction_seq_ = 0;
   int64_t snapshot_seq_ = 0;
 };

@@ -7,8 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/channel_options.hpp"
-#include "cli/control_options.hpp"
+#include "bus_cli/channel_options.hpp"
+#include "bus_cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "log_export/log_csv_export.hpp"
 #include "logger_node.hpp"

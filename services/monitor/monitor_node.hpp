@@ -14,14 +14,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/bus_node.hpp"
-#include "metrics/accuracy_alarm.hpp"
-#include "metrics/running_accuracy.hpp"
+#include "monitoring/peer_table.hpp"
+#include "monitoring/prediction_scoreboard.hpp"
 #include "odonata/accuracy_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 #include "odonata/model_snapshot_t.hpp"
 #include "odonata/prediction_t.hpp"
-#include "pipeline/sequence_window.hpp"
 
 namespace odonata::monitor {
 
@@ -48,46 +47,21 @@ class MonitorNode {
 
   /// Bounds on what the monitor remembers from the bus, so a flood of forged heartbeats or
   /// snapshots cannot grow it without limit: past them, the least recently heard is forgotten.
-  static constexpr std::size_t kMaxPeers = 256;
+  static constexpr std::size_t kMaxPeers = monitoring::PeerTable::kMaxPeers;
   static constexpr std::size_t kMaxSnapshots = 64;
-  static constexpr std::size_t kMaxFinishedRuns = 16;  ///< earlier runs kept in the summary
-  static constexpr std::size_t kMaxAlarmEvents = 64;   ///< alarm events kept per output and run
-  std::size_t peer_count() const { return peers_.size(); }
+  static constexpr std::size_t kMaxFinishedRuns =
+      monitoring::PredictionScoreboard::kMaxFinishedRuns;
+  std::size_t peer_count() const { return peers_.peers().size(); }
   std::size_t snapshot_count() const { return snapshots_.size(); }
 
   /// True while `output`'s window FIT is below warn_fit_percent (a warning was printed and the
   /// FIT has not recovered since).
-  bool Warned(const std::string& output) const {
-    const auto it = outputs_.find(output);
-    return it != outputs_.end() && it->second.warned;
-  }
+  bool Warned(const std::string& output) const { return scores_.Warned(output); }
   /// True while `output`'s change alarm is raised (accuracy fell well below its settled level
   /// and has not come back).
-  bool Alarmed(const std::string& output) const {
-    const auto it = outputs_.find(output);
-    return it != outputs_.end() && it->second.alarm.alarmed();
-  }
+  bool Alarmed(const std::string& output) const { return scores_.Alarmed(output); }
 
  private:
-  struct Output {
-    metrics::CumulativeAccuracy total_one_step, total_free_run;
-    metrics::WindowAccuracy window_one_step, window_free_run;
-    metrics::AccuracyAlarm alarm;
-    std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents
-    int rules = 0;
-    bool warned = false;
-    Output(std::size_t w, const metrics::AccuracyAlarmOptions& a)
-        : window_one_step(w), window_free_run(w), alarm(a) {}
-  };
-  struct Peer {
-    std::string service, state;
-    std::chrono::steady_clock::time_point last_seen;
-    bool silent = false;
-    int64_t decode_errors = 0, dropped = 0, gaps = 0, skipped = 0, repeated = 0;
-  };
-
-  // The current run's scores (Summary() adds the earlier runs and the services).
-  nlohmann::json RunSummary() const;
   void OnPrediction(const odonata::prediction_t& msg);
   void OnHeartbeat(const odonata::heartbeat_t& msg);
   void OnSnapshot(const odonata::model_snapshot_t& msg);
@@ -98,20 +72,15 @@ class MonitorNode {
 
   bus::BusNode& bus_;
   MonitorOptions options_;
-  std::vector<std::string> order_;  // outputs in first-seen order
-  std::map<std::string, Output> outputs_;
-  std::map<std::string, Peer> peers_;  // by instance
+  monitoring::PredictionScoreboard scores_;
+  monitoring::PeerTable peers_;
   struct CachedSnapshot {
     odonata::model_snapshot_t snapshot;
     std::chrono::steady_clock::time_point received;
   };
   std::map<std::string, CachedSnapshot> snapshots_;  // last per identifier instance
-  int64_t last_sample_ = -1;
-  pipeline::LeapGuard leaps_;  // a forged far-ahead sample must not split the run
-  int64_t gaps_ = 0;
   int64_t accuracy_seq_ = 0;
   std::size_t printed_lines_ = 0;
-  std::vector<nlohmann::json> finished_runs_;  // summaries of runs before a plant restart
 };
 
 }  // namespace odonata::monitor

@@ -9,8 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/channel_options.hpp"
-#include "cli/control_options.hpp"
+#include "bus_cli/channel_options.hpp"
+#include "bus_cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "plant_node.hpp"

@@ -11,7 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/channel_options.hpp"
+#include "bus_cli/channel_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_schedule.hpp"

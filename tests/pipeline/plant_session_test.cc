@@ -11,7 +11,7 @@
 #include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_limits.hpp"
-#include "pipeline/sequence_window.hpp"
+#include "sequence/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
 
 namespace odonata::pipeline {

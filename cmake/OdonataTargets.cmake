@@ -1,0 +1,27 @@
+# Helpers every CMakeLists.txt below the root uses.
+
+# Adds every immediate subfolder that has a CMakeLists.txt, sorted for a stable build order, so
+# adding an area (a library, a service, a test folder) never means editing a shared list.
+function(odonata_add_subdirectories)
+  file(GLOB _areas LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
+  list(SORT _areas)
+  foreach(_area IN LISTS _areas)
+    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${_area} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${_area}/CMakeLists.txt)
+      add_subdirectory(${_area})
+    endif()
+  endforeach()
+endfunction()
+
+# Gives a common/ library its own include root, so `#include "<area>/x.hpp"` resolves only in
+# targets that link that library: a header used without its library fails to compile instead
+# of failing (or, worse, silently working) at link time. The root is a folder in the build tree
+# holding one link, <area> → this source folder, since every area shares common/ as parent.
+function(odonata_area_includes target visibility)
+  get_filename_component(_area ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+  set(_root ${CMAKE_BINARY_DIR}/include_roots/${_area})
+  file(MAKE_DIRECTORY ${_root})
+  if(NOT EXISTS ${_root}/${_area})
+    file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR} ${_root}/${_area} SYMBOLIC)
+  endif()
+  target_include_directories(${target} ${visibility} ${_root})
+endfunction()

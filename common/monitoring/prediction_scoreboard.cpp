@@ -1,0 +1,129 @@
+#include "monitoring/prediction_scoreboard.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "metrics/accuracy_json.hpp"
+
+namespace odonata::monitoring {
+
+std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
+  const std::size_t n = p.names.size();
+  if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
+      p.rules.size() != n) {
+    throw std::invalid_argument("prediction arrays disagree with num_outputs");
+  }
+  const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
+  if (!leap.empty()) throw std::invalid_argument(leap);
+  if (last_sample_ >= 0 && p.sample == last_sample_) {
+    throw std::invalid_argument("duplicate prediction for sample " + std::to_string(p.sample));
+  }
+  // Checked before anything changes: a rejected prediction must not move the sample counter
+  // (the genuine one for that sample would then be dropped as a duplicate).
+  for (std::size_t o = 0; o < n; ++o) {
+    if (!std::isfinite(p.measured[o]) || !std::isfinite(p.predicted[o]) ||
+        !std::isfinite(p.free_run[o])) {
+      throw std::invalid_argument("prediction with NaN or Inf for " + p.names[o]);
+    }
+  }
+  std::vector<ScoreEvent> events;
+  if (last_sample_ >= 0 && p.sample < last_sample_) {
+    // The plant restarted (a new run, e.g. validation after training): score it on its own and
+    // keep the finished run in the summary. Only the run's own scores: a summary that held the
+    // earlier runs doubled in size with every new run.
+    ScoreEvent e;
+    e.kind = ScoreEvent::Kind::kNewRun;
+    e.sample = p.sample;
+    e.previous = last_sample_;
+    events.push_back(e);
+    finished_runs_.push_back(RunSummary());
+    if (finished_runs_.size() > kMaxFinishedRuns) finished_runs_.erase(finished_runs_.begin());
+    outputs_.clear();
+    order_.clear();
+    gaps_ = 0;
+  } else if (last_sample_ >= 0 && p.sample > last_sample_ + 1) {
+    gaps_ += p.sample - last_sample_ - 1;
+  }
+  last_sample_ = p.sample;
+  for (std::size_t o = 0; o < n; ++o) {
+    const std::string& name = p.names[o];
+    auto it = outputs_.find(name);
+    if (it == outputs_.end()) {
+      metrics::AccuracyAlarmOptions alarm;
+      alarm.window = options_.alarm_window_samples;
+      alarm.drop_points = options_.alarm_drop_points;
+      it = outputs_.emplace(name, Output(options_.window_samples, alarm)).first;
+      order_.push_back(name);
+    }
+    Output& out = it->second;
+    out.total_one_step.Add(p.measured[o], p.predicted[o]);
+    out.window_one_step.Add(p.measured[o], p.predicted[o]);
+    out.total_free_run.Add(p.measured[o], p.free_run[o]);
+    out.window_free_run.Add(p.measured[o], p.free_run[o]);
+    out.rules = p.rules[o];
+    if (const auto a = out.alarm.Push(static_cast<long>(p.sample), p.measured[o], p.predicted[o])) {
+      const bool alarm = a->kind == metrics::AccuracyEvent::Kind::kAlarm;
+      events.push_back({alarm ? ScoreEvent::Kind::kAlarm : ScoreEvent::Kind::kRecovered, name,
+                        a->sample, 0, a->window_fit, a->reference_fit});
+      if (out.alarm_events.size() >= kMaxAlarmEvents) {
+        out.alarm_events.erase(out.alarm_events.begin());
+      }
+      out.alarm_events.push_back({{"kind", alarm ? "alarm" : "recovered"},
+                                  {"sample", a->sample},
+                                  {"tracking_fit", a->window_fit},
+                                  {"reference_fit", a->reference_fit}});
+    }
+    if (out.window_one_step.full()) {
+      const double fit = out.window_one_step.Get().fit_percent;
+      if (fit < options_.warn_fit_percent && !out.warned) {
+        events.push_back({ScoreEvent::Kind::kLowFit, name, p.sample, 0, fit, 0});
+        out.warned = true;
+      } else if (fit >= options_.warn_fit_percent && out.warned) {
+        events.push_back({ScoreEvent::Kind::kLowFitCleared, name, p.sample, 0, fit, 0});
+        out.warned = false;
+      }
+    }
+  }
+  return events;
+}
+
+void PredictionScoreboard::Reset() {
+  outputs_.clear();
+  order_.clear();
+  last_sample_ = -1;
+  gaps_ = 0;
+}
+
+bool PredictionScoreboard::Warned(const std::string& output) const {
+  const auto it = outputs_.find(output);
+  return it != outputs_.end() && it->second.warned;
+}
+
+bool PredictionScoreboard::Alarmed(const std::string& output) const {
+  const auto it = outputs_.find(output);
+  return it != outputs_.end() && it->second.alarm.alarmed();
+}
+
+nlohmann::json PredictionScoreboard::RunSummary() const {
+  nlohmann::json j;
+  j["last_sample"] = last_sample_;
+  j["gaps"] = gaps_;
+  for (const auto& name : order_) {
+    const Output& o = outputs_.at(name);
+    j["outputs"][name] = {{"rules", o.rules},
+                          {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
+                          {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
+                          {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())},
+                          {"alarm_events", o.alarm_events},
+                          {"alarmed", o.alarm.alarmed()}};
+  }
+  return j;
+}
+
+nlohmann::json PredictionScoreboard::Summary() const {
+  nlohmann::json j = RunSummary();
+  if (!finished_runs_.empty()) j["previous_runs"] = finished_runs_;
+  return j;
+}
+
+}  // namespace odonata::monitoring

@@ -1,0 +1,103 @@
+#include "sample_stream.hpp"
+
+#include <stdexcept>
+
+#include "experiments/sample_columns.hpp"
+#include "messages/beat_state_message.hpp"
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
+
+namespace odonata::identifier {
+namespace {
+// The model's signals: outputs, then inputs (the order of a decimated row).
+std::vector<std::string> Signals(const sysid::RegressorSpec& spec) {
+  std::vector<std::string> names = spec.outputs;
+  names.insert(names.end(), spec.inputs.begin(), spec.inputs.end());
+  return names;
+}
+
+std::vector<bool> AveragedSignals(const sysid::RegressorSpec& spec) {
+  std::vector<bool> averaged;
+  for (const auto& name : Signals(spec)) averaged.push_back(experiments::IsAveragedSignal(name));
+  return averaged;
+}
+}  // namespace
+
+SampleStream::SampleStream(sysid::RegressorSpec spec, int decimate)
+    : spec_(std::move(spec)),
+      pairer_(messages::PairingNeedsOf(Signals(spec_))),
+      decimator_(decimate, AveragedSignals(spec_)) {}
+
+std::vector<SampleStream::Event> SampleStream::OnCommand(const odonata::wing_command_t& msg) {
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("command with NaN or Inf fields");
+  const std::string count = messages::CountProblems(msg);
+  if (!count.empty()) throw std::invalid_argument("command: " + count);
+  return Form(pairer_.OnCommand(msg));
+}
+
+std::vector<SampleStream::Event> SampleStream::OnState(const odonata::plant_state_t& msg) {
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
+  return Form(pairer_.OnState(msg));
+}
+
+std::vector<SampleStream::Event> SampleStream::OnBeat(const odonata::beat_state_t& msg) {
+  if (!messages::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
+  return Form(pairer_.OnBeat(msg));
+}
+
+std::vector<SampleStream::Event> SampleStream::Form(
+    const std::vector<messages::PairedMessages>& paired) {
+  using Paired = messages::PairedMessages;
+  std::vector<Event> events;
+  for (const auto& p : paired) {
+    Event e;
+    switch (p.kind) {
+      case Paired::Kind::kRestart:
+        decimator_.Reset();
+        e.kind = Event::Kind::kRestart;
+        events.push_back(std::move(e));
+        break;
+      case Paired::Kind::kGap:
+        e.kind = Event::Kind::kGap;
+        e.lost = p.lost;
+        e.what = p.what;
+        e.message = p.message;
+        events.push_back(std::move(e));
+        break;
+      case Paired::Kind::kSample:
+        if (started_ && FormSample(p, &e.sample)) events.push_back(std::move(e));
+        break;
+    }
+  }
+  return events;
+}
+
+bool SampleStream::FormSample(const messages::PairedMessages& paired, sysid::Sample* sample) {
+  sample->index = paired.index;
+  sample->outputs.resize(static_cast<Eigen::Index>(spec_.outputs.size()));
+  sample->inputs.resize(static_cast<Eigen::Index>(spec_.inputs.size()));
+  for (std::size_t o = 0; o < spec_.outputs.size(); ++o) {
+    const auto v = messages::PairedSignal(paired, spec_.outputs[o]);
+    if (!v) throw std::invalid_argument("the state has no signal '" + spec_.outputs[o] + "'");
+    sample->outputs(static_cast<Eigen::Index>(o)) = *v;
+  }
+  for (std::size_t i = 0; i < spec_.inputs.size(); ++i) {
+    const auto v = messages::PairedSignal(paired, spec_.inputs[i]);
+    if (!v) throw std::invalid_argument("no command or state signal '" + spec_.inputs[i] + "'");
+    sample->inputs(static_cast<Eigen::Index>(i)) = *v;
+  }
+  if (decimator_.factor() == 1) return true;
+  // Learn from the block's sample, indexed by block: the model runs at the decimated rate.
+  std::vector<double> row(sample->outputs.data(), sample->outputs.data() + sample->outputs.size());
+  row.insert(row.end(), sample->inputs.data(), sample->inputs.data() + sample->inputs.size());
+  const auto block = decimator_.Push(sample->index, row);
+  if (!block) return false;
+  const auto no = sample->outputs.size();
+  for (Eigen::Index o = 0; o < no; ++o) sample->outputs(o) = (*block)[static_cast<std::size_t>(o)];
+  for (Eigen::Index i = 0; i < sample->inputs.size(); ++i)
+    sample->inputs(i) = (*block)[static_cast<std::size_t>(no + i)];
+  sample->index /= decimator_.factor();
+  return true;
+}
+
+}  // namespace odonata::identifier

@@ -1,0 +1,61 @@
+#pragma once
+// The identifier's samples from the vehicle's messages, without transport: pairs commands,
+// states and beat states (messages/paired_sample.hpp), reads the model's signals from them and,
+// with decimation, averages each block into one sample at the lower rate. The shell feeds it
+// what the bus delivers and learns from what comes out.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/row_decimator.hpp"
+#include "messages/paired_sample.hpp"
+#include "sysid/online_identifier.hpp"
+#include "sysid/regressor_spec.hpp"
+
+namespace odonata::identifier {
+
+class SampleStream {
+ public:
+  struct Event {
+    enum class Kind {
+      kSample,   ///< `sample` is ready to learn from
+      kGap,      ///< `lost` samples are lost: `what` (report kind) and `message` say why
+      kRestart,  ///< the plant restarted its run: restart the model's history
+    };
+    Kind kind = Kind::kSample;
+    sysid::Sample sample;
+    int64_t lost = 0;
+    std::string what, message;
+  };
+
+  /// @param decimate one sample per block of this many (io::RowDecimator). @pre ≥ 1.
+  SampleStream(sysid::RegressorSpec spec, int decimate);
+
+  /// Each throws std::invalid_argument, and changes nothing, for a message with NaN or Inf, bad
+  /// counts or a seq the pairing rules reject.
+  std::vector<Event> OnCommand(const odonata::wing_command_t& msg);
+  std::vector<Event> OnState(const odonata::plant_state_t& msg);
+  std::vector<Event> OnBeat(const odonata::beat_state_t& msg);
+
+  /// Samples are formed from now on; before, messages are paired (so gaps and restarts are
+  /// still seen) but make no sample, as when the identifier waits for a snapshot to resume from.
+  void Start() { started_ = true; }
+
+  /// Whether the model's signals need beat states at all (else nobody need subscribe to them).
+  bool needs_beat_states() const { return pairer_.needs().beat || pairer_.needs().next_beat; }
+  /// What a lockstep receipt acknowledges (pipeline::SamplePairer::newest_held_state()).
+  int64_t newest_held_state() const { return pairer_.newest_held_state(); }
+
+ private:
+  std::vector<Event> Form(const std::vector<messages::PairedMessages>& paired);
+  // Sample k from its messages, or nothing while a decimated block is incomplete.
+  bool FormSample(const messages::PairedMessages& paired, sysid::Sample* sample);
+
+  sysid::RegressorSpec spec_;
+  messages::MessagePairer pairer_;
+  io::RowDecimator decimator_;
+  bool started_ = false;
+};
+
+}  // namespace odonata::identifier

@@ -1,0 +1,106 @@
+// SampleStream: the identifier's samples from the vehicle's messages, without a bus.
+#include "sample_stream.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace odonata::identifier {
+namespace {
+
+odonata::plant_state_t State(int64_t k) {
+  odonata::plant_state_t s{};
+  s.seq = k;
+  s.command_seq = k - 1;
+  s.t_s = 0.01 * static_cast<double>(k);
+  s.attitude_rad[0] = 0.1 * static_cast<double>(k);  // roll_rad
+  return s;
+}
+
+odonata::wing_command_t Command(int64_t k) {
+  odonata::wing_command_t c{};
+  c.seq = k;
+  c.source = "gen";
+  c.num_excitations = 1;
+  c.excitation_names = {"u_roll_rad"};
+  c.excitations = {static_cast<double>(k)};
+  return c;
+}
+
+sysid::RegressorSpec Spec() {
+  sysid::RegressorSpec spec;
+  spec.outputs = {"roll_rad"};
+  spec.inputs = {"u_roll_rad"};
+  return spec;
+}
+
+std::vector<sysid::Sample> Samples(const std::vector<SampleStream::Event>& events) {
+  std::vector<sysid::Sample> out;
+  for (const auto& e : events)
+    if (e.kind == SampleStream::Event::Kind::kSample) out.push_back(e.sample);
+  return out;
+}
+
+TEST(SampleStream, SampleKJoinsStateKWithTheCommandStateKPlusOneAnswers) {
+  SampleStream stream(Spec(), 1);
+  stream.Start();
+  EXPECT_FALSE(stream.needs_beat_states());
+  std::vector<sysid::Sample> got;
+  for (int64_t k = 0; k < 4; ++k) {
+    for (auto& s : Samples(stream.OnState(State(k)))) got.push_back(s);
+    for (auto& s : Samples(stream.OnCommand(Command(k)))) got.push_back(s);
+  }
+  ASSERT_EQ(got.size(), 3u);
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].index, static_cast<int64_t>(k));
+    EXPECT_DOUBLE_EQ(got[k].outputs(0), 0.1 * static_cast<double>(k));
+    EXPECT_DOUBLE_EQ(got[k].inputs(0), static_cast<double>(k));
+  }
+}
+
+TEST(SampleStream, DecimationAveragesTheInputAndSamplesTheOutputPerBlock) {
+  SampleStream stream(Spec(), 2);
+  stream.Start();
+  std::vector<sysid::Sample> got;
+  for (int64_t k = 0; k < 6; ++k) {
+    for (auto& s : Samples(stream.OnState(State(k)))) got.push_back(s);
+    for (auto& s : Samples(stream.OnCommand(Command(k)))) got.push_back(s);
+  }
+  ASSERT_EQ(got.size(), 2u);  // blocks {0, 1} and {2, 3}; {4, 5} waits for state 6
+  EXPECT_EQ(got[1].index, 1);
+  EXPECT_DOUBLE_EQ(got[1].outputs(0), 0.2);  // roll at the block's first sample
+  EXPECT_DOUBLE_EQ(got[1].inputs(0), 2.5);   // the mean of commands 2 and 3
+}
+
+TEST(SampleStream, BeforeStartMessagesArePairedButMakeNoSample) {
+  SampleStream stream(Spec(), 1);
+  for (int64_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(Samples(stream.OnState(State(k))).empty());
+    EXPECT_TRUE(Samples(stream.OnCommand(Command(k))).empty());
+  }
+  EXPECT_EQ(stream.newest_held_state(), 2);
+  stream.Start();
+  EXPECT_EQ(Samples(stream.OnState(State(3))).size(), 1u);
+}
+
+TEST(SampleStream, BadMessagesAreRejectedAndARestartIsReported) {
+  SampleStream stream(Spec(), 1);
+  stream.Start();
+  odonata::plant_state_t nan = State(0);
+  nan.velocity_mps[1] = std::nan("");
+  EXPECT_THROW(stream.OnState(nan), std::invalid_argument);
+  odonata::wing_command_t ragged = Command(0);
+  ragged.num_excitations = 3;
+  EXPECT_THROW(stream.OnCommand(ragged), std::invalid_argument);
+  for (int64_t k = 0; k < 3; ++k) {
+    stream.OnState(State(k));
+    stream.OnCommand(Command(k));
+  }
+  const auto events = stream.OnState(State(0));
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().kind, SampleStream::Event::Kind::kRestart);
+}
+
+}  // namespace
+}  // namespace odonata::identifier

@@ -1,0 +1,108 @@
+// The monitor's cores without transport: scores run by run with the events the operator is told
+// of, and the services' heartbeats going silent and coming back.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "metrics/accuracy.hpp"
+#include "monitoring/peer_table.hpp"
+#include "monitoring/prediction_scoreboard.hpp"
+
+namespace odonata::monitoring {
+namespace {
+
+Prediction At(int64_t k, double y, double yhat) { return {k, {"y"}, {y}, {yhat}, {yhat}, {3}}; }
+
+TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBack) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  for (int64_t k = 0; k < 50; ++k) board.Add(At(k, std::sin(0.1 * k), std::sin(0.1 * k) + 0.01));
+  EXPECT_EQ(board.last_sample(), 49);
+  EXPECT_EQ(board.output("y").total_one_step.samples(), 50);
+  board.Add(At(52, 0.0, 0.0));
+  EXPECT_EQ(board.gaps(), 2);
+  const auto events = board.Add(At(0, 0.5, 0.5));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].kind, ScoreEvent::Kind::kNewRun);
+  EXPECT_EQ(events[0].previous, 52);
+  EXPECT_EQ(board.gaps(), 0);
+  EXPECT_EQ(board.output("y").total_one_step.samples(), 1);
+  const auto s = board.Summary();
+  ASSERT_EQ(s["previous_runs"].size(), 1u);
+  EXPECT_EQ(s["previous_runs"][0]["last_sample"], 52);
+  EXPECT_EQ(s["outputs"]["y"]["rules"], 3);
+}
+
+TEST(PredictionScoreboard, ABadPredictionChangesNothing) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  board.Add(At(0, 1.0, 1.0));
+  EXPECT_THROW(board.Add(At(1, std::nan(""), 1.0)), std::invalid_argument);
+  EXPECT_THROW(board.Add(At(0, 1.0, 1.0)), std::invalid_argument);              // a duplicate
+  EXPECT_THROW(board.Add(At(1'000'000'000, 1.0, 1.0)), std::invalid_argument);  // a far leap
+  Prediction ragged = At(1, 1.0, 1.0);
+  ragged.free_run.clear();
+  EXPECT_THROW(board.Add(ragged), std::invalid_argument);
+  EXPECT_EQ(board.last_sample(), 0);
+  EXPECT_NO_THROW(board.Add(At(1, 1.0, 1.0)));  // the genuine sample 1 still counts
+  EXPECT_EQ(board.output("y").total_one_step.samples(), 2);
+}
+
+TEST(PredictionScoreboard, WarnsOnceWhenTheWindowFitFallsAndOnceWhenItRecovers) {
+  ScoreboardOptions o;
+  o.window_samples = 20;
+  o.warn_fit_percent = 80.0;
+  PredictionScoreboard board(o);
+  int low = 0, cleared = 0;
+  const auto count = [&](const std::vector<ScoreEvent>& events) {
+    for (const auto& e : events) {
+      low += e.kind == ScoreEvent::Kind::kLowFit;
+      cleared += e.kind == ScoreEvent::Kind::kLowFitCleared;
+    }
+  };
+  int64_t k = 0;
+  for (; k < 40; ++k) count(board.Add(At(k, std::sin(0.3 * k), std::sin(0.3 * k))));
+  EXPECT_EQ(low, 0);
+  for (; k < 80; ++k) count(board.Add(At(k, std::sin(0.3 * k), -std::sin(0.3 * k))));
+  EXPECT_EQ(low, 1);
+  EXPECT_TRUE(board.Warned("y"));
+  for (; k < 120; ++k) count(board.Add(At(k, std::sin(0.3 * k), std::sin(0.3 * k))));
+  EXPECT_EQ(cleared, 1);
+  EXPECT_FALSE(board.Warned("y"));
+}
+
+TEST(PeerTable, SaysOnceWhenAServiceFallsSilentAndWhenItIsBack) {
+  PeerTable peers;
+  const auto t0 = PeerTable::Clock::time_point{};
+  Heartbeat hb{"plant-1", "odonata-plant", "running"};
+  EXPECT_TRUE(peers.OnHeartbeat(hb, t0).empty());
+  EXPECT_TRUE(peers.CheckSilence(t0 + std::chrono::seconds(2), 3.0).empty());
+  const auto silent = peers.CheckSilence(t0 + std::chrono::seconds(4), 3.0);
+  ASSERT_EQ(silent.size(), 1u);
+  EXPECT_EQ(silent[0].kind, PeerEvent::Kind::kSilent);
+  EXPECT_TRUE(peers.CheckSilence(t0 + std::chrono::seconds(5), 3.0).empty());  // said once
+  const auto back = peers.OnHeartbeat(hb, t0 + std::chrono::seconds(6));
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].kind, PeerEvent::Kind::kBack);
+  hb.skipped = 3;
+  const auto behind = peers.OnHeartbeat(hb, t0 + std::chrono::seconds(7));
+  ASSERT_EQ(behind.size(), 1u);
+  EXPECT_EQ(behind[0].kind, PeerEvent::Kind::kFallingBehind);
+  EXPECT_EQ(peers.Summary()["plant-1"]["skipped"], 3);
+  hb.state = "stopping";
+  peers.OnHeartbeat(hb, t0 + std::chrono::seconds(8));
+  EXPECT_TRUE(peers.CheckSilence(t0 + std::chrono::seconds(100), 3.0).empty());  // it said so
+}
+
+TEST(PeerTable, ForgetsTheLeastRecentlyHeardPastItsBound) {
+  PeerTable peers;
+  const auto t0 = PeerTable::Clock::time_point{};
+  for (std::size_t i = 0; i < PeerTable::kMaxPeers + 10; ++i)
+    peers.OnHeartbeat({"p" + std::to_string(i), "s", "running"}, t0 + std::chrono::seconds(i));
+  EXPECT_EQ(peers.peers().size(), PeerTable::kMaxPeers);
+  EXPECT_EQ(peers.peers().count("p0"), 0u);
+  EXPECT_EQ(peers.peers().count("p265"), 1u);
+}
+
+}  // namespace
+}  // namespace odonata::monitoring
