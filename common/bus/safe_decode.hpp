@@ -1,7 +1,8 @@
 #pragma once
 // Decoding that never throws: lcm-gen's decode() resizes vectors to whatever count a corrupt
-// message claims before it notices the buffer is too short; CountsFit (wire_bounds.hpp) rejects
-// such a message before any allocation, and the catch stays as a second fence.
+// message claims before it notices the buffer is too short; CountsFit (bus/wire_bounds.hpp,
+// generated from the .lcm files by lcmtypes/gen_wire_bounds.py) rejects such a message before
+// any allocation, and the catch stays as a second fence.
 
 #include <cstdint>
 
