@@ -1,5 +1,6 @@
 #include "bus/bus_node.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -34,6 +35,12 @@ BusNode::BusNode(const BusOptions& options)
   gethostname(host, sizeof host - 1);
   host_ = host;
   lcm_fd_.assign(lcm_->getFileno());
+  // Non-blocking, so a wake-up that finds no message makes handle() return an error instead of
+  // blocking the whole service (it cannot happen while the pipe holds a byte per waiting queue,
+  // but a hang would stop every timer and the heartbeat with it).
+  const int flags = fcntl(lcm_->getFileno(), F_GETFL);
+  if (flags < 0 || fcntl(lcm_->getFileno(), F_SETFL, flags | O_NONBLOCK) < 0)
+    throw std::runtime_error("cannot make LCM's notify descriptor non-blocking");
   signals_.async_wait([this](const boost::system::error_code& ec, int) {
     if (!ec) Stop(0);
   });
@@ -76,9 +83,13 @@ void BusNode::WaitForLcm() {
   lcm_fd_.async_wait(boost::asio::posix::stream_descriptor::wait_read,
                      [this](const boost::system::error_code& ec) {
                        if (ec || stopping_) return;
-                       // Drain what is queued, but yield to timers after a bounded burst.
-                       for (int i = 0; i < 256 && lcm_->handleTimeout(0) > 0; ++i) {
-                       }
+                       // One message per wake-up, through handle() rather than handleTimeout(0):
+                       // the wake-up already says a message is queued, and handleTimeout's
+                       // select() cost two system calls per message (one finding it, one
+                       // finding the queue empty). LCM keeps its notify pipe readable while
+                       // messages remain (docs/lcm.md §9), so the next wait fires at once, and
+                       // timers get their turn between messages.
+                       lcm_->handle();
                        WaitForLcm();
                      });
 }
