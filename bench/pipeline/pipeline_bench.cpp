@@ -59,10 +59,15 @@ struct PredictionSink {
   int64_t last_sample = -1;
   long received = 0;
   Clock::time_point when;
+  // Paced mode: when state k + 1 (which completes sample k) went out, and the latencies seen.
+  std::vector<Clock::time_point>* sent = nullptr;
+  std::vector<double> latency_us;
   void On(const lcm::ReceiveBuffer*, const std::string&, const odonata::prediction_t* p) {
     last_sample = p->sample;
     ++received;
     when = Clock::now();
+    if (sent && p->sample >= 0 && static_cast<std::size_t>(p->sample) < sent->size())
+      latency_us.push_back(Us(when - (*sent)[static_cast<std::size_t>(p->sample)]));
   }
 };
 
@@ -81,7 +86,7 @@ struct Pong {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string url, mode = "latency";
+  std::string url, mode = "latency", suffix;
   long samples = 10000;
   double rate_hz = 1000;
   CLI::App app{
@@ -93,7 +98,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"echo", "rtt", "latency", "rate"}));
   app.add_option("--samples", samples)->capture_default_str();
   app.add_option("--rate-hz", rate_hz)->capture_default_str();
+  app.add_option("--channel-suffix", suffix,
+                 "one vehicle of a fleet: DIMAV_COMMAND_SUFFIX, DIMAV_STATE_SUFFIX and "
+                 "ODONATA_PREDICTION_SUFFIX, as the identifier's --channel-suffix names them");
   CLI11_PARSE(app, argc, argv);
+  const auto channel = [&suffix](const std::string& name) {
+    return suffix.empty() ? name : name + "_" + suffix;
+  };
   lcm::LCM lcm(url);
   if (!lcm.good()) return 1;
 
@@ -124,20 +135,23 @@ int main(int argc, char** argv) {
   }
 
   PredictionSink sink;
-  lcm.subscribe("ODONATA_PREDICTION", &PredictionSink::On, &sink);
+  std::vector<Clock::time_point> sent(static_cast<std::size_t>(std::max(0L, samples)) + 1);
+  sink.sent = &sent;
+  lcm.subscribe(channel("ODONATA_PREDICTION"), &PredictionSink::On, &sink);
   double y = 0;
   auto step = [&](int64_t k) {
     // Sample k: state k is already out; command k, then state k+1 completes the sample.
     const auto c = Command(k);
-    lcm.publish("DIMAV_COMMAND", &c);
+    lcm.publish(channel("DIMAV_COMMAND"), &c);
     y = 0.8 * y + 0.2 * c.excitations[0];
     const auto s = State(k + 1, y);
     const auto t = Clock::now();
-    lcm.publish("DIMAV_STATE", &s);
+    sent[static_cast<std::size_t>(k)] = t;
+    lcm.publish(channel("DIMAV_STATE"), &s);
     return t;
   };
   const auto s0 = State(0, 0.0);
-  lcm.publish("DIMAV_STATE", &s0);
+  lcm.publish(channel("DIMAV_STATE"), &s0);
 
   if (mode == "latency") {
     std::vector<double> lat;
@@ -169,14 +183,21 @@ int main(int argc, char** argv) {
   const auto start = Clock::now();
   for (int64_t k = 0; k < samples; ++k) {
     const auto due = start + std::chrono::duration_cast<Clock::duration>(period * k);
-    while (Clock::now() < due) lcm.handleTimeout(0);
+    // Sleep in LCM's wait while the next sample is more than 2 ms away (a fleet's producers
+    // must not spin on the cores the identifiers need), spin only for the last stretch.
+    for (auto now = Clock::now(); now < due; now = Clock::now()) {
+      const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(due - now).count();
+      lcm.handleTimeout(ms > 2 ? static_cast<int>(ms - 1) : 0);
+    }
     step(k);
     lcm.handleTimeout(0);
   }
   const auto drain_until = Clock::now() + std::chrono::milliseconds(500);
   while (Clock::now() < drain_until) lcm.handleTimeout(20);
   const long expected = samples - 1;  // the first sample only fills the regressor (ny = nu = 1)
-  std::printf("paced %.0f Hz: %ld of %ld predictions (%ld dropped)\n", rate_hz, sink.received,
-              expected, std::max(0L, expected - sink.received));
+  const auto p = Summarise(sink.latency_us);
+  std::printf("paced %.0f Hz: %ld of %ld predictions (%ld dropped), latency p50 %.1f us, p99 %.1f us\n",
+              rate_hz, sink.received, expected, std::max(0L, expected - sink.received), p.p50,
+              p.p99);
   return sink.received >= expected ? 0 : 3;
 }
