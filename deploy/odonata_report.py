@@ -22,19 +22,6 @@ POOR_FIT = 50.0  # % below which a model is too poor for its agreement with anot
 MODE_WORDS = {"free_run": "in free run", "one_step": "in one-step prediction"}
 
 
-def _scores(y, yhat):
-    y = np.asarray(y, float)
-    yhat = np.asarray(yhat, float)
-    e = y - yhat
-    spread = np.linalg.norm(y - y.mean())
-    rmse = float(np.sqrt(np.mean(e ** 2)))
-    if spread == 0:
-        return {"fit": None, "vaf": None, "rmse": rmse, "ndei": None, "samples": int(len(y))}
-    return {"fit": float(100 * (1 - np.linalg.norm(e) / spread)),
-            "vaf": float(100 * (1 - np.var(e) / np.var(y))),
-            "rmse": rmse, "ndei": float(rmse / np.std(y)), "samples": int(len(y))}
-
-
 def read_predictions(path, output=None):
     with open(path) as f:
         rows = list(csv.DictReader(f))
@@ -42,13 +29,12 @@ def read_predictions(path, output=None):
     return cols
 
 
-def live_scores(path, output):
-    """Accuracy of the frozen identifier's live predictions in the last run (validation)."""
-    p = read_predictions(path, output)
-    last = p["run"] == p["run"].max()
-    y = p[f"{output}_measured"][last]
-    return {"one_step": _scores(y, p[f"{output}_predicted"][last]),
-            "free_run": _scores(y, p[f"{output}_free_run"][last])}
+def live_scores(scores, output):
+    """Accuracy of the frozen identifier's live predictions in the last (validation) run, as
+    odonata-monitor's scoreboard scores them (odonata-logger export --scores, from the lossless
+    log): the report computes no metric of its own."""
+    o = scores["outputs"][output]
+    return {"one_step": o["one_step"], "free_run": o["free_run"]}
 
 
 def _finite(v):

@@ -20,6 +20,7 @@
 #include "messages/plant_state_message.hpp"
 #include "messages/wing_command_message.hpp"
 #include "model_messages/model_snapshot_message.hpp"
+#include "monitoring/prediction_scoreboard.hpp"
 #include "odonata/prediction_t.hpp"
 
 namespace odonata::log_export {
@@ -196,6 +197,27 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
   }
   out.Close();
   return rows;
+}
+
+long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
+                            const std::string& json_path) {
+  monitoring::PredictionScoreboard board(monitoring::ScoreboardOptions{});
+  long scored = 0;
+  ForEachEvent(log_paths, channel, [&](const lcm::LogEvent& ev) {
+    odonata::prediction_t p;
+    if (!SafeDecode(&p, ev.data, ev.datalen) || p.num_outputs <= 0) return;
+    try {
+      board.Add({p.sample, p.names, p.measured, p.predicted, p.free_run, p.rules});
+      ++scored;
+    } catch (const std::invalid_argument&) {
+      // a prediction the monitor would drop too (ragged, NaN, a duplicate or a leap)
+    }
+  });
+  if (scored == 0) throw std::runtime_error("no predictions on " + channel + " in the log");
+  std::ofstream out(json_path);
+  out << board.Summary().dump(1) << "\n";
+  if (!out) throw std::runtime_error(json_path + ": cannot write");
+  return scored;
 }
 
 long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std::string& channel,

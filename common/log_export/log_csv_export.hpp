@@ -47,6 +47,15 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
 long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std::string& channel,
                             const std::string& csv_path);
 
+/// Scores every prediction_t on `channel` as odonata-monitor does (monitoring/
+/// prediction_scoreboard.hpp: one-step and free-run accuracy per output, run by run, the sample
+/// number going back starting a run) and writes the scoreboard's summary as JSON: the last run
+/// at the top level, the earlier ones under "previous_runs". From the log, so a monitor that
+/// missed packets does not change the figures. Returns the predictions scored.
+/// @throws std::runtime_error on unreadable logs, no prediction, or a write error.
+long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
+                            const std::string& json_path);
+
 /// Writes every model_snapshot_t on `channel` as a JSON array of
 /// {"utime", "samples_learned", "instance", "model": <odonata-fit model JSON>}.
 /// Returns the snapshots written.

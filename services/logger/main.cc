@@ -54,9 +54,13 @@ int main(int argc, char** argv) {
   exp->add_option("--beat-state-channel", ex.beat_state_channel,
                   "beat averages and applied command (columns *_avg, *_applied_rad when present)")
       ->capture_default_str();
-  std::string predictions_csv, snapshots_json;
+  std::string predictions_csv, snapshots_json, scores_json;
   exp->add_option("--predictions", predictions_csv, "also write ODONATA_PREDICTION as CSV here");
   exp->add_option("--snapshots", snapshots_json, "also write ODONATA_MODEL snapshots as JSON here");
+  exp->add_option(
+      "--scores", scores_json,
+      "also score the logged predictions as odonata-monitor does (one-step and free-run "
+      "accuracy per output, run by run) and write them as JSON here");
   std::string prediction_channel = "ODONATA_PREDICTION", model_channel = "ODONATA_MODEL";
   exp->add_option("--prediction-channel", prediction_channel)->capture_default_str();
   exp->add_option("--model-channel", model_channel)->capture_default_str();
@@ -92,6 +96,12 @@ int main(int argc, char** argv) {
             odonata::log_export::ExportPredictionsToCsv(logs, prediction_channel, predictions_csv);
         std::fprintf(stderr, "odonata-logger: %ld predictions written to %s\n", n,
                      predictions_csv.c_str());
+      }
+      if (!scores_json.empty()) {
+        const long n =
+            odonata::log_export::ScorePredictionsToJson(logs, prediction_channel, scores_json);
+        std::fprintf(stderr, "odonata-logger: %ld predictions scored into %s\n", n,
+                     scores_json.c_str());
       }
       if (!snapshots_json.empty()) {
         const long n =
