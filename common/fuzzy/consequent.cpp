@@ -1,8 +1,9 @@
 #include "fuzzy/consequent.hpp"
 
-#include <stdexcept>
+#include "fuzzy/fuzzy_model_state.hpp"
 
-#include <nlohmann/json.hpp>
+#include <cmath>
+#include <stdexcept>
 
 #include "fuzzy/linear_consequent.hpp"
 #include "fuzzy/singleton_consequent.hpp"
@@ -33,35 +34,49 @@ std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int 
   return std::make_unique<LinearConsequent>(inputs, capacity, kRlsInitialCovariance, forgetting);
 }
 
-std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json& j, int inputs, int capacity) {
-  const ConsequentKind kind = ConsequentKindFromString(j.at("kind").get<std::string>());
-  if (kind == ConsequentKind::kSingleton) {
-    auto c = std::make_unique<SingletonConsequent>(capacity, j.at("rate").get<double>(),
-                                                   j.at("regulariser").get<double>());
-    const auto centres = j.at("centres").get<std::vector<double>>();
-    if (static_cast<int>(centres.size()) > capacity) {
-      throw std::runtime_error("more consequents than the rule capacity");
-    }
+namespace {
+bool Finite(const std::vector<double>& v) {
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+}  // namespace
+
+std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& s, int inputs,
+                                                int capacity) {
+  if (static_cast<int>(s.coefficients.size()) > capacity) {
+    throw std::runtime_error("more consequents than the rule capacity");
+  }
+  if (s.kind == ConsequentKind::kSingleton) {
+    auto c = std::make_unique<SingletonConsequent>(capacity, s.rate, s.regulariser);
     const Eigen::ArrayXd none;
-    for (double b : centres) c->AddRule(Eigen::VectorXd::Zero(inputs), b, none);
+    for (const auto& b : s.coefficients) {
+      if (b.size() != 1)
+        throw std::runtime_error("singleton consequent: a rule has several centres");
+      if (!Finite(b)) throw std::runtime_error("singleton consequent: a centre is not finite");
+      c->AddRule(Eigen::VectorXd::Zero(inputs), b[0], none);
+    }
     return c;
   }
-  auto c = std::make_unique<LinearConsequent>(
-      inputs, capacity, j.at("initial_covariance").get<double>(), j.at("forgetting").get<double>());
-  const auto coef = j.at("coefficients").get<std::vector<std::vector<double>>>();
-  const auto cov = j.at("covariances").get<std::vector<std::vector<double>>>();
-  if (coef.size() != cov.size() || static_cast<int>(coef.size()) > capacity) {
+  auto c = std::make_unique<LinearConsequent>(inputs, capacity, s.initial_covariance, s.forgetting);
+  if (s.coefficients.size() != s.covariances.size()) {
     throw std::runtime_error("linear consequent: coefficient and covariance counts differ");
   }
   const int n1 = inputs + 1;
-  for (std::size_t r = 0; r < coef.size(); ++r) {
-    if (static_cast<int>(coef[r].size()) != n1 || static_cast<int>(cov[r].size()) != n1 * n1) {
+  for (std::size_t r = 0; r < s.coefficients.size(); ++r) {
+    const auto& coef = s.coefficients[r];
+    const auto& cov = s.covariances[r];
+    if (static_cast<int>(coef.size()) != n1 || static_cast<int>(cov.size()) != n1 * n1) {
       throw std::runtime_error("linear consequent: rule " + std::to_string(r + 1) +
                                " has the wrong number of coefficients");
     }
+    if (!Finite(coef) || !Finite(cov)) {
+      throw std::runtime_error("linear consequent: rule " + std::to_string(r + 1) +
+                               " has a value that is not finite");
+    }
     c->theta_.col(static_cast<Eigen::Index>(r)) =
-        Eigen::Map<const Eigen::VectorXd>(coef[r].data(), n1);
-    c->covariances_.push_back(Eigen::Map<const Eigen::MatrixXd>(cov[r].data(), n1, n1));
+        Eigen::Map<const Eigen::VectorXd>(coef.data(), n1);
+    c->covariances_.push_back(Eigen::Map<const Eigen::MatrixXd>(cov.data(), n1, n1));
     ++c->rules_;
   }
   return c;

@@ -5,7 +5,6 @@
 #include <string>
 
 #include <Eigen/Core>
-#include <nlohmann/json_fwd.hpp>
 
 namespace odonata::fuzzy {
 
@@ -21,6 +20,8 @@ ConsequentKind ConsequentKindFromString(const std::string& name);
 
 /// Rule consequents. All values are in the model's scaled units. The model output is
 /// ŷ = Σ_j φ_j y_j(x), so every strategy only has to say what y_j(x) is and how it learns.
+struct ConsequentState;  // fuzzy_model_state.hpp
+
 class Consequent {
  public:
   virtual ~Consequent() = default;
@@ -63,15 +64,17 @@ class Consequent {
   virtual void SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) = 0;
 
   virtual int rules() const = 0;
-  virtual nlohmann::json ToJson() const = 0;
+  /// Everything needed to rebuild it (fuzzy_model_state.hpp).
+  virtual ConsequentState State() const = 0;
 };
 
 /// Creates an empty consequent for `inputs` regressors with room for `capacity` rules; `forgetting`
 /// is the recursive learner's λ (linear consequents).
 std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity,
                                            double forgetting = 1.0);
-/// Rebuilds a consequent saved by ToJson().
-/// @throws std::runtime_error on malformed content.
-std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json& j, int inputs, int capacity);
+/// Rebuilds a consequent from its State().
+/// @throws std::runtime_error naming what is wrong (counts, sizes, non-finite values).
+std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& state, int inputs,
+                                                int capacity);
 
 }  // namespace odonata::fuzzy

@@ -1,5 +1,7 @@
 #include "fuzzy/fuzzy_model.hpp"
 
+#include "fuzzy/fuzzy_model_state.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -325,10 +327,77 @@ bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
   return true;
 }
 
+FuzzyModelState FuzzyModel::State() const {
+  FuzzyModelState s;
+  s.config = config_;
+  s.clock = clock_;
+  s.pruned = pruned_;
+  for (int r = 0; r < rules_.rules(); ++r) {
+    RuleState rule;
+    for (int i = 0; i < config_.inputs; ++i) {
+      rule.centre.push_back(rules_.centre(r, i));
+      rule.sigma.push_back(rules_.sigma(r, i));
+    }
+    rule.output_width = rules_.output_width(r);
+    rule.utility_sum = utility_sum_(r);
+    rule.born = born_(r);
+    s.rules.push_back(std::move(rule));
+  }
+  s.consequent = consequent_->State();
+  return s;
+}
+
+FuzzyModel FuzzyModel::FromState(const FuzzyModelState& s) {
+  try {
+    // Validate before anything is allocated: a hostile file or snapshot may claim a huge cap.
+    const std::string problems = s.config.Problems();
+    if (!problems.empty()) throw std::runtime_error(problems);
+    if (s.consequent.kind != s.config.consequent) {
+      throw std::runtime_error("the consequent differs from the configured kind");
+    }
+    const int inputs = s.config.inputs;
+    if (static_cast<int>(s.rules.size()) > s.config.entropy.max_rules) {
+      throw std::runtime_error("more rules than entropy.max_rules");
+    }
+    FuzzyModel model(s.config);
+    model.clock_ = s.clock;
+    model.pruned_ = s.pruned;
+    for (const RuleState& rule : s.rules) {
+      if (static_cast<int>(rule.centre.size()) != inputs ||
+          static_cast<int>(rule.sigma.size()) != inputs) {
+        throw std::runtime_error("a rule has the wrong number of centres or widths");
+      }
+      for (double v : rule.centre)
+        if (!std::isfinite(v)) throw std::runtime_error("a rule centre is not finite");
+      for (double v : rule.sigma)
+        if (!std::isfinite(v) || v <= 0.0) throw std::runtime_error("a rule width is not positive");
+      if (!std::isfinite(rule.output_width) || !std::isfinite(rule.utility_sum)) {
+        throw std::runtime_error("a rule's output width or utility is not finite");
+      }
+      const int k = model.rules_.rules();
+      model.rules_.AddRule(Eigen::Map<const Eigen::VectorXd>(rule.centre.data(), inputs),
+                           Eigen::Map<const Eigen::VectorXd>(rule.sigma.data(), inputs),
+                           rule.output_width);
+      model.utility_sum_(k) = rule.utility_sum;
+      model.born_(k) = rule.born;
+    }
+    model.consequent_ = ConsequentFromState(s.consequent, inputs, s.config.entropy.max_rules);
+    if (model.consequent_->rules() != model.rules_.rules()) {
+      throw std::runtime_error("consequent count differs from the rule count");
+    }
+    return model;
+  } catch (const std::invalid_argument& ex) {
+    throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
+  } catch (const std::runtime_error& ex) {
+    throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
+  }
+}
+
 nlohmann::json FuzzyModel::ToJson() const {
+  const FuzzyModelState s = State();
   nlohmann::json j;
-  j["inputs"] = config_.inputs;
-  const auto& e = config_.entropy;
+  j["inputs"] = s.config.inputs;
+  const auto& e = s.config.entropy;
   j["entropy"] = {{"threshold", e.threshold},
                   {"max_rules", e.max_rules},
                   {"kappa", e.kappa},
@@ -338,36 +407,48 @@ nlohmann::json FuzzyModel::ToJson() const {
                   {"measure", e.measure == EntropyMeasure::kFiring ? "firing" : "per_input"},
                   {"prune_utility", e.prune_utility},
                   {"prune_min_age", e.prune_min_age}};
-  j["forgetting"] = config_.forgetting;
-  j["clock"] = clock_;
-  j["pruned"] = pruned_;
-  const auto& a = config_.rates;
+  j["forgetting"] = s.config.forgetting;
+  j["clock"] = s.clock;
+  j["pruned"] = s.pruned;
+  const auto& a = s.config.rates;
   j["rates"] = {{"centre", a.centre},
                 {"sigma", a.sigma},
                 {"output_width", a.output_width},
                 {"max_step", a.max_step}};
   nlohmann::json rules = nlohmann::json::array();
-  for (int r = 0; r < rules_.rules(); ++r) {
-    std::vector<double> c(static_cast<std::size_t>(config_.inputs));
-    std::vector<double> s(c.size());
-    for (int i = 0; i < config_.inputs; ++i) {
-      c[static_cast<std::size_t>(i)] = rules_.centre(r, i);
-      s[static_cast<std::size_t>(i)] = rules_.sigma(r, i);
-    }
-    rules.push_back({{"centre", c},
-                     {"sigma", s},
-                     {"output_width", rules_.output_width(r)},
-                     {"utility_sum", utility_sum_(r)},
-                     {"born", born_(r)}});
+  for (const RuleState& r : s.rules) {
+    rules.push_back({{"centre", r.centre},
+                     {"sigma", r.sigma},
+                     {"output_width", r.output_width},
+                     {"utility_sum", r.utility_sum},
+                     {"born", r.born}});
   }
   j["rules"] = rules;
-  j["consequent"] = consequent_->ToJson();
+  const ConsequentState& c = s.consequent;
+  nlohmann::json cj;
+  cj["kind"] = ToString(c.kind);
+  if (c.kind == ConsequentKind::kSingleton) {
+    cj["rate"] = c.rate;
+    cj["regulariser"] = c.regulariser;
+    std::vector<double> centres;
+    for (const auto& b : c.coefficients) centres.push_back(b.at(0));
+    cj["centres"] = centres;
+  } else {
+    cj["initial_covariance"] = c.initial_covariance;
+    cj["forgetting"] = c.forgetting;
+    cj["coefficients"] = c.coefficients;
+    cj["covariances"] = c.covariances;
+  }
+  j["consequent"] = cj;
   return j;
 }
 
-FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
+FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) { return FromState(StateFromJson(j)); }
+
+FuzzyModelState FuzzyModel::StateFromJson(const nlohmann::json& j) {
+  FuzzyModelState s;
   try {
-    FuzzyModelConfig cfg;
+    FuzzyModelConfig& cfg = s.config;
     cfg.inputs = io::JsonInteger<int>(j.at("inputs"), "inputs");
     const auto& e = j.at("entropy");
     cfg.entropy.threshold = e.at("threshold").get<double>();
@@ -393,43 +474,41 @@ FuzzyModel FuzzyModel::FromJson(const nlohmann::json& j) {
     const auto& cons = j.at("consequent");
     cfg.consequent = ConsequentKindFromString(cons.at("kind").get<std::string>());
     cfg.forgetting = j.value("forgetting", cons.value("forgetting", 1.0));
-    // Validate before anything is allocated: a hostile file may claim a huge cap.
-    const std::string problems = cfg.Problems();
-    if (!problems.empty()) throw std::runtime_error(problems);
-    FuzzyModel model(cfg);
-    model.clock_ = io::JsonInteger<int64_t>(j, "clock", 0);
-    model.pruned_ = io::JsonInteger<int64_t>(j, "pruned", 0);
+    s.clock = io::JsonInteger<int64_t>(j, "clock", 0);
+    s.pruned = io::JsonInteger<int64_t>(j, "pruned", 0);
     const auto& rules = j.at("rules");
-    if (static_cast<int>(rules.size()) > cfg.entropy.max_rules) {
+    // Checked before the rules are read: a hostile file may hold millions.
+    if (cfg.entropy.max_rules >= 0 &&
+        rules.size() > static_cast<std::size_t>(cfg.entropy.max_rules)) {
       throw std::runtime_error("more rules than entropy.max_rules");
     }
     for (const auto& rule : rules) {
-      const auto c = rule.at("centre").get<std::vector<double>>();
-      const auto s = rule.at("sigma").get<std::vector<double>>();
-      if (static_cast<int>(c.size()) != cfg.inputs || static_cast<int>(s.size()) != cfg.inputs) {
-        throw std::runtime_error("a rule has the wrong number of centres or widths");
-      }
-      for (double v : c)
-        if (!std::isfinite(v)) throw std::runtime_error("a rule centre is not finite");
-      for (double v : s)
-        if (!std::isfinite(v) || v <= 0.0) throw std::runtime_error("a rule width is not positive");
-      const int k = model.rules_.rules();
-      model.rules_.AddRule(Eigen::Map<const Eigen::VectorXd>(c.data(), cfg.inputs),
-                           Eigen::Map<const Eigen::VectorXd>(s.data(), cfg.inputs),
-                           rule.at("output_width").get<double>());
-      model.utility_sum_(k) = rule.value("utility_sum", 0.0);
-      model.born_(k) = io::JsonInteger<int64_t>(rule, "born", model.clock_);
+      RuleState r;
+      r.centre = rule.at("centre").get<std::vector<double>>();
+      r.sigma = rule.at("sigma").get<std::vector<double>>();
+      r.output_width = rule.at("output_width").get<double>();
+      r.utility_sum = rule.value("utility_sum", 0.0);
+      r.born = io::JsonInteger<int64_t>(rule, "born", s.clock);
+      s.rules.push_back(std::move(r));
     }
-    model.consequent_ = ConsequentFromJson(cons, cfg.inputs, cfg.entropy.max_rules);
-    if (model.consequent_->rules() != model.rules_.rules()) {
-      throw std::runtime_error("consequent count differs from the rule count");
+    ConsequentState& c = s.consequent;
+    c.kind = cfg.consequent;
+    if (c.kind == ConsequentKind::kSingleton) {
+      c.rate = cons.at("rate").get<double>();
+      c.regulariser = cons.at("regulariser").get<double>();
+      for (double b : cons.at("centres").get<std::vector<double>>()) c.coefficients.push_back({b});
+    } else {
+      c.initial_covariance = cons.at("initial_covariance").get<double>();
+      c.forgetting = cons.at("forgetting").get<double>();
+      c.coefficients = cons.at("coefficients").get<std::vector<std::vector<double>>>();
+      c.covariances = cons.at("covariances").get<std::vector<std::vector<double>>>();
     }
-    return model;
   } catch (const nlohmann::json::exception& ex) {
     throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
   } catch (const std::invalid_argument& ex) {
     throw std::runtime_error(std::string("fuzzy model: ") + ex.what());
   }
+  return s;
 }
 
 }  // namespace odonata::fuzzy

@@ -62,6 +62,8 @@ struct Gradients {
 /// A multi-input single-output entropy fuzzy model. Deterministic: the same sequence of
 /// samples gives the same parameters bit for bit (no randomness, fixed evaluation order).
 /// Not thread-safe: Predict() reuses internal scratch space to stay allocation-free.
+struct FuzzyModelState;  // fuzzy_model_state.hpp
+
 class FuzzyModel {
  public:
   /// @throws std::invalid_argument listing every problem of config (see Problems()).
@@ -117,9 +119,19 @@ class FuzzyModel {
   /// Rules removed so far by pruning or replacement.
   long long rules_pruned() const { return pruned_; }
 
+  /// The whole model as plain data (fuzzy_model_state.hpp): what files and snapshots carry.
+  FuzzyModelState State() const;
+  /// Rebuilds a model from State(); the one place a saved or received model is checked.
+  /// @throws std::runtime_error naming the offending field.
+  static FuzzyModel FromState(const FuzzyModelState& state);
+
+  /// State() as JSON (a model file's per-output block) and back.
   nlohmann::json ToJson() const;
   /// @throws std::runtime_error with the offending field on malformed content.
   static FuzzyModel FromJson(const nlohmann::json& j);
+  /// The JSON read into a state, unchecked (FromState checks it).
+  /// @throws std::runtime_error when a field is missing or of the wrong type.
+  static FuzzyModelState StateFromJson(const nlohmann::json& j);
 
  private:
   FuzzyModelConfig config_;

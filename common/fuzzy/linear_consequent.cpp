@@ -1,8 +1,8 @@
 #include "fuzzy/linear_consequent.hpp"
 
-#include "contract/precondition.hpp"
+#include "fuzzy/fuzzy_model_state.hpp"
 
-#include <nlohmann/json.hpp>
+#include "contract/precondition.hpp"
 
 namespace odonata::fuzzy {
 
@@ -140,22 +140,18 @@ void LinearConsequent::SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorX
   SetParameters(theta);
 }
 
-nlohmann::json LinearConsequent::ToJson() const {
-  nlohmann::json j;
-  j["kind"] = ToString(kind());
-  j["initial_covariance"] = initial_covariance_;
-  j["forgetting"] = forgetting_;
-  nlohmann::json coef = nlohmann::json::array();
-  nlohmann::json cov = nlohmann::json::array();
+ConsequentState LinearConsequent::State() const {
+  ConsequentState s;
+  s.kind = kind();
+  s.initial_covariance = initial_covariance_;
+  s.forgetting = forgetting_;
   for (int r = 0; r < rules_; ++r) {
     const Eigen::VectorXd c = theta_.col(r);
-    coef.push_back(std::vector<double>(c.data(), c.data() + c.size()));
+    s.coefficients.emplace_back(c.data(), c.data() + c.size());
     const auto& p = covariances_[static_cast<std::size_t>(r)];
-    cov.push_back(std::vector<double>(p.data(), p.data() + p.size()));
+    s.covariances.emplace_back(p.data(), p.data() + p.size());
   }
-  j["coefficients"] = coef;
-  j["covariances"] = cov;
-  return j;
+  return s;
 }
 
 }  // namespace odonata::fuzzy

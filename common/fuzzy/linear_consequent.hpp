@@ -40,7 +40,7 @@ class LinearConsequent final : public Consequent {
                        Eigen::Ref<Eigen::VectorXd> z) const override;
   void SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) override;
   int rules() const override { return rules_; }
-  nlohmann::json ToJson() const override;
+  ConsequentState State() const override;
 
   /// Rules with a smaller normalised firing skip the RLS step (most of its O(R N²) cost).
   static constexpr double kActiveFiring = 1e-2;
@@ -50,7 +50,7 @@ class LinearConsequent final : public Consequent {
   Eigen::VectorXd coefficients(int rule) const { return theta_.col(rule); }
 
  private:
-  friend std::unique_ptr<Consequent> ConsequentFromJson(const nlohmann::json&, int, int);
+  friend std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState&, int, int);
   int inputs_;
   int rules_ = 0;
   double initial_covariance_;

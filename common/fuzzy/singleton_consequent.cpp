@@ -1,8 +1,8 @@
 #include "fuzzy/singleton_consequent.hpp"
 
-#include "contract/precondition.hpp"
+#include "fuzzy/fuzzy_model_state.hpp"
 
-#include <nlohmann/json.hpp>
+#include "contract/precondition.hpp"
 
 namespace odonata::fuzzy {
 
@@ -58,13 +58,13 @@ void SingletonConsequent::SetFromLeastSquares(const Eigen::Ref<const Eigen::Vect
   SetParameters(theta);
 }
 
-nlohmann::json SingletonConsequent::ToJson() const {
-  nlohmann::json j;
-  j["kind"] = ToString(kind());
-  j["rate"] = rate_;
-  j["regulariser"] = regulariser_;
-  j["centres"] = std::vector<double>(centres_.data(), centres_.data() + rules_);
-  return j;
+ConsequentState SingletonConsequent::State() const {
+  ConsequentState s;
+  s.kind = kind();
+  s.rate = rate_;
+  s.regulariser = regulariser_;
+  for (int r = 0; r < rules_; ++r) s.coefficients.push_back({centres_(r)});
+  return s;
 }
 
 }  // namespace odonata::fuzzy

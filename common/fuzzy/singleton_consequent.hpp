@@ -30,7 +30,7 @@ class SingletonConsequent final : public Consequent {
                        Eigen::Ref<Eigen::VectorXd> z) const override;
   void SetFromLeastSquares(const Eigen::Ref<const Eigen::VectorXd>& theta) override;
   int rules() const override { return rules_; }
-  nlohmann::json ToJson() const override;
+  ConsequentState State() const override;
 
   double centre(int rule) const { return centres_(rule); }
 

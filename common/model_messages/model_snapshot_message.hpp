@@ -1,6 +1,7 @@
 #pragma once
-// NarxModel ⇄ model_snapshot_t: a model travels the bus as typed arrays (readable in lcm-spy)
-// and is rebuilt through NarxModel::FromJson, so the same validation applies to both paths.
+// NarxModel ⇄ model_snapshot_t: a model travels the bus as typed arrays (readable in lcm-spy),
+// converted directly from and to its state (sysid/narx_model_state.hpp) and rebuilt through
+// NarxModel::FromState, the same check a model file passes.
 
 #include "odonata/model_snapshot_t.hpp"
 #include "sysid/narx_model.hpp"

@@ -1,5 +1,7 @@
 #include "sysid/narx_model.hpp"
 
+#include "sysid/narx_model_state.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -241,6 +243,36 @@ int NarxModel::total_rules() const {
   return n;
 }
 
+NarxModelState NarxModel::State() const {
+  NarxModelState s;
+  s.spec = spec_;
+  s.scaling = scaling_;
+  for (const auto& m : models_) s.models.push_back(m.State());
+  return s;
+}
+
+NarxModel NarxModel::FromState(const NarxModelState& s) {
+  try {
+    if (s.models.size() != s.spec.outputs.size()) {
+      throw std::runtime_error("model count differs from the output count");
+    }
+    const std::string scaling = s.scaling.Problems();
+    if (!scaling.empty()) throw std::runtime_error(scaling);
+    NarxModel narx(s.spec, fuzzy::FuzzyModelConfig{});  // checks the regressor first
+    narx.models_.clear();
+    for (const auto& m : s.models) {
+      if (m.config.inputs != s.spec.size()) {
+        throw std::runtime_error("a model's input count differs from the regressor size");
+      }
+      narx.models_.push_back(fuzzy::FuzzyModel::FromState(m));
+    }
+    narx.SetScaling(s.scaling);
+    return narx;
+  } catch (const std::invalid_argument& ex) {
+    throw std::runtime_error(ex.what());
+  }
+}
+
 nlohmann::json NarxModel::ToJson() const {
   nlohmann::json j;
   j["format"] = "odonata-narx-fuzzy";
@@ -265,28 +297,21 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
     if (io::JsonInteger<int>(j.at("version"), "version") != kFormatVersion) {
       throw std::runtime_error("unsupported model version " + j.at("version").dump());
     }
-    RegressorSpec spec;
+    NarxModelState s;
     const auto& r = j.at("regressor");
-    spec.output_lags = io::JsonInteger<int>(r.at("output_lags"), "output_lags");
-    spec.input_lags = io::JsonInteger<int>(r.at("input_lags"), "input_lags");
-    spec.delay = io::JsonInteger<int>(r.at("delay"), "delay");
-    spec.outputs = r.at("outputs").get<std::vector<std::string>>();
-    spec.inputs = r.at("inputs").get<std::vector<std::string>>();
+    s.spec.output_lags = io::JsonInteger<int>(r.at("output_lags"), "output_lags");
+    s.spec.input_lags = io::JsonInteger<int>(r.at("input_lags"), "input_lags");
+    s.spec.delay = io::JsonInteger<int>(r.at("delay"), "delay");
+    s.spec.outputs = r.at("outputs").get<std::vector<std::string>>();
+    s.spec.inputs = r.at("inputs").get<std::vector<std::string>>();
     const auto& models = j.at("models");
-    if (models.size() != spec.outputs.size()) {
+    // Checked before the models are read: a hostile file may hold millions.
+    if (models.size() != s.spec.outputs.size()) {
       throw std::runtime_error("model count differs from the output count");
     }
-    fuzzy::FuzzyModelConfig cfg;
-    NarxModel narx(spec, cfg);
-    narx.models_.clear();
-    for (const auto& m : models) {
-      narx.models_.push_back(fuzzy::FuzzyModel::FromJson(m));
-      if (narx.models_.back().inputs() != spec.size()) {
-        throw std::runtime_error("a model's input count differs from the regressor size");
-      }
-    }
-    narx.SetScaling(Scaling::FromJson(j.at("scaling")));
-    return narx;
+    for (const auto& m : models) s.models.push_back(fuzzy::FuzzyModel::StateFromJson(m));
+    s.scaling = Scaling::FromJson(j.at("scaling"));
+    return FromState(s);
   } catch (const nlohmann::json::exception& ex) {
     throw std::runtime_error(ex.what());
   } catch (const std::invalid_argument& ex) {

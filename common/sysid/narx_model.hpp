@@ -57,6 +57,8 @@ struct TrainReport {
 };
 
 /// One or several outputs identified over one shared regressor.
+struct NarxModelState;  // narx_model_state.hpp
+
 class NarxModel {
  public:
   /// `base.inputs` is overwritten with spec.size().
@@ -92,6 +94,12 @@ class NarxModel {
   }
   int outputs() const { return static_cast<int>(models_.size()); }
   int total_rules() const;
+
+  /// The whole model as plain data (narx_model_state.hpp), and back: FromState() is the one
+  /// place a saved or received model is checked (regressor, scaling, every fuzzy model).
+  /// @throws std::runtime_error naming what is wrong.
+  NarxModelState State() const;
+  static NarxModel FromState(const NarxModelState& state);
 
   nlohmann::json ToJson() const;
   /// @throws std::runtime_error naming what is wrong.

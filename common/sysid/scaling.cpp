@@ -37,6 +37,22 @@ Scaling Scaling::FromData(const Eigen::Ref<const Eigen::MatrixXd>& x,
   return s;
 }
 
+std::string Scaling::Problems() const {
+  if (regressor_mid.size() != regressor_half.size() || output_mean.size() != output_std.size()) {
+    return "scaling: vector sizes differ";
+  }
+  if (!regressor_mid.allFinite() || !output_mean.allFinite()) {
+    return "scaling: a centre or mean is not finite";
+  }
+  const auto positive = [](const Eigen::VectorXd& v) {
+    return v.allFinite() && (v.array() > 0).all();
+  };
+  if (!positive(regressor_half) || !positive(output_std)) {
+    return "scaling: a range or standard deviation is not positive";
+  }
+  return "";
+}
+
 nlohmann::json Scaling::ToJson() const {
   return {{"regressor_mid", ToVector(regressor_mid)},
           {"regressor_half", ToVector(regressor_half)},
@@ -50,13 +66,8 @@ Scaling Scaling::FromJson(const nlohmann::json& j) {
   s.regressor_half = FromVector(j, "regressor_half");
   s.output_mean = FromVector(j, "output_mean");
   s.output_std = FromVector(j, "output_std");
-  if (s.regressor_mid.size() != s.regressor_half.size() ||
-      s.output_mean.size() != s.output_std.size()) {
-    throw std::runtime_error("scaling: vector sizes differ");
-  }
-  if ((s.regressor_half.array() <= 0).any() || (s.output_std.array() <= 0).any()) {
-    throw std::runtime_error("scaling: a range or standard deviation is not positive");
-  }
+  const std::string problems = s.Problems();
+  if (!problems.empty()) throw std::runtime_error(problems);
   return s;
 }
 

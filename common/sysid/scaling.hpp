@@ -2,6 +2,8 @@
 // Affine scaling kept inside the model (docs/identifier.md §7): regressors to [−1, 1], outputs
 // standardised, so learning rates and widths mean the same for every experiment.
 
+#include <string>
+
 #include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>
 
@@ -23,6 +25,9 @@ struct Scaling {
   double ScaleOutput(int o, double y) const { return (y - output_mean(o)) / output_std(o); }
   double UnscaleOutput(int o, double ys) const { return output_mean(o) + output_std(o) * ys; }
 
+  /// Every problem (sizes that differ, a range or deviation that is not positive and finite,
+  /// a centre that is not finite), empty when fine.
+  std::string Problems() const;
   nlohmann::json ToJson() const;
   static Scaling FromJson(const nlohmann::json& j);
 };

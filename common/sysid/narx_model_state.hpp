@@ -1,0 +1,20 @@
+#pragma once
+// A NARX fuzzy model's whole state as plain data — regressor, scaling and one fuzzy model per
+// output — which a model file (NarxModel::ToJson) and a bus snapshot (model_messages/) encode
+// directly; NarxModel::FromState() is the one place either is checked.
+
+#include <vector>
+
+#include "fuzzy/fuzzy_model_state.hpp"
+#include "sysid/regressor_spec.hpp"
+#include "sysid/scaling.hpp"
+
+namespace odonata::sysid {
+
+struct NarxModelState {
+  RegressorSpec spec;
+  Scaling scaling;
+  std::vector<fuzzy::FuzzyModelState> models;  ///< one per output, in spec.outputs order
+};
+
+}  // namespace odonata::sysid

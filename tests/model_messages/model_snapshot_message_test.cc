@@ -1,0 +1,113 @@
+// Snapshots ⇄ models without a JSON detour: a model crosses the bus and comes back bit for bit
+// (rules, consequents, learner state, pruning bookkeeping), and a snapshot that does not describe
+// a valid model is refused naming what is wrong, as a model file would be.
+#include "model_messages/model_snapshot_message.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "../sysid/narendra_series.hpp"
+#include "fuzzy/fuzzy_model_state.hpp"
+#include "sysid/narx_model_state.hpp"
+
+namespace odonata::model_messages {
+namespace {
+
+sysid::NarxModel Trained(fuzzy::ConsequentKind kind) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = kind;
+  cfg.entropy.threshold = 0.3;
+  cfg.entropy.max_rules = 12;
+  cfg.entropy.prune_utility = 0.01;  // pruning bookkeeping travels too
+  cfg.forgetting = 0.999;
+  sysid::NarxModel model(sysid::testing::NarendraSpec(), cfg);
+  sysid::TrainOptions options;
+  options.epochs = 2;
+  model.Train(sysid::testing::NarendraTrain(800), options);
+  return model;
+}
+
+void ExpectSameMessage(const odonata::model_snapshot_t& a, const odonata::model_snapshot_t& b) {
+  // The encoded bytes hold every field, so equal bytes are equal messages.
+  std::vector<uint8_t> ba(static_cast<std::size_t>(a.getEncodedSize()));
+  std::vector<uint8_t> bb(static_cast<std::size_t>(b.getEncodedSize()));
+  ASSERT_EQ(ba.size(), bb.size());
+  a.encode(ba.data(), 0, static_cast<int>(ba.size()));
+  b.encode(bb.data(), 0, static_cast<int>(bb.size()));
+  EXPECT_EQ(ba, bb);
+}
+
+class SnapshotRoundTrip : public ::testing::TestWithParam<fuzzy::ConsequentKind> {};
+
+TEST_P(SnapshotRoundTrip, AModelCrossesTheBusBitForBit) {
+  const sysid::NarxModel model = Trained(GetParam());
+  ASSERT_GT(model.total_rules(), 1);
+  const odonata::model_snapshot_t msg = EncodeSnapshot(model);
+  const sysid::NarxModel back = DecodeSnapshot(msg);
+  EXPECT_EQ(back.ToJson(), model.ToJson());  // every field, as the model file writes it
+  ExpectSameMessage(EncodeSnapshot(back), msg);
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(model.spec().size(), -0.5, 0.7);
+  EXPECT_EQ(back.Predict(x), model.Predict(x));  // bit for bit
+}
+
+INSTANTIATE_TEST_SUITE_P(Consequents, SnapshotRoundTrip,
+                         ::testing::Values(fuzzy::ConsequentKind::kSingleton,
+                                           fuzzy::ConsequentKind::kLinear));
+
+std::string DecodeError(const odonata::model_snapshot_t& msg) {
+  try {
+    DecodeSnapshot(msg);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Snapshot, AnInvalidModelIsRefusedNamingWhatIsWrong) {
+  const odonata::model_snapshot_t good = EncodeSnapshot(Trained(fuzzy::ConsequentKind::kLinear));
+  odonata::model_snapshot_t m = good;
+  m.models[0].centres[0][0] = std::nan("");
+  EXPECT_NE(DecodeError(m).find("centre is not finite"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.models[0].sigmas[0][1] = -1.0;
+  EXPECT_NE(DecodeError(m).find("width is not positive"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.models[0].covariances[0][3] = INFINITY;
+  EXPECT_NE(DecodeError(m).find("not finite"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.models[0].num_rules += 1;  // counts that disagree with the arrays
+  EXPECT_NE(DecodeError(m).find("disagree with num_rules"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.models[0].entropy_threshold = 2.0;  // outside [0, kMaxRuleEntropy]: the core's own check
+  EXPECT_NE(DecodeError(m).find("entropy threshold"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.output_std[0] = 0.0;
+  EXPECT_NE(DecodeError(m).find("standard deviation is not positive"), std::string::npos)
+      << DecodeError(m);
+  m = good;
+  m.models[0].consequent = "quadratic";
+  EXPECT_NE(DecodeError(m).find("quadratic"), std::string::npos) << DecodeError(m);
+}
+
+TEST(ModelState, TheFileAndTheStateAreTheSameModel) {
+  for (const auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
+    const sysid::NarxModel model = Trained(kind);
+    EXPECT_EQ(sysid::NarxModel::FromJson(model.ToJson()).ToJson(), model.ToJson());
+    EXPECT_EQ(sysid::NarxModel::FromState(model.State()).ToJson(), model.ToJson());
+    // The same check on both paths: a state the file reader would refuse is refused here too.
+    sysid::NarxModelState bad = model.State();
+    bad.models[0].rules[0].sigma[0] = 0.0;
+    EXPECT_THROW(sysid::NarxModel::FromState(bad), std::runtime_error);
+    nlohmann::json j = model.ToJson();
+    j["models"][0]["rules"][0]["sigma"][0] = 0.0;
+    EXPECT_THROW(sysid::NarxModel::FromJson(j), std::runtime_error);
+  }
+}
+
+}  // namespace
+}  // namespace odonata::model_messages
