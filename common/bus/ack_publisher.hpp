@@ -1,7 +1,7 @@
 #pragma once
-// The receipts a lockstep consumer sends as ack_t on ODONATA_ACK, alike for every consumer: after
-// every state, a resend's too, so a lost receipt is repaired by the generator's resend; otherwise
-// only when the held state moved. The protocol: docs/lcm.md §10.
+// The receipts a lockstep consumer sends as ack_t on ODONATA_ACK, alike for every consumer: one
+// when the held state moves, and one for every repeated state (the generator's resend), so a
+// lost receipt is repaired by the resend. The protocol: docs/lcm.md §10.
 
 #include <cstdint>
 #include <string>
@@ -15,14 +15,18 @@ class AckPublisher {
   AckPublisher(BusNode& bus, std::string channel) : bus_(bus), channel_(std::move(channel)) {}
 
   /// `held`: the newest state held with all it needs (negative: none yet, nothing is sent).
-  /// `after_state`: called for a state message (always answered).
-  void Publish(int64_t held, bool after_state);
+  /// `state_seq`: the seq of the state message just handled, or negative after any other
+  /// message. A state seen before is a resend: it is answered even when `held` has not moved.
+  void Publish(int64_t held, int64_t state_seq = -1);
+
+  int64_t sent() const { return seq_; }
 
  private:
   BusNode& bus_;
   std::string channel_;
   int64_t seq_ = 0;
   int64_t last_ = -1;
+  int64_t newest_state_ = -1;
 };
 
 }  // namespace odonata::bus

@@ -5,10 +5,12 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <boost/asio/post.hpp>
 
+#include "bus/udpm_channel_filter.hpp"
 #include "odonata/heartbeat_t.hpp"
 
 namespace odonata::bus {
@@ -34,17 +36,33 @@ BusNode::BusNode(const BusOptions& options)
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   host_ = host;
-  lcm_fd_.assign(lcm_->getFileno());
-  // Non-blocking, so a wake-up that finds no message makes handle() return an error instead of
-  // blocking the whole service (it cannot happen while the pipe holds a byte per waiting queue,
-  // but a hang would stop every timer and the heartbeat with it).
-  const int flags = fcntl(lcm_->getFileno(), F_GETFL);
-  if (flags < 0 || fcntl(lcm_->getFileno(), F_SETFL, flags | O_NONBLOCK) < 0)
-    throw std::runtime_error("cannot make LCM's notify descriptor non-blocking");
+  const char* receive = std::getenv("ODONATA_LCM_RECEIVE");
+  const auto endpoint = ParseUdpmEndpoint(EffectiveLcmUrl(options.lcm_url));
+  if (endpoint && !(receive != nullptr && std::string(receive) == "lcm")) {
+    // getFileno() is never called and LCM never subscribes, so LCM starts no receive thread.
+    receiver_ = std::make_unique<UdpmReceiver>(
+        io_, *endpoint,
+        [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+          if (!stopping_) Dispatch(rbuf, channel);
+        },
+        [this](bool malformed, const std::string& message) {
+          ++(malformed ? stats_.decode_errors : stats_.dropped);
+          Report(malformed ? "malformed datagram" : "incomplete message", message);
+        });
+    sender_ = std::make_unique<UdpmSender>(*endpoint);
+  } else {
+    lcm_fd_.assign(lcm_->getFileno());
+    // Non-blocking, so a wake-up that finds no message makes handle() return an error instead
+    // of blocking the whole service (it cannot happen while the pipe holds a byte per waiting
+    // queue, but a hang would stop every timer and the heartbeat with it).
+    const int flags = fcntl(lcm_->getFileno(), F_GETFL);
+    if (flags < 0 || fcntl(lcm_->getFileno(), F_SETFL, flags | O_NONBLOCK) < 0)
+      throw std::runtime_error("cannot make LCM's notify descriptor non-blocking");
+    WaitForLcm();
+  }
   signals_.async_wait([this](const boost::system::error_code& ec, int) {
     if (!ec) Stop(0);
   });
-  WaitForLcm();
   if (options_.heartbeat_period_s > 0) {
     Every(std::chrono::microseconds(static_cast<int64_t>(options_.heartbeat_period_s * 1e6)),
           [this] { PublishHeartbeat(); });
@@ -53,7 +71,7 @@ BusNode::BusNode(const BusOptions& options)
 
 BusNode::~BusNode() {
   // LCM owns the descriptor: Asio must not close it.
-  lcm_fd_.release();
+  if (lcm_fd_.is_open()) lcm_fd_.release();
 }
 
 void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
@@ -64,7 +82,7 @@ void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chan
 void BusNode::SubscribeRaw(
     const std::string& regex,
     std::function<void(const lcm::ReceiveBuffer&, const std::string&)> handler) {
-  handlers_.push_back(RawHandler{this, regex, nullptr});
+  handlers_.push_back(RawHandler{this, regex, nullptr, {}});
   RawHandler& h = handlers_.back();
   h.fn = [this, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                               const std::string& channel) {
@@ -76,7 +94,54 @@ void BusNode::SubscribeRaw(
       Report("failed to handle a message on " + channel, e.what());
     }
   };
-  lcm_->subscribeFunction(regex, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
+  Register(h);
+}
+
+void BusNode::Register(RawHandler& h) {
+  if (receiver_) {
+    try {
+      h.pattern = std::regex(h.channel, std::regex::ECMAScript | std::regex::optimize);
+    } catch (const std::regex_error& e) {
+      throw std::runtime_error("invalid channel name or regex '" + h.channel + "': " + e.what());
+    }
+    routes_.clear();
+    // The kernel drops what no subscription wants, while every subscription is a plain name.
+    std::vector<std::string> names;
+    for (const auto& other : handlers_) {
+      if (!IsLiteralChannel(other.channel)) {
+        receiver_->Filter(std::nullopt);
+        return;
+      }
+      names.push_back(other.channel);
+    }
+    receiver_->Filter(names);
+    return;
+  }
+  // LCM 1.3.1 keeps only 30 undelivered messages per subscription and drops the rest without
+  // telling anyone; a lockstep burst while this process is off the CPU can exceed that.
+  lcm_->subscribeFunction(h.channel, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
+}
+
+bool BusNode::SendEncoded(const std::vector<UdpmSender::Message>& messages) {
+  return sender_->Send(messages);
+}
+
+void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+  auto it = routes_.find(channel);
+  if (it == routes_.end()) {
+    if (routes_.size() >= kMaxRoutes) routes_.clear();
+    std::vector<RawHandler*> matching;
+    // LCM anchors every subscription: the whole name must match.
+    for (auto& h : handlers_)
+      if (std::regex_match(channel, h.pattern)) matching.push_back(&h);
+    it = routes_.emplace(channel, std::move(matching)).first;
+  }
+  // A handler may subscribe (and so clear the routes): iterate over a copy.
+  const std::vector<RawHandler*> targets = it->second;
+  for (RawHandler* h : targets) {
+    if (stopping_) return;
+    h->fn(&rbuf, channel);
+  }
 }
 
 void BusNode::WaitForLcm() {
@@ -143,7 +208,8 @@ void BusNode::Stop(int exit_code) {
   stopping_ = true;
   boost::system::error_code ignored;
   signals_.cancel(ignored);
-  lcm_fd_.cancel(ignored);
+  if (lcm_fd_.is_open()) lcm_fd_.cancel(ignored);
+  if (receiver_) receiver_->Close();
   for (auto& t : timers_) t->cancel();
   io_.stop();
 }
@@ -171,7 +237,7 @@ void BusNode::PublishHeartbeat() {
   hb.skipped = stats_.skipped;
   hb.repeated = stats_.repeated;
   hb.last_error = stats_.last_error;
-  lcm_->publish(options_.channels.heartbeat, &hb);
+  Publish(options_.channels.heartbeat, hb);
 }
 
 bool BusNode::AcceptControl(const odonata::control_t& msg) {

@@ -1,12 +1,16 @@
 #pragma once
-// One process's LCM endpoint inside one Boost.Asio event loop: LCM's file descriptor, timers,
+// One process's LCM endpoint inside one Boost.Asio event loop: its receive path, timers,
 // SIGINT/SIGTERM, typed subscriptions that count undecodable messages, and the heartbeat.
+// Over udpm the node reads the multicast socket itself (UdpmReceiver, docs/lcm.md §9); other
+// providers (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread.
 
 #include <chrono>
 #include <functional>
 #include <list>
 #include <memory>
+#include <regex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <boost/asio/io_context.hpp>
@@ -19,6 +23,8 @@
 #include "bus/control_gate.hpp"
 #include "bus/safe_decode.hpp"
 #include "bus/service_stats.hpp"
+#include "bus/udpm_receiver.hpp"
+#include "bus/udpm_sender.hpp"
 
 namespace odonata::bus {
 
@@ -61,6 +67,11 @@ class BusNode {
   /// Encodes and publishes; counts messages_out. Returns false (and reports) on failure.
   template <class Msg>
   bool Publish(const std::string& channel, const Msg& msg);
+  /// Publishes two messages in one system call over udpm, so no receiver woken by the first
+  /// preempts this process before the second leaves (the plant's state and beat state).
+  template <class A, class B>
+  bool PublishTogether(const std::string& channel_a, const A& a, const std::string& channel_b,
+                       const B& b);
 
   /// Calls fn every `period` until the loop stops (first call after one period).
   void Every(std::chrono::microseconds period, std::function<void()> fn);
@@ -87,14 +98,22 @@ class BusNode {
   const ChannelConfig& channels() const { return options_.channels; }
   boost::asio::io_context& io() { return io_; }
   lcm::LCM& lcm() { return *lcm_; }
+  /// True when this node reads udpm itself rather than through LCM's receive thread.
+  bool own_receiver() const { return receiver_ != nullptr; }
 
  private:
   struct RawHandler {
     BusNode* node;
-    std::string channel;
+    std::string channel;  ///< a regex, as LCM reads every subscription
     std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn;
+    std::regex pattern;  ///< for the own receiver
   };
   static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel, RawHandler* h);
+  void Register(RawHandler& h);
+  template <class Msg>
+  const std::vector<uint8_t>& Encode(const Msg& msg, std::vector<uint8_t>& buffer);
+  bool SendEncoded(const std::vector<UdpmSender::Message>& messages);
+  void Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel);
   void WaitForLcm();
   void ArmTimer(std::shared_ptr<boost::asio::steady_timer> timer, std::chrono::microseconds period,
                 std::function<void()> fn);
@@ -105,6 +124,13 @@ class BusNode {
   boost::asio::posix::stream_descriptor lcm_fd_;
   boost::asio::signal_set signals_;
   std::list<RawHandler> handlers_;  // stable addresses: LCM keeps raw pointers to them
+  std::unique_ptr<UdpmReceiver> receiver_;
+  std::unique_ptr<UdpmSender> sender_;
+  std::vector<uint8_t> encoded_[2];
+  // Channel name -> its handlers, so each name is matched against the regexes once; bounded, as
+  // forged traffic may bring any number of names.
+  std::unordered_map<std::string, std::vector<RawHandler*>> routes_;
+  static constexpr std::size_t kMaxRoutes = 1024;
   std::list<std::shared_ptr<boost::asio::steady_timer>> timers_;
   std::function<void()> on_shutdown_;
   ServiceStats stats_;
@@ -117,7 +143,7 @@ class BusNode {
 
 template <class Msg>
 void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
-  handlers_.push_back(RawHandler{this, channel, nullptr});
+  handlers_.push_back(RawHandler{this, channel, nullptr, {}});
   RawHandler& h = handlers_.back();
   h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                                        const std::string&) {
@@ -137,18 +163,52 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
       Report("rejected message on " + channel, e.what());
     }
   };
-  // LCM 1.3.1 keeps only 30 undelivered messages per subscription and drops the rest without
-  // telling anyone; a lockstep burst while this process is off the CPU can exceed that.
-  lcm_->subscribeFunction(channel, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
+  Register(h);
+}
+
+template <class Msg>
+const std::vector<uint8_t>& BusNode::Encode(const Msg& msg, std::vector<uint8_t>& buffer) {
+  const int size = msg.getEncodedSize();
+  buffer.resize(static_cast<std::size_t>(size));
+  if (msg.encode(buffer.data(), 0, size) != size) buffer.clear();
+  return buffer;
 }
 
 template <class Msg>
 bool BusNode::Publish(const std::string& channel, const Msg& msg) {
-  if (lcm_->publish(channel, &msg) != 0) {
-    Report("publish failed on " + channel, "LCM could not send the message");
+  bool ok = false;
+  if (sender_ && UdpmSender::Fits(channel, static_cast<std::size_t>(msg.getEncodedSize()))) {
+    const auto& bytes = Encode(msg, encoded_[0]);
+    ok = !bytes.empty() && SendEncoded({{&channel, bytes.data(), bytes.size()}});
+  } else {
+    ok = lcm_->publish(channel, &msg) == 0;  // other providers, and messages LCM fragments
+  }
+  if (!ok) {
+    Report("publish failed on " + channel, "the message could not be sent");
     return false;
   }
   ++stats_.messages_out;
+  return true;
+}
+
+template <class A, class B>
+bool BusNode::PublishTogether(const std::string& channel_a, const A& a,
+                              const std::string& channel_b, const B& b) {
+  if (!sender_ || !UdpmSender::Fits(channel_a, static_cast<std::size_t>(a.getEncodedSize())) ||
+      !UdpmSender::Fits(channel_b, static_cast<std::size_t>(b.getEncodedSize()))) {
+    const bool first = Publish(channel_a, a);
+    return Publish(channel_b, b) && first;
+  }
+  const auto& bytes_a = Encode(a, encoded_[0]);
+  const auto& bytes_b = Encode(b, encoded_[1]);
+  if (bytes_a.empty() || bytes_b.empty() ||
+      !SendEncoded({{&channel_a, bytes_a.data(), bytes_a.size()},
+                    {&channel_b, bytes_b.data(), bytes_b.size()}})) {
+    Report("publish failed on " + channel_a + " and " + channel_b,
+           "the messages could not be sent");
+    return false;
+  }
+  stats_.messages_out += 2;
   return true;
 }
 

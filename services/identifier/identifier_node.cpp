@@ -90,25 +90,30 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
                 " learned samples" + (msg.learning == 0 ? " (frozen, as it was)" : ""));
 }
 
+// The receipt goes out before learning: the sample is this process's once the stream holds it,
+// and a lockstep generator waiting for it need not wait for the model too (docs/lcm.md §10).
 void IdentifierNode::OnCommand(const odonata::wing_command_t& msg) {
-  Handle(stream_.OnCommand(msg));
-  Acknowledge(false);
+  const auto events = stream_.OnCommand(msg);
+  Acknowledge();
+  Handle(events);
 }
 
 void IdentifierNode::OnState(const odonata::plant_state_t& msg) {
-  Handle(stream_.OnState(msg));
-  Acknowledge(true);
+  const auto events = stream_.OnState(msg);
+  Acknowledge(msg.seq);
+  Handle(events);
 }
 
 void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
-  Handle(stream_.OnBeat(msg));
-  Acknowledge(false);
+  const auto events = stream_.OnBeat(msg);
+  Acknowledge();
+  Handle(events);
 }
 
-void IdentifierNode::Acknowledge(bool always) {
+void IdentifierNode::Acknowledge(int64_t state_seq) {
   // Waiting for a snapshot, samples are not learned: no receipt, so a lockstep generator does not
   // count this identifier as having them.
-  if (started_) acks_.Publish(stream_.newest_held_state(), always);
+  if (started_) acks_.Publish(stream_.newest_held_state(), state_seq);
 }
 
 void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {

@@ -46,7 +46,7 @@ class IdentifierNode {
   void Handle(const std::vector<SampleStream::Event>& events);
   // Publishes the lockstep receipt (ack_t): after every state (a resend's too, so a lost receipt
   // is repaired), else only when it advanced.
-  void Acknowledge(bool always);
+  void Acknowledge(int64_t state_seq = -1);
   void Learn(const sysid::Sample& sample);
   void PublishSnapshot();
   void SaveModel(const std::string& path);

@@ -48,12 +48,13 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
 
 void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbuf) {
   const auto& ch = bus_.channels();
-  const bool is_state = channel == ch.state;
+  int64_t state_seq = -1;
   // Written already whatever it holds; only genuine-looking seqs move the receipt.
-  if (is_state) {
+  if (channel == ch.state) {
     odonata::plant_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
     newest_state_ = m.seq;
+    state_seq = m.seq;
   } else if (channel == ch.command) {
     odonata::wing_command_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
@@ -70,7 +71,7 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
   // (published right after it) are written too.
   int64_t held = std::min(newest_state_, newest_command_ + 1);
   if (beats_seen_) held = std::min(held, newest_beat_);
-  acks_.Publish(held, is_state);
+  acks_.Publish(held, state_seq);
 }
 
 }  // namespace odonata::logger

@@ -116,10 +116,12 @@ void PlantNode::Publish(const pipeline::PlantSample& sample) {
     bus_.Report("plant diverged and stopped", session_.plant().divergence_message());
     bus_.SetState("error");
   }
-  bus_.Publish(bus_.channels().state, messages::ToStateMessage(sample, bus::NowUtime()));
-  // Beside it, never instead of it: consumers of DIMAV_STATE are untouched.
-  bus_.Publish(bus_.channels().beat_state,
-               messages::ToBeatStateMessage(sample, session_.setup(), bus::NowUtime()));
+  const int64_t now = bus::NowUtime();
+  // Beside it, never instead of it: consumers of DIMAV_STATE are untouched. Together, so the
+  // consumers woken by the state do not hold up its beat state.
+  bus_.PublishTogether(bus_.channels().state, messages::ToStateMessage(sample, now),
+                       bus_.channels().beat_state,
+                       messages::ToBeatStateMessage(sample, session_.setup(), now));
 }
 
 }  // namespace odonata::plant_service

@@ -113,6 +113,7 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
         return;
       }
       bus_.SetState("running");
+      if (!first_command_) first_command_ = std::chrono::steady_clock::now();
       SendCommand(action.seq);
       ArmTimeout();
       ShowProgress(action.seq, false);
@@ -216,9 +217,19 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
   timer_.cancel();
   if (exit_code == 0) {
     bus_.SetState("finished");
-    std::fprintf(stderr, "[%s] sent %zu commands (%s), %lld resend(s), %lld for missing receipts\n",
+    std::string rate;
+    if (first_command_) {  // lockstep: how fast the whole loop ran, discovery excluded
+      const double s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - *first_command_).count();
+      char text[96];
+      std::snprintf(text, sizeof text, " in %.3f s (%.0f samples/s)", s,
+                    s > 0 ? static_cast<double>(schedule_.size()) / s : 0.0);
+      rate = text;
+    }
+    std::fprintf(stderr,
+                 "[%s] sent %zu commands (%s)%s, %lld resend(s), %lld for missing receipts\n",
                  bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
-                 static_cast<long long>(sequencer_.total_resends()),
+                 rate.c_str(), static_cast<long long>(sequencer_.total_resends()),
                  static_cast<long long>(sequencer_.ack_resends()));
   } else {
     bus_.SetState("error");

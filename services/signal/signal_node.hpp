@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,7 @@ class SignalNode {
   int64_t control_seq_ = 0;
   bool finished_ = false;
   std::string consumer_left_;  // a consumer that stopped mid-run (the run failed it)
+  std::optional<std::chrono::steady_clock::time_point> first_command_;  // lockstep rate
   std::chrono::steady_clock::time_point last_progress_{};
 };
 

@@ -1,0 +1,145 @@
+#include "bus/udpm_receiver.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+#include <boost/asio/ip/multicast.hpp>
+#include <boost/asio/post.hpp>
+
+#include "bus/udpm_channel_filter.hpp"
+
+namespace odonata::bus {
+namespace {
+
+int64_t WallUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+UdpmReceiver::UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endpoint,
+                           Deliver deliver, Problem problem)
+    : socket_(io), deliver_(std::move(deliver)), problem_(std::move(problem)), buffer_(65536) {
+  namespace ip = boost::asio::ip;
+  const std::string where = endpoint.group + ":" + std::to_string(endpoint.port);
+  try {
+    const ip::address_v4 group = ip::make_address_v4(endpoint.group);
+    socket_.open(ip::udp::v4());
+    // Every process on the host binds the same group and port and gets its own copy.
+    socket_.set_option(ip::udp::socket::reuse_address(true));
+    if (endpoint.recv_buf_size > 0)
+      socket_.set_option(boost::asio::socket_base::receive_buffer_size(endpoint.recv_buf_size));
+    const int on = 1;
+    // The kernel's arrival time is the receive time LCM reports (and the logger records).
+    if (setsockopt(socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) != 0)
+      throw std::runtime_error("SO_TIMESTAMP refused");
+    socket_.bind(ip::udp::endpoint(group, endpoint.port));
+    socket_.set_option(ip::multicast::join_group(group));
+    socket_.non_blocking(true);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot receive LCM multicast on " + where + ": " + e.what() +
+                             " (is there a multicast route? see README, 'Networking')");
+  }
+  Wait();
+}
+
+void UdpmReceiver::Wait() {
+  socket_.async_wait(boost::asio::socket_base::wait_read,
+                     [this](const boost::system::error_code& ec) {
+                       if (!ec) Drain();
+                     });
+}
+
+bool UdpmReceiver::Filter(const std::optional<std::vector<std::string>>& channels) {
+  const int fd = socket_.native_handle();
+  const auto program = channels ? ChannelFilterProgram(*channels) : std::nullopt;
+  if (!program) {
+    int unused = 0;
+    setsockopt(fd, SOL_SOCKET, SO_DETACH_FILTER, &unused, sizeof unused);  // ENOENT if none
+    return !channels;
+  }
+  sock_fprog fprog{static_cast<unsigned short>(program->size()),
+                   const_cast<sock_filter*>(program->data())};
+  return setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &fprog, sizeof fprog) == 0;
+}
+
+void UdpmReceiver::Close() {
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+}
+
+void UdpmReceiver::Drain() {
+  for (int i = 0; i < kBatch; ++i) {
+    if (!socket_.is_open()) return;
+    sockaddr_storage from{};
+    iovec iov{buffer_.data(), buffer_.size()};
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
+    msghdr msg{};
+    msg.msg_name = &from;
+    msg.msg_namelen = sizeof from;
+    msg.msg_iov = &iov;
+    msg.msg_iovlen = 1;
+    msg.msg_control = control;
+    msg.msg_controllen = sizeof control;
+    const ssize_t n = recvmsg(socket_.native_handle(), &msg, MSG_DONTWAIT);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      // EAGAIN: empty, so wait for the next datagram. Anything else (ENOMEM, a pending ICMP
+      // error) is the kernel's business; the socket stays usable, so wait too.
+      Wait();
+      return;
+    }
+    ++datagrams_;
+    if ((msg.msg_flags & MSG_TRUNC) != 0) {
+      problem_(true, "a datagram larger than 64 kB (not LCM's format)");
+      continue;
+    }
+    int64_t utime = 0;
+    for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMP) {
+        timeval tv{};
+        std::memcpy(&tv, CMSG_DATA(c), sizeof tv);
+        utime = int64_t{tv.tv_sec} * 1000000 + tv.tv_usec;
+      }
+    }
+    if (utime == 0) utime = WallUtime();
+    uint64_t sender = 0;
+    if (from.ss_family == AF_INET) {
+      const auto& in = reinterpret_cast<const sockaddr_in&>(from);
+      sender = (uint64_t{ntohl(in.sin_addr.s_addr)} << 16) | ntohs(in.sin_port);
+    }
+    const UdpmAssembler::Result r =
+        assembler_.Feed(sender, buffer_.data(), static_cast<std::size_t>(n));
+    switch (r.verdict) {
+      case UdpmAssembler::Verdict::kMessage: {
+        lcm::ReceiveBuffer rbuf{};
+        rbuf.data = const_cast<uint8_t*>(r.data);  // LCM's type is not const; no handler writes
+        rbuf.data_size = r.size;
+        rbuf.recv_utime = utime;
+        deliver_(rbuf, std::string(r.channel));
+        break;
+      }
+      case UdpmAssembler::Verdict::kHeld:
+        break;
+      case UdpmAssembler::Verdict::kMalformed:
+        problem_(true, r.problem);
+        break;
+      case UdpmAssembler::Verdict::kIncomplete:
+        problem_(false, r.problem);
+        break;
+    }
+  }
+  // More may be waiting: read on after whatever else is ready (timers, signals).
+  boost::asio::post(socket_.get_executor(), [this] { Drain(); });
+}
+
+}  // namespace odonata::bus
