@@ -145,10 +145,25 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
 }
 
 void SignalNode::ArmTimeout() {
-  const uint64_t generation = ++timer_generation_;
-  timer_.expires_after(std::chrono::milliseconds(options_.timeout_ms));
+  // Only the deadline moves per command: re-arming the timer each time would cancel its wait,
+  // and the cancelled handler costs the loop an extra wake-up per sample. The wait, when it
+  // fires early, sleeps on to the deadline.
+  timeout_deadline_ =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.timeout_ms);
+  if (!timeout_armed_) WaitForTimeout();
+}
+
+void SignalNode::WaitForTimeout() {
+  timeout_armed_ = true;
+  const uint64_t generation = timer_generation_;
+  timer_.expires_at(timeout_deadline_);
   timer_.async_wait([this, generation](const boost::system::error_code& ec) {
+    timeout_armed_ = false;
     if (ec || finished_ || generation != timer_generation_) return;
+    if (std::chrono::steady_clock::now() < timeout_deadline_) {
+      WaitForTimeout();
+      return;
+    }
     const pipeline::SequencerAction action = sequencer_.OnTimeout();
     Apply(action);
     // Waiting again for a plant that was not reset: nothing was sent, but the clock restarts.

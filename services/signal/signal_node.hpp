@@ -70,6 +70,7 @@ class SignalNode {
   void OnControl(const odonata::control_t& msg);
   void Apply(const pipeline::SequencerAction& action);
   void ArmTimeout();
+  void WaitForTimeout();
   void StartRealtime();
   void RealtimeTick();
   void SendCommand(int64_t k);
@@ -83,6 +84,8 @@ class SignalNode {
   pipeline::LockstepSequencer sequencer_;
   boost::asio::steady_timer timer_;  // lockstep timeout, or real-time pacing
   uint64_t timer_generation_ = 0;    // a handler of a superseded wait does nothing
+  std::chrono::steady_clock::time_point timeout_deadline_{};  // lockstep: resend after this
+  bool timeout_armed_ = false;
   bool realtime_started_ = false;
   int64_t next_realtime_ = 0;
   int64_t commands_sent_ = 0;
