@@ -104,7 +104,7 @@ void BusNode::Register(RawHandler& h) {
     } catch (const std::regex_error& e) {
       throw std::runtime_error("invalid channel name or regex '" + h.channel + "': " + e.what());
     }
-    routes_.clear();
+    routes_stale_ = true;
     // The kernel drops what no subscription wants, while every subscription is a plain name.
     std::vector<std::string> names;
     for (const auto& other : handlers_) {
@@ -122,23 +122,22 @@ void BusNode::Register(RawHandler& h) {
   lcm_->subscribeFunction(h.channel, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
 }
 
-bool BusNode::SendEncoded(const std::vector<UdpmSender::Message>& messages) {
-  return sender_->Send(messages);
-}
-
 void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+  // Cleared here, never while a handler runs: a handler may subscribe, and the loop below walks
+  // the cached list by reference.
+  if (routes_stale_ || routes_.size() >= kMaxRoutes) {
+    routes_.clear();
+    routes_stale_ = false;
+  }
   auto it = routes_.find(channel);
   if (it == routes_.end()) {
-    if (routes_.size() >= kMaxRoutes) routes_.clear();
     std::vector<RawHandler*> matching;
     // LCM anchors every subscription: the whole name must match.
     for (auto& h : handlers_)
       if (std::regex_match(channel, h.pattern)) matching.push_back(&h);
     it = routes_.emplace(channel, std::move(matching)).first;
   }
-  // A handler may subscribe (and so clear the routes): iterate over a copy.
-  const std::vector<RawHandler*> targets = it->second;
-  for (RawHandler* h : targets) {
+  for (RawHandler* h : it->second) {
     if (stopping_) return;
     h->fn(&rbuf, channel);
   }
@@ -152,8 +151,8 @@ void BusNode::WaitForLcm() {
                        // the wake-up already says a message is queued, and handleTimeout's
                        // select() cost two system calls per message (one finding it, one
                        // finding the queue empty). LCM keeps its notify pipe readable while
-                       // messages remain (docs/lcm.md §9), so the next wait fires at once, and
-                       // timers get their turn between messages.
+                       // messages remain, so the next wait fires at once, and timers get their
+                       // turn between messages. See docs/lcm.md §9.
                        lcm_->handle();
                        WaitForLcm();
                      });

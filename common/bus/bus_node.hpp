@@ -1,8 +1,9 @@
 #pragma once
 // One process's LCM endpoint inside one Boost.Asio event loop: its receive path, timers,
 // SIGINT/SIGTERM, typed subscriptions that count undecodable messages, and the heartbeat.
-// Over udpm the node reads the multicast socket itself (UdpmReceiver, docs/lcm.md §9); other
-// providers (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread.
+// Over udpm the node reads the multicast socket itself (UdpmReceiver); other providers
+// (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread.
+// Both paths are described in docs/lcm.md §9.
 
 #include <chrono>
 #include <functional>
@@ -112,7 +113,6 @@ class BusNode {
   void Register(RawHandler& h);
   template <class Msg>
   const std::vector<uint8_t>& Encode(const Msg& msg, std::vector<uint8_t>& buffer);
-  bool SendEncoded(const std::vector<UdpmSender::Message>& messages);
   void Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel);
   void WaitForLcm();
   void ArmTimer(std::shared_ptr<boost::asio::steady_timer> timer, std::chrono::microseconds period,
@@ -131,6 +131,7 @@ class BusNode {
   // forged traffic may bring any number of names.
   std::unordered_map<std::string, std::vector<RawHandler*>> routes_;
   static constexpr std::size_t kMaxRoutes = 1024;
+  bool routes_stale_ = false;  // a subscription was added: rebuild at the next message
   std::list<std::shared_ptr<boost::asio::steady_timer>> timers_;
   std::function<void()> on_shutdown_;
   ServiceStats stats_;
@@ -179,7 +180,7 @@ bool BusNode::Publish(const std::string& channel, const Msg& msg) {
   bool ok = false;
   if (sender_ && UdpmSender::Fits(channel, static_cast<std::size_t>(msg.getEncodedSize()))) {
     const auto& bytes = Encode(msg, encoded_[0]);
-    ok = !bytes.empty() && SendEncoded({{&channel, bytes.data(), bytes.size()}});
+    ok = !bytes.empty() && sender_->Send({{&channel, bytes.data(), bytes.size()}});
   } else {
     ok = lcm_->publish(channel, &msg) == 0;  // other providers, and messages LCM fragments
   }
@@ -202,8 +203,8 @@ bool BusNode::PublishTogether(const std::string& channel_a, const A& a,
   const auto& bytes_a = Encode(a, encoded_[0]);
   const auto& bytes_b = Encode(b, encoded_[1]);
   if (bytes_a.empty() || bytes_b.empty() ||
-      !SendEncoded({{&channel_a, bytes_a.data(), bytes_a.size()},
-                    {&channel_b, bytes_b.data(), bytes_b.size()}})) {
+      !sender_->Send({{&channel_a, bytes_a.data(), bytes_a.size()},
+                      {&channel_b, bytes_b.data(), bytes_b.size()}})) {
     Report("publish failed on " + channel_a + " and " + channel_b,
            "the messages could not be sent");
     return false;
