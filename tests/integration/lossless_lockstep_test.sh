@@ -51,7 +51,9 @@ grep -o "[0-9]* for missing receipts" "$OUT/signal.log" || true
 start plant2 "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0
 sleep 0.5
-start signal2 "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL" \
+# A long run (30000 samples, several seconds even at the fastest lockstep rate), so the kill
+# lands mid-run: a 10 s run of 1000 samples could end before it.
+start signal2 "$SIGNAL" --preset roll --phase train --duration 300 --mode lockstep --lcm-url "$URL" \
   --timeout-ms 50 --max-resends 4
 wait_for_log "$OUT/signal2.log" "waits for receipts" || true
 sleep 0.2

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# kill -9 of the identifier mid-run (lockstep), restarted at once: it resumes from the monitor's
+# kill -9 of the identifier mid-run (lockstep; 6000 samples, so the kill lands mid-run at the
+# fastest rate), restarted at once: it resumes from the monitor's
 # copy of its last snapshot with that snapshot's learned-sample count, the generator waits for it
 # meanwhile, and the samples the kill costs are exactly those learned since that snapshot plus
 # those the resumed history needs: ny = 3 to refill the regressor, and one more when the process
@@ -10,7 +11,7 @@ enter_netns "$@"
 OUT=$(mktemp -d)
 trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7688?ttl=0'
-"$SRC/deploy/make-identifier-config" --preset roll --duration 20 --build "$BUILD" --output "$OUT/id.json"
+"$SRC/deploy/make-identifier-config" --preset roll --duration 60 --build "$BUILD" --output "$OUT/id.json"
 every=$(json_get "$OUT/id.json" "j['snapshot_every_samples']")
 ny=$(json_get "$OUT/id.json" "j['ny']")
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
@@ -18,7 +19,7 @@ start monitor "$MONITOR" --lcm-url "$URL"
 start plant "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start ident1 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0
 sleep 0.5
-start signal "$SIGNAL" --preset roll --phase train --duration 20 --mode lockstep --lcm-url "$URL" \
+start signal "$SIGNAL" --preset roll --phase train --duration 60 --mode lockstep --lcm-url "$URL" \
   --timeout-ms 200 --max-resends 40
 wait_for_log "$OUT/signal.log" "waits for receipts" || true
 sleep 0.3
