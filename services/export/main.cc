@@ -1,0 +1,79 @@
+// odonata-export: writes a saved odonata model as MATLAB/Octave .fis and fuzzylite .fll files in
+// raw units (docs/model_export.md), for tools and flight code that know nothing of odonata.
+
+#include <filesystem>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/parse_command_line.hpp"
+#include "io/atomic_file.hpp"
+#include "model_export/fis_writer.hpp"
+#include "model_export/fll_writer.hpp"
+#include "model_export/raw_tsk_model.hpp"
+
+namespace {
+
+// "roll.fis" → "roll.p_kp1.fis" when a model has several outputs: one file per output.
+std::string PerOutput(const std::string& path, const std::string& output, bool several) {
+  if (!several) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "." + output + p.extension().string())).string();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string model_path, fis, fll, only, name;
+  CLI::App app{
+      "Writes a saved odonata model (odonata-fit --save-model, odonata-identifier --save-model) "
+      "as a Sugeno .fis (MATLAB, Octave's fuzzy-logic-toolkit, fuzzylite) and a fuzzylite .fll, "
+      "in raw units: the model's scaling is folded into the centres, widths and coefficients. "
+      "Inputs are the regressor in the order printed. A model with several outputs gives one "
+      "file per output (NAME.OUTPUT.fis)."};
+  app.add_option("model", model_path, "saved model (JSON)")->required()->check(CLI::ExistingFile);
+  app.add_option("--fis", fis, ".fis file to write");
+  app.add_option("--fll", fll, ".fll file to write");
+  app.add_option("--output", only, "export only this output signal (default: every one)");
+  app.add_option("--name", name, "system name inside the files (default: the model file's stem)");
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
+  if (fis.empty() && fll.empty()) {
+    std::cerr << "odonata-export: nothing to write; give --fis FILE and/or --fll FILE\n";
+    return 2;
+  }
+  try {
+    const auto model = odonata::sysid::NarxModel::Load(model_path);
+    if (name.empty()) name = std::filesystem::path(model_path).stem().string();
+    const auto& outputs = model.spec().outputs;
+    bool found = only.empty();
+    for (int o = 0; o < model.outputs(); ++o) {
+      const std::string& out_name = outputs[static_cast<std::size_t>(o)];
+      if (!only.empty() && only != out_name) continue;
+      found = true;
+      const bool several = only.empty() && model.outputs() > 1;
+      const auto tsk = odonata::model_export::ToRawTsk(model, o, name);
+      std::string order;
+      for (const auto& in : tsk.input_names) order += (order.empty() ? "" : ", ") + in;
+      if (!fis.empty()) {
+        const auto path = PerOutput(fis, out_name, several);
+        odonata::io::WriteFileAtomically(path, odonata::model_export::ToFis(tsk));
+        std::cout << "wrote " << path << "\n";
+      }
+      if (!fll.empty()) {
+        const auto path = PerOutput(fll, out_name, several);
+        odonata::io::WriteFileAtomically(path, odonata::model_export::ToFll(tsk));
+        std::cout << "wrote " << path << "\n";
+      }
+      std::cout << "  " << tsk.output_name << " = f(" << order << "): " << tsk.rules.size()
+                << (tsk.linear ? " linear" : " constant") << " rules\n";
+    }
+    if (!found) {
+      std::cerr << "odonata-export: the model has no output '" << only << "'\n";
+      return 1;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "odonata-export: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
