@@ -75,14 +75,20 @@ TEST(UdpmInterop, TheOwnSenderIsReadByLcmAndTogetherKeepsOrder) {
   struct Sink {
     std::vector<std::string> channels;
     std::vector<int64_t> seqs;
-    void On(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-      odonata::ack_t a;
-      if (a.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0)
-        seqs.push_back(a.state_seq);
-      channels.push_back(channel);
-    }
   } sink;
-  lcm.subscribe("ACK_.*", &Sink::On, &sink);
+  // LCM's C API with a plain callback: in the sanitizer build, UBSan rejects the vptr of the C++
+  // API's LCMMHUntypedSubscription<Sink> when the callback runs (lcm-cpp-impl.hpp:108, "invalid
+  // vptr"), although the subscription pointer LCM passes back is the right one; the C API has no
+  // polymorphic wrapper to check. One subscription per channel; one socket keeps their order.
+  const lcm_msg_handler_t on = [](const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
+    auto* s = static_cast<Sink*>(user);
+    odonata::ack_t a;
+    if (a.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0)
+      s->seqs.push_back(a.state_seq);
+    s->channels.emplace_back(channel);
+  };
+  for (const char* channel : {"ACK_ONE", "ACK_TWO", "ACK_THREE"})
+    ASSERT_NE(lcm_subscribe(lcm.getUnderlyingLCM(), channel, on, &sink), nullptr);
   odonata::ack_t a{};
   a.service = "sender";
   a.instance = "sender";
