@@ -71,6 +71,11 @@ command -v java >/dev/null 2>&1 ||
   die "$JCHART2D_JAR not found: lcm-spy needs it for its charts (apt-get install libjchart2d-java, or run deploy/setup.sh)"
 
 # --- the types jar ------------------------------------------------------------------------------
+# Installed (bin/odonata-lcm-spy): the package's jar in share/java beside bin/.
+installed_jar=$ROOT/share/java/odonata_lcmtypes.jar
+if ((${#jars[@]} == 0)) && [[ -z ${ODONATA_BUILD_DIR:-} && -f $installed_jar ]]; then
+  jars=("$installed_jar")
+fi
 if ((${#jars[@]} == 0)); then
   jar=$BUILD_DIR/lcmtypes/odonata_lcmtypes.jar
   if [[ ! -f $jar ]]; then

@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   odonata::cli::AddChannelOptions(&app, &channels);
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
+  // The same settings file as the other services (a board's launch, deploy/board/); the model
+  // itself stays in the JSON of --config.
+  app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (print_config) {
     std::cout << odonata::identifier::ExampleIdentifierConfig();
