@@ -11,6 +11,7 @@
 #include <boost/asio/post.hpp>
 
 #include "bus/udpm_channel_filter.hpp"
+#include "odonata/control_reply_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 
 namespace odonata::bus {
@@ -246,7 +247,34 @@ bool BusNode::AcceptControl(const odonata::control_t& msg) {
   ++stats_.dropped;
   stats_.last_error = "refused " + refusal;
   std::fprintf(stderr, "[%s] refused %s\n", options_.instance.c_str(), refusal.c_str());
+  ReplyControl(msg, false, refusal);
   return false;
+}
+
+void BusNode::RejectUnsupported(const odonata::control_t& msg) {
+  if (!AddressedByName(msg, options_.instance, options_.service)) return;
+  ReplyControl(msg, false, options_.service + " has no '" + ControlCommandName(msg.command) + "'");
+}
+
+void BusNode::ReplyControl(const odonata::control_t& request, bool accepted,
+                           const std::string& reason,
+                           const std::vector<std::pair<std::string, double>>& params) {
+  odonata::control_reply_t r{};
+  r.utime = NowUtime();
+  r.seq = reply_seq_++;
+  r.request_sender = request.sender;
+  r.request_seq = request.seq;
+  r.command = request.command;
+  r.service = options_.service;
+  r.instance = options_.instance;
+  r.accepted = accepted;
+  r.reason = reason;
+  r.num_params = static_cast<int32_t>(params.size());
+  for (const auto& [name, value] : params) {
+    r.names.push_back(name);
+    r.values.push_back(value);
+  }
+  Publish(options_.channels.control_reply, r);
 }
 
 void BusNode::Report(const std::string& kind, const std::string& message) {

@@ -90,7 +90,16 @@ class BusNode {
   void PublishHeartbeat();
   /// True when this process should act on `msg`: addressed to it and, for RESET and SHUTDOWN,
   /// from an allowed sender. A refusal is counted as dropped and logged, every time.
+  /// A refusal is also answered (ReplyControl, rejected, with the reason).
   bool AcceptControl(const odonata::control_t& msg);
+  /// Answers `request` on the control_reply channel: accepted or rejected with `reason`, and the
+  /// parameters in force afterwards. Every service answers each command addressed to it by name,
+  /// and each it acts on when addressed to all (docs/lcm.md §13).
+  void ReplyControl(const odonata::control_t& request, bool accepted, const std::string& reason,
+                    const std::vector<std::pair<std::string, double>>& params = {});
+  /// Answers a command this service has no use for: rejected when it was named as the target,
+  /// nothing when the command went to every service (it is for the others).
+  void RejectUnsupported(const odonata::control_t& msg);
   /// Records a problem (counts nothing by itself; callers bump the right counter).
   void Report(const std::string& kind, const std::string& message);
 
@@ -138,6 +147,7 @@ class BusNode {
   std::string state_ = "starting";
   std::string host_;
   int64_t heartbeat_seq_ = 0;
+  int64_t reply_seq_ = 0;
   int exit_code_ = 0;
   bool stopping_ = false;
 };

@@ -8,23 +8,24 @@ namespace odonata::bus {
 
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
-  for (std::string* s :
-       {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat, &control, &ack})
+  for (std::string* s : {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat,
+                         &control, &control_reply, &ack})
     *s += "_" + suffix;
 }
 
 void ChannelConfig::Override(const nlohmann::json& j) {
   for (const auto& [key, value] : j.items()) {
-    std::string* target = key == "command"      ? &command
-                          : key == "state"      ? &state
-                          : key == "beat_state" ? &beat_state
-                          : key == "prediction" ? &prediction
-                          : key == "model"      ? &model
-                          : key == "accuracy"   ? &accuracy
-                          : key == "heartbeat"  ? &heartbeat
-                          : key == "control"    ? &control
-                          : key == "ack"        ? &ack
-                                                : nullptr;
+    std::string* target = key == "command"         ? &command
+                          : key == "state"         ? &state
+                          : key == "beat_state"    ? &beat_state
+                          : key == "prediction"    ? &prediction
+                          : key == "model"         ? &model
+                          : key == "accuracy"      ? &accuracy
+                          : key == "heartbeat"     ? &heartbeat
+                          : key == "control"       ? &control
+                          : key == "control_reply" ? &control_reply
+                          : key == "ack"           ? &ack
+                                                   : nullptr;
     if (!target) throw std::runtime_error("channels: unknown channel '" + key + "'");
     *target = value.get<std::string>();
   }

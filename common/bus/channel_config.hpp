@@ -18,6 +18,7 @@ struct ChannelConfig {
   std::string accuracy = "ODONATA_ACCURACY";
   std::string heartbeat = "ODONATA_HEARTBEAT";
   std::string control = "ODONATA_CONTROL";
+  std::string control_reply = "ODONATA_CONTROL_REPLY";  ///< every service's answer to a command
   std::string ack = "ODONATA_ACK";  ///< lockstep receipts from consumers to the generator
 
   /// Appends `_SUFFIX` to every name (no-op for an empty suffix).

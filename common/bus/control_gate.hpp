@@ -3,6 +3,7 @@
 // place for every service.
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,18 @@ const std::vector<std::string>& DefaultControlSenders();
 /// True when `msg` is for this process: no target (every service), its instance or service name.
 bool AddressedTo(const odonata::control_t& msg, const std::string& instance,
                  const std::string& service);
+
+/// True when `msg` names this process (its instance or service name), not only "everyone": a
+/// command the process has no use for is then answered as rejected, where a broadcast one is
+/// left to the services it is for.
+bool AddressedByName(const odonata::control_t& msg, const std::string& instance,
+                     const std::string& service);
+
+/// The operator's names of the commands ("set-entropy-threshold" → SET_ENTROPY_THRESHOLD), the
+/// one table odonata-control parses and services word their replies with.
+const std::map<std::string, int8_t>& ControlCommands();
+/// The operator's name of `command`, or "command N" for an unknown one.
+std::string ControlCommandName(int8_t command);
 
 /// RESET and SHUTDOWN: they throw away a model or stop a service.
 bool IsDestructive(int8_t command);

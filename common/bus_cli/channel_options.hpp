@@ -24,7 +24,8 @@ inline void AddChannelOptions(CLI::App* app, ChannelOptions* options) {
   app->add_option("--channel-suffix", options->suffix, "append _SUFFIX to every channel name");
   app->add_option("--channel", options->names,
                   "rename one channel, KEY=NAME with KEY one of command, state, beat_state, "
-                  "prediction, model, accuracy, heartbeat, control, ack (repeatable; applied after "
+                  "prediction, model, accuracy, heartbeat, control, control_reply, ack "
+                  "(repeatable; applied after "
                   "--channel-suffix)");
 }
 

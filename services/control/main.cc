@@ -1,63 +1,154 @@
-// odonata-control: sends one operator command (control_t) to the running services.
+// odonata-control: sends one operator command (control_t) to the running services and prints
+// their answers (control_reply_t); exits non-zero when one rejects it or none answers.
 
 #include <cstdio>
-#include <map>
+#include <random>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include <lcm/lcm-cpp.hpp>
 #include "bus/bus_node.hpp"
+#include "bus/control_gate.hpp"
+#include "bus_cli/channel_options.hpp"
 #include "cli/parse_command_line.hpp"
+#include "odonata/control_reply_t.hpp"
 #include "odonata/control_t.hpp"
 
+namespace {
+
+constexpr int kExitRejected = 1;
+constexpr int kExitNoAnswer = 3;
+
+bool TakesValue(int8_t c) {
+  return c == odonata::control_t::SET_ENTROPY_THRESHOLD || c == odonata::control_t::SET_FORGETTING;
+}
+
+// A sequence number no earlier run of this tool is likely to have used, so replies to another
+// odonata-control (or to an earlier run of this one) are told apart.
+int64_t FreshSeq() {
+  std::random_device rd;
+  const uint64_t r =
+      (uint64_t{rd()} << 32) ^ rd() ^ static_cast<uint64_t>(odonata::bus::NowUtime());
+  return static_cast<int64_t>(r >> 1) | 1;
+}
+
+void Print(const odonata::control_reply_t& r) {
+  std::printf("%s (%s): %s: %s", r.instance.c_str(), r.service.c_str(),
+              r.accepted ? "accepted" : "REJECTED", r.reason.c_str());
+  for (int i = 0; i < r.num_params; ++i)
+    std::printf("%s %s=%.10g", i == 0 ? "\n   " : "", r.names[static_cast<std::size_t>(i)].c_str(),
+                r.values[static_cast<std::size_t>(i)]);
+  std::printf("\n");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  const std::map<std::string, int8_t> commands = {
-      {"reset", odonata::control_t::RESET},
-      {"freeze", odonata::control_t::FREEZE},
-      {"resume", odonata::control_t::RESUME},
-      {"set-entropy-threshold", odonata::control_t::SET_ENTROPY_THRESHOLD},
-      {"set-forgetting", odonata::control_t::SET_FORGETTING},
-      {"save-model", odonata::control_t::SAVE_MODEL},
-      {"publish-snapshot", odonata::control_t::PUBLISH_SNAPSHOT},
-      {"shutdown", odonata::control_t::SHUTDOWN}};
-  std::string command, target, path, lcm_url, channel = "ODONATA_CONTROL",
-                                              sender = "odonata-control";
-  double value = 0;
+  const auto& commands = odonata::bus::ControlCommands();
+  std::string command, argument, target, path, lcm_url, sender = "odonata-control";
+  double value = 0, timeout_s = 1.0;
+  bool value_given = false;
   CLI::App app{
-      "Sends a command to odonata services on ODONATA_CONTROL: reset, freeze, resume, "
-      "set-entropy-threshold --value H, set-forgetting --value LAMBDA, save-model [--path FILE], "
-      "publish-snapshot, shutdown."};
-  app.add_option("command", command, "what to do")->required()->transform(CLI::IsMember(commands));
-  app.add_option("--target", target, "instance or service name (default: every service)");
-  app.add_option(
-      "--value", value,
-      "the new entropy threshold (set-entropy-threshold) or forgetting factor (set-forgetting)");
-  app.add_option("--path", path,
-                 "save-model: a plain file name, written in the identifier's --models-dir "
-                 "(default: its --save-model file); reset of the plant: a preset");
+      "Sends a command to odonata services on ODONATA_CONTROL and prints every answer "
+      "(ODONATA_CONTROL_REPLY): reset, freeze, resume, set-entropy-threshold H, set-forgetting "
+      "LAMBDA, save-model [NAME], publish-snapshot, get (the live parameters), shutdown. Exits 0 "
+      "when every answer accepts, 1 when one rejects, 3 when no service answers."};
+  app.add_option("command", command, "what to do")->required()->check(CLI::IsMember(commands));
+  app.add_option("argument", argument,
+                 "set-entropy-threshold / set-forgetting: the value; save-model: the file name; "
+                 "reset of the plant: a preset");
+  app.add_option("--target", target,
+                 "instance or service name (default: every service; each one that acts answers)");
+  auto* value_opt = app.add_option("--value", value, "the value (same as the argument)");
+  app.add_option("--path", path, "the file name or preset (same as the argument)");
+  app.add_option("--timeout", timeout_s, "seconds to collect answers")
+      ->capture_default_str()
+      ->check(CLI::Range(0.05, 60.0));
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--channel", channel, "control channel")->capture_default_str();
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
   app.add_option("--instance", sender,
                  "sender name; services obey reset and shutdown only from the names in their "
                  "--control-from")
       ->capture_default_str();
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
-  lcm::LCM lcm(lcm_url);
-  if (!lcm.good()) {
-    std::fprintf(stderr, "odonata-control: error: cannot open LCM (is there a multicast route?)\n");
+
+  const int8_t code = commands.at(command);
+  value_given = value_opt->count() > 0;
+  if (!argument.empty()) {
+    if (TakesValue(code)) {
+      try {
+        std::size_t used = 0;
+        value = std::stod(argument, &used);
+        if (used != argument.size()) throw std::invalid_argument(argument);
+      } catch (const std::exception&) {
+        std::fprintf(stderr, "odonata-control: %s needs a number, not '%s'\n", command.c_str(),
+                     argument.c_str());
+        return 2;
+      }
+      value_given = true;
+    } else if (code == odonata::control_t::SAVE_MODEL || code == odonata::control_t::RESET) {
+      path = argument;
+    } else {
+      std::fprintf(stderr, "odonata-control: %s takes no argument (got '%s')\n", command.c_str(),
+                   argument.c_str());
+      return 2;
+    }
+  }
+  if (TakesValue(code) && !value_given) {
+    std::fprintf(stderr, "odonata-control: %s needs a value: odonata-control %s VALUE\n",
+                 command.c_str(), command.c_str());
+    return 2;
+  }
+
+  try {
+    odonata::bus::BusOptions o;
+    o.lcm_url = lcm_url;
+    o.service = "odonata-control";
+    o.instance = sender;
+    o.heartbeat_period_s = 0;  // a one-shot tool, not a peer to watch
+    channels.ApplyTo(&o.channels);
+    odonata::bus::BusNode bus(o);
+
+    odonata::control_t msg{};
+    msg.utime = odonata::bus::NowUtime();
+    msg.seq = FreshSeq();
+    msg.sender = sender;
+    msg.target = target;
+    msg.command = code;
+    msg.value = value;
+    msg.path = path;
+
+    int answers = 0, rejected = 0;
+    bus.Subscribe<odonata::control_reply_t>(
+        bus.channels().control_reply, [&](const odonata::control_reply_t& r) {
+          if (r.request_sender != msg.sender || r.request_seq != msg.seq) return;
+          Print(r);
+          std::fflush(stdout);
+          ++answers;
+          if (!r.accepted) ++rejected;
+          // An instance named as the target answers once: no need to wait any longer.
+          if (!target.empty() && r.instance == target) bus.Stop(0);
+        });
+    if (!bus.Publish(bus.channels().control, msg)) {
+      std::fprintf(stderr, "odonata-control: error: publish failed\n");
+      return 1;
+    }
+    bus.After(std::chrono::microseconds(static_cast<int64_t>(timeout_s * 1e6)),
+              [&bus] { bus.Stop(0); });
+    bus.Run();
+    if (answers == 0) {
+      std::fprintf(stderr,
+                   "odonata-control: no answer to %s within %.2g s%s: is the service running on "
+                   "this bus, and is the name right?\n",
+                   command.c_str(), timeout_s,
+                   target.empty() ? "" : (" from '" + target + "'").c_str());
+      return kExitNoAnswer;
+    }
+    return rejected > 0 ? kExitRejected : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-control: error: %s\n", e.what());
     return 1;
   }
-  odonata::control_t msg{};
-  msg.utime = odonata::bus::NowUtime();
-  msg.seq = 0;
-  msg.sender = sender;
-  msg.target = target;
-  msg.command = commands.at(command);
-  msg.value = value;
-  msg.path = path;
-  if (lcm.publish(channel, &msg) != 0) {
-    std::fprintf(stderr, "odonata-control: error: publish failed\n");
-    return 1;
-  }
-  return 0;
 }

@@ -152,52 +152,77 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
 
 void IdentifierNode::OnControl(const odonata::control_t& msg) {
   if (!bus_.AcceptControl(msg)) return;
+  // Its own resume request (PUBLISH_SNAPSHOT to itself at start) needs no answer.
+  const bool own = msg.sender == config_.instance;
+  std::string done;
+  try {
+    done = Obey(msg);
+  } catch (const std::exception& e) {
+    // A value out of range, an unwritable file: the operator learns why, the model is unchanged.
+    ++bus_.stats().dropped;
+    bus_.stats().last_error = bus::ControlCommandName(msg.command) + ": " + e.what();
+    std::fprintf(stderr, "[%s] rejected %s from '%s': %s\n", config_.instance.c_str(),
+                 bus::ControlCommandName(msg.command).c_str(), msg.sender.c_str(), e.what());
+    if (!own) bus_.ReplyControl(msg, false, e.what(), Parameters());
+    return;
+  }
+  if (!own) bus_.ReplyControl(msg, true, done, Parameters());
+  if (msg.command == odonata::control_t::SHUTDOWN) bus_.Stop(0);
+}
+
+std::string IdentifierNode::Obey(const odonata::control_t& msg) {
   switch (msg.command) {
     case odonata::control_t::FREEZE:
       core_.Freeze();
       if (started_) bus_.SetState("frozen");
-      break;
+      return "frozen: predicting, not learning";
     case odonata::control_t::RESUME:
       core_.Resume();
       if (started_) bus_.SetState("running");
-      break;
+      return "learning";
     case odonata::control_t::RESET:
       std::fprintf(stderr, "[%s] reset by '%s': the model (%d rules, %lld samples) is discarded\n",
                    config_.instance.c_str(), msg.sender.c_str(), core_.model().total_rules(),
                    static_cast<long long>(core_.samples_learned()));
       core_.ReplaceModel(EmptyModel());
-      break;
+      return "model discarded";
     case odonata::control_t::SET_ENTROPY_THRESHOLD:
       core_.SetEntropyThreshold(msg.value);  // the fuzzy core checks the range
-      break;
+      return "entropy threshold set";
     case odonata::control_t::SET_FORGETTING:
       core_.SetForgetting(msg.value);
-      break;
-    case odonata::control_t::SAVE_MODEL:
-      if (msg.path.empty()) {
-        SaveModel(save_model_path_);
-        break;
-      }
+      return "forgetting factor set";
+    case odonata::control_t::SAVE_MODEL: {
       // A name from the bus: only a plain file name, written inside --models-dir.
-      try {
-        SaveModel(io::ConfinedPath(models_dir_, msg.path));
-      } catch (const std::invalid_argument& e) {
-        ++bus_.stats().dropped;
-        bus_.stats().last_error = std::string("refused save-model: ") + e.what();
-        std::fprintf(stderr, "[%s] refused save-model '%s' from '%s': %s\n",
-                     config_.instance.c_str(), msg.path.c_str(), msg.sender.c_str(), e.what());
-      }
-      break;
+      const std::string path =
+          msg.path.empty() ? save_model_path_ : io::ConfinedPath(models_dir_, msg.path);
+      SaveModel(path);
+      return "model saved to " + path;
+    }
     case odonata::control_t::PUBLISH_SNAPSHOT:
       // Our own resume request is answered by others; answer theirs only when running.
       if (started_) PublishSnapshot();
-      break;
+      return started_ ? "snapshot published" : "starting: no snapshot yet";
     case odonata::control_t::SHUTDOWN:
-      bus_.Stop(0);
-      break;
+      // Stops after the answer is out (OnControl).
+      return "stopping (the model is saved on the way out when --save-model is set)";
+    case odonata::control_t::GET:
+      return "parameters in force";
     default:
       throw std::invalid_argument("unknown control command " + std::to_string(msg.command));
   }
+}
+
+std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
+  const auto& m = core_.model();
+  const auto& cfg = m.model(0).config();
+  return {{"entropy_threshold", cfg.entropy.threshold},
+          {"forgetting", cfg.forgetting},
+          {"learning", core_.learning() ? 1.0 : 0.0},
+          {"rules", static_cast<double>(m.total_rules())},
+          {"max_rules", static_cast<double>(cfg.entropy.max_rules)},
+          {"samples_learned", static_cast<double>(core_.samples_learned())},
+          {"gaps", static_cast<double>(core_.gaps())}};
 }
 
 void IdentifierNode::PublishSnapshot() {

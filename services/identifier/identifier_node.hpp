@@ -41,6 +41,11 @@ class IdentifierNode {
   void OnState(const odonata::plant_state_t& msg);
   void OnBeatState(const odonata::beat_state_t& msg);
   void OnControl(const odonata::control_t& msg);
+  /// Carries out a command addressed to this identifier; returns what was done.
+  /// @throws std::exception when it cannot (the reply says why).
+  std::string Obey(const odonata::control_t& msg);
+  /// The live parameters every reply carries (and GET asks for).
+  std::vector<std::pair<std::string, double>> Parameters() const;
   void OnSnapshot(const odonata::model_snapshot_t& msg);
   void StartLearning(const std::string& how);
   void Handle(const std::vector<SampleStream::Event>& events);

@@ -32,7 +32,19 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
       });
   // SHUTDOWN reaches the logger too: it closes its files (OnShutdown below) like on SIGTERM.
   bus_.Subscribe<odonata::control_t>(bus_.channels().control, [this](const odonata::control_t& m) {
-    if (m.command == odonata::control_t::SHUTDOWN && bus_.AcceptControl(m)) bus_.Stop(0);
+    if (!bus_.AcceptControl(m)) return;
+    const std::vector<std::pair<std::string, double>> params{
+        {"events", static_cast<double>(writer_.events())},
+        {"bytes", static_cast<double>(writer_.bytes())},
+        {"files", static_cast<double>(writer_.files().size())}};
+    if (m.command == odonata::control_t::SHUTDOWN) {
+      bus_.ReplyControl(m, true, "stopping: the log is flushed and closed on the way out", params);
+      bus_.Stop(0);
+    } else if (m.command == odonata::control_t::GET) {
+      bus_.ReplyControl(m, true, "recording", params);
+    } else {
+      bus_.RejectUnsupported(m);
+    }
   });
   bus_.Every(std::chrono::microseconds(static_cast<int64_t>(options_.flush_period_s * 1e6)),
              [this] { writer_.Flush(); });

@@ -114,12 +114,23 @@ void MonitorNode::OnControl(const odonata::control_t& m) {
     return;
   }
   if (!bus_.AcceptControl(m)) return;
+  const auto params = [&] {
+    return std::vector<std::pair<std::string, double>>{
+        {"peers", static_cast<double>(peers_.peers().size())},
+        {"snapshots_cached", static_cast<double>(snapshots_.size())}};
+  };
   if (m.command == odonata::control_t::RESET) {
     std::fprintf(stderr, "[%s] reset by '%s': the scores so far are discarded\n",
                  bus_.options().instance.c_str(), m.sender.c_str());
     scores_.Reset();
+    bus_.ReplyControl(m, true, "scores discarded", params());
   } else if (m.command == odonata::control_t::SHUTDOWN) {
+    bus_.ReplyControl(m, true, "stopping (the summary is written on the way out)", params());
     bus_.Stop(0);
+  } else if (m.command == odonata::control_t::GET) {
+    bus_.ReplyControl(m, true, "parameters in force", params());
+  } else {
+    bus_.RejectUnsupported(m);
   }
 }
 

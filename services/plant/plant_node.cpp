@@ -78,15 +78,31 @@ void PlantNode::OnCommand(const odonata::wing_command_t& msg) {
 
 void PlantNode::OnControl(const odonata::control_t& msg) {
   if (!bus_.AcceptControl(msg)) return;
+  const bool lockstep = session_.mode() == pipeline::PlantSession::Mode::kLockstep;
+  const auto params = [&] {
+    return std::vector<std::pair<std::string, double>>{
+        {"lockstep", lockstep ? 1.0 : 0.0}, {"commanded", session_.commanded() ? 1.0 : 0.0}};
+  };
   switch (msg.command) {
     case odonata::control_t::RESET:
-      Reset(msg.path.empty() ? session_.setup().name : msg.path);
+      try {
+        Reset(msg.path.empty() ? session_.setup().name : msg.path);
+      } catch (const std::exception& e) {
+        bus_.ReplyControl(msg, false, e.what(), params());
+        throw;  // counted and reported as before
+      }
+      bus_.ReplyControl(msg, true, "reset to " + session_.setup().name, params());
       break;
     case odonata::control_t::SHUTDOWN:
+      bus_.ReplyControl(msg, true, "stopping", params());
       bus_.Stop(0);
       break;
+    case odonata::control_t::GET:
+      bus_.ReplyControl(msg, true, "set-up " + session_.setup().name, params());
+      break;
     default:
-      break;  // the identifier's commands (freeze, save, …) are not for the plant
+      bus_.RejectUnsupported(msg);  // the identifier's commands (freeze, save, …)
+      break;
   }
 }
 

@@ -94,8 +94,20 @@ void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
 }
 
 void SignalNode::OnControl(const odonata::control_t& msg) {
-  if (!bus_.AcceptControl(msg)) return;
-  if (msg.command == odonata::control_t::SHUTDOWN) bus_.Stop(0);
+  // Its own RESET of the plant comes back on the bus: not a command to the generator.
+  if (msg.sender == bus_.options().instance || !bus_.AcceptControl(msg)) return;
+  const auto params = [&] {
+    return std::vector<std::pair<std::string, double>>{
+        {"commands_sent", static_cast<double>(commands_sent_)}};
+  };
+  if (msg.command == odonata::control_t::SHUTDOWN) {
+    bus_.ReplyControl(msg, true, "stopping", params());
+    bus_.Stop(0);
+  } else if (msg.command == odonata::control_t::GET) {
+    bus_.ReplyControl(msg, true, "parameters in force", params());
+  } else {
+    bus_.RejectUnsupported(msg);
+  }
 }
 
 void SignalNode::Apply(const pipeline::SequencerAction& action) {

@@ -275,6 +275,23 @@ odonata::ack_t Ack() {
   return a;
 }
 
+odonata::control_reply_t Reply(int params) {
+  odonata::control_reply_t r{};
+  r.request_sender = "odonata-control";
+  r.request_seq = 77;
+  r.command = odonata::control_t::GET;
+  r.service = "odonata-identifier";
+  r.instance = "roll-id";
+  r.accepted = true;
+  r.reason = "parameters in force";
+  r.num_params = params;
+  for (int i = 0; i < params; ++i) {
+    r.names.push_back("p" + std::to_string(i));
+    r.values.push_back(0.5 * i);
+  }
+  return r;
+}
+
 TEST(WireBounds, FollowDecodeForEveryType) {
   CheckType(Command(2), true);
   CheckType(State(), true);
@@ -285,12 +302,14 @@ TEST(WireBounds, FollowDecodeForEveryType) {
   CheckType(Heartbeat(), true);
   CheckType(Control(), true);
   CheckType(Ack(), true);
+  CheckType(Reply(3), true);
 }
 
 TEST(WireBounds, FollowDecodeWithEmptyArrays) {
   CheckType(Command(0), false);
   CheckType(Prediction(0), false);
   CheckType(Accuracy(0), false);
+  CheckType(Reply(0), false);
   CheckType(Snapshot({}, 0, 0), false);
   // Rows of nothing: 2 rules of 0 inputs, and a model without rules.
   CheckType(Snapshot({Rules(2, 0, 0, 0), Rules(0, 3, 4, 16)}, 3, 7), false);

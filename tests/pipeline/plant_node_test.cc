@@ -2,6 +2,7 @@
 // within one LCM instance, so the test talks to the node through the node's own BusNode, and the
 // node's handlers run when the test turns the Asio loop (Pump).
 #include "plant_node.hpp"
+#include "odonata/control_reply_t.hpp"
 
 #include <gtest/gtest.h>
 
@@ -280,6 +281,39 @@ TEST_F(PlantNodeTest, ResetToAnotherPresetAndShutdown) {
   bus_->After(std::chrono::seconds(3), [this] { bus_->Stop(99); });  // fence
   bus_->io().restart();
   EXPECT_EQ(bus_->Run(), 0);
+}
+
+// The plant answers what it acts on, rejects by name what is not for it (freeze), and stays
+// silent when such a command goes to every service (it is the identifier's).
+TEST_F(PlantNodeTest, AnswersItsCommandsAndRejectsOthersOnlyWhenNamed) {
+  Start(Mode::kLockstep, "roll");
+  std::vector<odonata::control_reply_t> replies;
+  bus_->Subscribe<odonata::control_reply_t>(bus_->channels().control_reply,
+                                            [&](const auto& r) { replies.push_back(r); });
+  Control(odonata::control_t::RESET, kServiceName, "actuator_fz");
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_TRUE(replies[0].accepted);
+  EXPECT_NE(replies[0].reason.find("actuator_fz"), std::string::npos) << replies[0].reason;
+  EXPECT_EQ(replies[0].service, kServiceName);
+
+  Control(odonata::control_t::RESET, kServiceName, "no_such_preset");
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_FALSE(replies[1].accepted);
+  EXPECT_NE(replies[1].reason.find("no_such_preset"), std::string::npos) << replies[1].reason;
+
+  Control(odonata::control_t::FREEZE, "");  // for the identifier: not a word from the plant
+  EXPECT_EQ(replies.size(), 2u);
+  Control(odonata::control_t::FREEZE, kServiceName);
+  ASSERT_EQ(replies.size(), 3u);
+  EXPECT_FALSE(replies[2].accepted);
+  EXPECT_NE(replies[2].reason.find("freeze"), std::string::npos) << replies[2].reason;
+
+  Control(odonata::control_t::GET, "");
+  ASSERT_EQ(replies.size(), 4u);
+  EXPECT_TRUE(replies[3].accepted);
+  ASSERT_GE(replies[3].num_params, 1);
+  EXPECT_EQ(replies[3].names[0], "lockstep");
+  EXPECT_EQ(replies[3].values[0], 1.0);
 }
 
 TEST_F(PlantNodeTest, RealtimeTicksWithTrimThenTheNewestCommand) {
