@@ -9,7 +9,7 @@ namespace odonata::bus {
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
   for (std::string* s : {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat,
-                         &control, &control_reply, &ack})
+                         &control, &control_reply, &ack, &signals})
     *s += "_" + suffix;
 }
 
@@ -25,6 +25,7 @@ void ChannelConfig::Override(const nlohmann::json& j) {
                           : key == "control"       ? &control
                           : key == "control_reply" ? &control_reply
                           : key == "ack"           ? &ack
+                          : key == "signals"       ? &signals
                                                    : nullptr;
     if (!target) throw std::runtime_error("channels: unknown channel '" + key + "'");
     *target = value.get<std::string>();

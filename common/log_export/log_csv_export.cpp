@@ -18,6 +18,7 @@
 #include "messages/beat_state_message.hpp"
 #include "messages/paired_sample.hpp"
 #include "messages/plant_state_message.hpp"
+#include "messages/signals_message.hpp"
 #include "messages/wing_command_message.hpp"
 #include "model_messages/model_snapshot_message.hpp"
 #include "monitoring/prediction_scoreboard.hpp"
@@ -155,6 +156,58 @@ void ForEachEvent(const std::vector<std::string>& log_paths, const std::string& 
   });
 }
 }  // namespace
+
+SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_paths,
+                                        const std::string& channel, const std::string& csv_path,
+                                        int run) {
+  SignalsExportSummary summary;
+  std::vector<std::vector<odonata::signals_t>> runs;
+  ForEachEvent(log_paths, channel, [&](const lcm::LogEvent& ev) {
+    odonata::signals_t m;
+    if (!SafeDecode(&m, ev.data, ev.datalen) || !messages::SignalsProblems(m).empty() ||
+        m.seq < 0) {
+      ++summary.undecodable;
+      return;
+    }
+    // A seq going back to 0 is the vehicle starting over: a new run, as the identifier sees it.
+    if (runs.empty() || (m.seq == 0 && !runs.back().empty() && runs.back().back().seq > 0))
+      runs.emplace_back();
+    runs.back().push_back(std::move(m));
+  });
+  if (runs.empty())
+    throw std::runtime_error("no signals on " + channel + " in the log (" +
+                             std::to_string(summary.undecodable) + " undecodable)");
+  summary.runs = static_cast<int>(runs.size());
+  const int index = run < 0 ? summary.runs + run : run;
+  if (index < 0 || index >= summary.runs)
+    throw std::runtime_error("no run " + std::to_string(run) + ": the log holds " +
+                             std::to_string(summary.runs));
+  summary.exported_run = index;
+  auto& chosen = runs[static_cast<std::size_t>(index)];
+  std::stable_sort(chosen.begin(), chosen.end(),
+                   [](const auto& a, const auto& b) { return a.seq < b.seq; });
+  const auto& first = chosen.front();
+  std::vector<std::string> header{"seq", "t_s"};
+  header.insert(header.end(), first.names.begin(), first.names.end());
+  io::CsvWriter out(csv_path, header);
+  int64_t last = -1;
+  for (const auto& m : chosen) {
+    if (m.seq == last) continue;  // a resent duplicate: the first copy counts
+    if (m.names != first.names) {
+      ++summary.foreign;
+      continue;
+    }
+    if (last >= 0) summary.lost += m.seq - last - 1;
+    last = m.seq;
+    std::vector<double> row{static_cast<double>(m.seq),
+                            1e-6 * static_cast<double>(m.utime - first.utime)};
+    row.insert(row.end(), m.values.begin(), m.values.end());
+    out.WriteRow(row);
+    ++summary.rows;
+  }
+  out.Close();
+  return summary;
+}
 
 long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std::string& channel,
                             const std::string& csv_path) {

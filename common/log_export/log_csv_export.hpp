@@ -40,6 +40,23 @@ struct ExportSummary {
 ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const std::string& csv_path,
                              const ExportOptions& options);
 
+struct SignalsExportSummary {
+  int runs = 0;           ///< runs found (a vehicle's seq going back starts one)
+  int exported_run = -1;  ///< the run written
+  long rows = 0;
+  long undecodable = 0;  ///< events on the channel that did not decode or had bad counts
+  long foreign = 0;      ///< messages of the run whose signal names differ from its first one
+  long lost = 0;         ///< seqs missing in the run (rows not written: see the seq column)
+};
+
+/// Any vehicle's signals_t on `channel` (docs/lcm.md §14) as CSV: columns seq, t_s (seconds since
+/// the run's first message, from utime) and every signal of the run's first message, in its
+/// order; one row per message, in seq order, duplicates dropped. `run` as in ExportOptions.
+/// @throws std::runtime_error on unreadable logs, no signals, or write errors.
+SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_paths,
+                                        const std::string& channel, const std::string& csv_path,
+                                        int run = -1);
+
 /// Writes every prediction_t on `channel` as CSV: run, sample, learning, and per output
 /// NAME_measured, NAME_predicted, NAME_free_run, NAME_next, NAME_rules, NAME_max_entropy.
 /// A new run starts when the sample number goes back. Returns the rows written.

@@ -69,6 +69,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "snapshot_every_samples",
                                           "resume_wait_s",
                                           "decimate",
+                                          "source",
                                           "ranges",
                                           "channels"};
 
@@ -140,6 +141,14 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
                               std::numeric_limits<int64_t>::max(), problem);
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
     c.decimate = IntegerField<int>(j, "decimate", c.decimate, 1, 100000, problem);
+    const std::string source = j.value("source", std::string("dimav"));
+    if (source == "signals")
+      c.source = SampleSource::kSignals;
+    else if (source != "dimav")
+      problem(
+          "\"source\" must be \"dimav\" (commands and states) or \"signals\" (signals_t), "
+          "not \"" +
+          source + "\"");
     if (j.contains("ranges")) c.ranges = sysid::RangesFromJson(j["ranges"]);
     if (j.contains("channels")) c.channels.Override(j["channels"]);
     try {
@@ -184,6 +193,8 @@ std::string ExampleIdentifierConfig() {
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
   j["decimate"] = 1;
+  // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
+  j["source"] = "dimav";
   j["channels"] = {
       {"command", "DIMAV_COMMAND"}, {"state", "DIMAV_STATE"}, {"beat_state", "DIMAV_BEAT_STATE"}};
   return j.dump(2) + "\n";

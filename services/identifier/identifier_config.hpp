@@ -10,8 +10,13 @@
 
 namespace odonata::identifier {
 
+/// Where samples come from: the DI-MAV's commands, states and beat states paired by seq, or any
+/// vehicle's signals_t, one message per sample with every signal by name (docs/lcm.md §14).
+enum class SampleSource { kDimav, kSignals };
+
 struct IdentifierConfig {
   std::string instance = "identifier";
+  SampleSource source = SampleSource::kDimav;
   sysid::RegressorSpec spec;           ///< outputs, inputs (signal names), ny, nu, delay
   fuzzy::FuzzyModelConfig model;       ///< consequent, entropy threshold, cap
   sysid::SignalRanges ranges;          ///< declared ranges: the model's fixed scaling

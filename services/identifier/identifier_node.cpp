@@ -22,10 +22,18 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       core_(initial ? *initial : EmptyModel()),
       stream_(core_.model().spec(), config_.decimate) {
   const auto& ch = config_.channels;
-  bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
-  bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
-  if (stream_.needs_beat_states()) {
-    bus_.Subscribe<odonata::beat_state_t>(ch.beat_state, [this](const auto& m) { OnBeatState(m); });
+  if (config_.source == SampleSource::kSignals) {
+    // Any vehicle, one signals_t per sample: no pairing, and no lockstep receipts (odonata's
+    // generator is not driving it).
+    bus_.Subscribe<odonata::signals_t>(ch.signals,
+                                       [this](const auto& m) { Handle(stream_.OnSignals(m)); });
+  } else {
+    bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
+    bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
+    if (stream_.needs_beat_states()) {
+      bus_.Subscribe<odonata::beat_state_t>(ch.beat_state,
+                                            [this](const auto& m) { OnBeatState(m); });
+    }
   }
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
   bus_.Subscribe<odonata::model_snapshot_t>(ch.model, [this](const auto& m) { OnSnapshot(m); });

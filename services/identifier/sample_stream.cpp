@@ -1,10 +1,12 @@
 #include "sample_stream.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "experiments/sample_columns.hpp"
 #include "messages/beat_state_message.hpp"
 #include "messages/plant_state_message.hpp"
+#include "messages/signals_message.hpp"
 #include "messages/wing_command_message.hpp"
 
 namespace odonata::identifier {
@@ -43,6 +45,56 @@ std::vector<SampleStream::Event> SampleStream::OnState(const odonata::plant_stat
 std::vector<SampleStream::Event> SampleStream::OnBeat(const odonata::beat_state_t& msg) {
   if (!messages::AllFinite(msg)) throw std::invalid_argument("beat state with NaN or Inf fields");
   return Form(pairer_.OnBeat(msg));
+}
+
+std::vector<SampleStream::Event> SampleStream::OnSignals(const odonata::signals_t& msg) {
+  const std::string problems = messages::SignalsProblems(msg);
+  if (!problems.empty()) throw std::invalid_argument(problems);
+  std::vector<Event> events;
+  if (msg.seq == 0 && newest_signals_ > 0) {
+    // The vehicle started over: the model's history restarts, as for a restarted plant.
+    decimator_.Reset();
+    newest_signals_ = -1;
+    Event e;
+    e.kind = Event::Kind::kRestart;
+    events.push_back(std::move(e));
+  } else if (msg.seq >= 0 && msg.seq <= newest_signals_) {
+    throw std::invalid_argument("signals seq " + std::to_string(msg.seq) +
+                                " is not after the newest, " + std::to_string(newest_signals_) +
+                                " (a duplicate or stale sample)");
+  } else {
+    const std::string leap = signals_leaps_.Problem("signals", msg.seq, newest_signals_);
+    if (!leap.empty()) throw std::invalid_argument(leap);
+  }
+  if (newest_signals_ >= 0 && msg.seq > newest_signals_ + 1) {
+    Event e;
+    e.kind = Event::Kind::kGap;
+    e.lost = msg.seq - newest_signals_ - 1;
+    e.what = "gap";
+    e.message = std::to_string(e.lost) + " signals samples lost before seq " +
+                std::to_string(msg.seq) + " (from '" + msg.source + "')";
+    events.push_back(std::move(e));
+  }
+  newest_signals_ = msg.seq;
+  if (!started_) return events;
+  Event e;
+  e.sample.index = msg.seq;
+  e.sample.outputs.resize(static_cast<Eigen::Index>(spec_.outputs.size()));
+  e.sample.inputs.resize(static_cast<Eigen::Index>(spec_.inputs.size()));
+  const auto read = [&msg](const std::string& name) {
+    const auto v = messages::SignalValue(msg, name);
+    if (!v) throw std::invalid_argument("signals from '" + msg.source + "' have no '" + name + "'");
+    if (!std::isfinite(*v))
+      throw std::invalid_argument("signals from '" + msg.source + "': '" + name +
+                                  "' is not finite");
+    return *v;
+  };
+  for (std::size_t o = 0; o < spec_.outputs.size(); ++o)
+    e.sample.outputs(static_cast<Eigen::Index>(o)) = read(spec_.outputs[o]);
+  for (std::size_t i = 0; i < spec_.inputs.size(); ++i)
+    e.sample.inputs(static_cast<Eigen::Index>(i)) = read(spec_.inputs[i]);
+  if (Decimate(&e.sample)) events.push_back(std::move(e));
+  return events;
 }
 
 std::vector<SampleStream::Event> SampleStream::Form(
@@ -86,6 +138,10 @@ bool SampleStream::FormSample(const messages::PairedMessages& paired, sysid::Sam
     if (!v) throw std::invalid_argument("no command or state signal '" + spec_.inputs[i] + "'");
     sample->inputs(static_cast<Eigen::Index>(i)) = *v;
   }
+  return Decimate(sample);
+}
+
+bool SampleStream::Decimate(sysid::Sample* sample) {
   if (decimator_.factor() == 1) return true;
   // Learn from the block's sample, indexed by block: the model runs at the decimated rate.
   std::vector<double> row(sample->outputs.data(), sample->outputs.data() + sample->outputs.size());

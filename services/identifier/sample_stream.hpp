@@ -10,6 +10,8 @@
 
 #include "io/row_decimator.hpp"
 #include "messages/paired_sample.hpp"
+#include "odonata/signals_t.hpp"
+#include "sequence/sequence_window.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/regressor_spec.hpp"
 
@@ -37,6 +39,10 @@ class SampleStream {
   std::vector<Event> OnCommand(const odonata::wing_command_t& msg);
   std::vector<Event> OnState(const odonata::plant_state_t& msg);
   std::vector<Event> OnBeat(const odonata::beat_state_t& msg);
+  /// Any vehicle's sample k by name (source "signals"): consecutive seqs, 0 again after a restart,
+  /// a leap held until confirmed (sequence/sequence_window.hpp). Throws for a message without one
+  /// of the model's signals or with one that is not finite.
+  std::vector<Event> OnSignals(const odonata::signals_t& msg);
 
   /// Samples are formed from now on; before, messages are paired (so gaps and restarts are
   /// still seen) but make no sample, as when the identifier waits for a snapshot to resume from.
@@ -51,11 +57,15 @@ class SampleStream {
   std::vector<Event> Form(const std::vector<messages::PairedMessages>& paired);
   // Sample k from its messages, or nothing while a decimated block is incomplete.
   bool FormSample(const messages::PairedMessages& paired, sysid::Sample* sample);
+  // With decimation, folds sample k into its block: true when the block's sample is ready.
+  bool Decimate(sysid::Sample* sample);
 
   sysid::RegressorSpec spec_;
   messages::MessagePairer pairer_;
   io::RowDecimator decimator_;
   bool started_ = false;
+  int64_t newest_signals_ = -1;
+  pipeline::LeapGuard signals_leaps_;
 };
 
 }  // namespace odonata::identifier

@@ -54,6 +54,13 @@ int main(int argc, char** argv) {
   exp->add_option("--beat-state-channel", ex.beat_state_channel,
                   "beat averages and applied command (columns *_avg, *_applied_rad when present)")
       ->capture_default_str();
+  bool signals = false;
+  std::string signals_channel = "VEHICLE_SIGNALS";
+  exp->add_flag("--signals", signals,
+                "export any vehicle's signals_t samples (columns seq, t_s and its signals) instead "
+                "of the DI-MAV's commands and states");
+  exp->add_option("--signals-channel", signals_channel, "channel of --signals")
+      ->capture_default_str();
   std::string predictions_csv, snapshots_json, scores_json;
   exp->add_option("--predictions", predictions_csv, "also write ODONATA_PREDICTION as CSV here");
   exp->add_option("--snapshots", snapshots_json, "also write ODONATA_MODEL snapshots as JSON here");
@@ -78,7 +85,16 @@ int main(int argc, char** argv) {
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
-    if (*exp) {
+    if (*exp && signals) {
+      if (ex.decimate != 1)
+        throw std::runtime_error("--decimate applies to the DI-MAV's samples, not to --signals");
+      const auto s = odonata::log_export::ExportSignalsToCsv(logs, signals_channel, csv, ex.run);
+      std::fprintf(stderr,
+                   "odonata-logger: %ld signals samples of run %d (of %d) written to %s; %ld lost, "
+                   "%ld undecodable, %ld with other signal names skipped\n",
+                   s.rows, s.exported_run, s.runs, csv.c_str(), s.lost, s.undecodable, s.foreign);
+    }
+    if (*exp && !signals) {
       const auto s = odonata::log_export::ExportLogToCsv(logs, csv, ex);
       std::fprintf(stderr, "odonata-logger: %ld samples of run %d (of %d) written to %s", s.rows,
                    s.exported_run, s.runs, csv.c_str());
@@ -91,6 +107,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "; %ld decimation blocks dropped for a missing sample",
                      s.dropped_blocks);
       std::fprintf(stderr, "\n");
+    }
+    if (*exp) {
       if (!predictions_csv.empty()) {
         const long n =
             odonata::log_export::ExportPredictionsToCsv(logs, prediction_channel, predictions_csv);

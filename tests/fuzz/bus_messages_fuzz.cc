@@ -1,7 +1,8 @@
 // Fuzz harness: every message's decode-and-handle path. The first byte picks a channel, the rest
-// is published as the message's bytes on an in-process bus (memq://) where a lockstep plant, an
-// identifier, a monitor and a logger listen, as they do on the real bus: decode, validate and
-// handle. Nothing may crash; bad input is counted (decode errors, dropped).
+// is published as the message's bytes on an in-process bus (memq://) where a lockstep plant, two
+// identifiers (the DI-MAV's messages, and any vehicle's signals_t), a monitor and a logger
+// listen, as they do on the real bus: decode, validate and handle. Nothing may crash; bad input
+// is counted (decode errors, dropped).
 #include <unistd.h>
 
 #include <cstddef>
@@ -26,6 +27,7 @@ struct Harness {
   std::unique_ptr<odonata::bus::BusNode> bus;
   std::unique_ptr<odonata::plant_service::PlantNode> plant;
   std::unique_ptr<odonata::identifier::IdentifierNode> identifier;
+  std::unique_ptr<odonata::identifier::IdentifierNode> signals_identifier;  // any vehicle's
   std::unique_ptr<odonata::monitor::MonitorNode> monitor;
   std::unique_ptr<odonata::logger::LoggerNode> logger;
   std::vector<std::string> channels;
@@ -47,6 +49,11 @@ struct Harness {
     config.snapshot_period_s = 0;
     identifier =
         std::make_unique<odonata::identifier::IdentifierNode>(*bus, config, std::nullopt, "", dir);
+    odonata::identifier::IdentifierConfig any = config;
+    any.instance = "identifier-signals";
+    any.source = odonata::identifier::SampleSource::kSignals;
+    signals_identifier =
+        std::make_unique<odonata::identifier::IdentifierNode>(*bus, any, std::nullopt, "", dir);
     odonata::monitor::MonitorOptions mo;
     mo.print_period_s = 1e9;
     monitor = std::make_unique<odonata::monitor::MonitorNode>(*bus, mo);
@@ -56,7 +63,7 @@ struct Harness {
     logger = std::make_unique<odonata::logger::LoggerNode>(*bus, ro);
     const auto& c = bus->channels();
     channels = {c.command,  c.state,     c.beat_state, c.prediction, c.model,
-                c.accuracy, c.heartbeat, c.control,    c.ack};
+                c.accuracy, c.heartbeat, c.control,    c.ack,        c.signals};
   }
   ~Harness() {
     logger.reset();

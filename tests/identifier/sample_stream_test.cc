@@ -104,3 +104,75 @@ TEST(SampleStream, BadMessagesAreRejectedAndARestartIsReported) {
 
 }  // namespace
 }  // namespace odonata::identifier
+
+namespace odonata::identifier {
+namespace {
+
+odonata::signals_t Signals(int64_t k, double y, double u) {
+  odonata::signals_t m{};
+  m.seq = k;
+  m.source = "my-drone";
+  m.num_signals = 3;
+  m.names = {"battery_v", "u_roll_rad", "roll_rad"};  // any order, extra signals ignored
+  m.values = {NAN, u, y};
+  return m;
+}
+
+// Any vehicle's signals_t: sample k straight from message k, by name, whatever else it carries.
+TEST(SampleStreamSignals, SampleKIsMessageKByNameAndGapsRestartsAndLeapsAreSeen) {
+  SampleStream stream(Spec(), 1);
+  EXPECT_TRUE(Samples(stream.OnSignals(Signals(0, 0.5, 1.0))).empty());  // not started yet
+  stream.Start();
+  auto got = Samples(stream.OnSignals(Signals(1, 0.25, -1.0)));
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].index, 1);
+  EXPECT_EQ(got[0].outputs(0), 0.25);
+  EXPECT_EQ(got[0].inputs(0), -1.0);
+  // Duplicates and stale samples are refused; a lost sample is a gap.
+  EXPECT_THROW(stream.OnSignals(Signals(1, 0, 0)), std::invalid_argument);
+  auto events = stream.OnSignals(Signals(4, 0.1, 0.2));
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, SampleStream::Event::Kind::kGap);
+  EXPECT_EQ(events[0].lost, 2);
+  EXPECT_EQ(events[1].sample.index, 4);
+  // A far leap is held until the next seq confirms it, so one forged packet cannot stall a run.
+  EXPECT_THROW(stream.OnSignals(Signals(900000, 0, 0)), std::invalid_argument);
+  EXPECT_EQ(Samples(stream.OnSignals(Signals(5, 0.3, 0.4))).size(), 1u);
+  // seq 0 again: the vehicle restarted.
+  events = stream.OnSignals(Signals(0, 0.7, 0.8));
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, SampleStream::Event::Kind::kRestart);
+  EXPECT_EQ(events[1].sample.index, 0);
+}
+
+TEST(SampleStreamSignals, AMissingOrNonFiniteModelSignalOrBadCountsAreRefused) {
+  SampleStream stream(Spec(), 1);
+  stream.Start();
+  auto m = Signals(0, NAN, 1.0);
+  EXPECT_THROW(stream.OnSignals(m), std::invalid_argument);  // roll_rad is NaN
+  m = Signals(1, 0.1, 1.0);
+  m.names[2] = "pitch_rad";  // no roll_rad at all
+  EXPECT_THROW(stream.OnSignals(m), std::invalid_argument);
+  m = Signals(2, 0.1, 1.0);
+  m.num_signals = 5;
+  EXPECT_THROW(stream.OnSignals(m), std::invalid_argument);
+  m = Signals(3, 0.1, 1.0);
+  m.names[0] = "roll_rad";  // twice
+  EXPECT_THROW(stream.OnSignals(m), std::invalid_argument);
+  EXPECT_EQ(Samples(stream.OnSignals(Signals(4, 0.1, 1.0))).size(), 1u);
+}
+
+TEST(SampleStreamSignals, DecimatesLikeTheCommandAndStatePath) {
+  SampleStream stream(Spec(), 2);
+  stream.Start();
+  std::vector<sysid::Sample> got;
+  for (int64_t k = 0; k < 6; ++k) {
+    const auto s = Samples(stream.OnSignals(Signals(k, static_cast<double>(k), 2.0 * k)));
+    got.insert(got.end(), s.begin(), s.end());
+  }
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(got[1].index, 1);  // block 1: samples 2 and 3
+}
+
+}  // namespace
+}  // namespace odonata::identifier
