@@ -28,15 +28,16 @@ std::vector<std::string> SplitCells(const std::string& line) {
 
 }  // namespace
 
-CsvTable CsvTable::Read(const std::string& path) {
+CsvTable CsvTable::Read(const std::string& path, MissingCells missing) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(path + ": cannot open file (" + std::strerror(errno) + ")");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return Parse(ss.str(), path);
+  return Parse(ss.str(), path, missing);
 }
 
-CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name) {
+CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name,
+                         MissingCells missing) {
   CsvTable t;
   t.source_ = source_name;
   std::istringstream in(text);
@@ -75,12 +76,21 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
       const std::string where = source_name + ":" + std::to_string(line_no) + ": column " +
                                 std::to_string(c + 1) + " ('" + t.names_[c] + "')";
       const std::string& cell = cells[c];
-      if (cell.empty()) throw CsvError(where + ": empty cell");
+      const bool keep = missing == MissingCells::kKeepAsNaN;
+      if (cell.empty()) {
+        if (!keep) throw CsvError(where + ": empty cell");
+        t.columns_[c].push_back(std::nan(""));
+        continue;
+      }
       char* end = nullptr;
       errno = 0;
       const double v = std::strtod(cell.c_str(), &end);
       if (end == cell.c_str() || *end != '\0') {
         throw CsvError(where + ": '" + cell + "' is not a number");
+      }
+      if (std::isnan(v) && keep) {
+        t.columns_[c].push_back(v);
+        continue;
       }
       if (!std::isfinite(v)) throw CsvError(where + ": '" + cell + "' is not finite");
       t.columns_[c].push_back(v);

@@ -14,15 +14,20 @@ class CsvError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Column-major numeric table read from CSV. Every cell must be a finite number: NaN and Inf are
-/// rejected at read time so no model is ever trained on them.
+/// What an empty cell or a NaN means: an error (the default), or a missing value kept as NaN for
+/// the reader to bridge or cut out (sysid/series_from_table.hpp). Inf is an error either way.
+enum class MissingCells { kReject, kKeepAsNaN };
+
+/// Column-major numeric table read from CSV. By default every cell must be a finite number, so
+/// no model is ever trained on NaN or Inf.
 class CsvTable {
  public:
   /// Reads `path`. Blank lines and lines starting with '#' are skipped.
   /// @throws CsvError naming the file, line and column of the first problem.
-  static CsvTable Read(const std::string& path);
+  static CsvTable Read(const std::string& path, MissingCells missing = MissingCells::kReject);
   /// Parses CSV text; `source_name` is used in error messages.
-  static CsvTable Parse(const std::string& text, const std::string& source_name);
+  static CsvTable Parse(const std::string& text, const std::string& source_name,
+                        MissingCells missing = MissingCells::kReject);
 
   const std::vector<std::string>& names() const { return names_; }
   std::size_t rows() const { return columns_.empty() ? 0 : columns_.front().size(); }

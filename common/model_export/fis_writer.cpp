@@ -1,20 +1,15 @@
 #include "model_export/fis_writer.hpp"
 
-#include <cstdio>
 #include <sstream>
+
+#include "model_export/exact_number.hpp"
 
 namespace odonata::model_export {
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string Vector(const std::vector<double>& v) {
   std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + Num(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + ExactNumber(v[i]);
   return s + "]";
 }
 
@@ -45,7 +40,7 @@ std::string ToFis(const inference::TskModel& m) {
   o << "\n[Rules]\n";
   for (std::size_t j = 0; j < r; ++j) {
     for (std::size_t i = 0; i < n; ++i) o << (i ? " " : "") << j + 1;
-    o << ", " << j + 1 << " (" << Num(m.rules[j].weight) << ") : 1\n";
+    o << ", " << j + 1 << " (" << ExactNumber(m.rules[j].weight) << ") : 1\n";
   }
   return o.str();
 }

@@ -7,27 +7,29 @@ namespace odonata::sysid {
 
 Eigen::MatrixXd PredictOneStep(const RegressorSpec& spec, const Series& series,
                                const Predictor& predict) {
-  const Eigen::Index t0 = spec.first_target();
-  const Eigen::Index rows = series.samples() - t0;
-  if (rows < 1) throw std::invalid_argument("too few samples for the lags");
-  Eigen::MatrixXd out(rows, series.outputs.cols());
+  const auto targets = TargetRows(spec, series);
+  if (targets.empty()) throw std::invalid_argument("too few samples for the lags");
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(targets.size()), series.outputs.cols());
   Eigen::VectorXd x(spec.size());
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    spec.Fill(t0 + r, series.outputs, series.inputs, x);
-    out.row(r) = predict(x).transpose();
+  for (std::size_t r = 0; r < targets.size(); ++r) {
+    spec.Fill(targets[r], series.outputs, series.inputs, x);
+    out.row(static_cast<Eigen::Index>(r)) = predict(x).transpose();
   }
   return out;
 }
 
 Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
                                 const Predictor& predict, bool* diverged) {
-  const Eigen::Index t0 = spec.first_target();
-  const Eigen::Index rows = series.samples() - t0;
-  if (rows < 1) throw std::invalid_argument("too few samples for the lags");
-  Eigen::MatrixXd simulated = series.outputs;  // rows < t0 stay measured (initial conditions)
+  const auto targets = TargetRows(spec, series);
+  if (targets.empty()) throw std::invalid_argument("too few samples for the lags");
+  // Rows that are not targets (each segment's first ones) stay measured: the initial conditions
+  // the simulation of that segment starts from.
+  Eigen::MatrixXd simulated = series.outputs;
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(targets.size()), series.outputs.cols());
   Eigen::VectorXd x(spec.size());
   bool bad = false;
-  for (Eigen::Index t = t0; t < series.samples(); ++t) {
+  for (std::size_t r = 0; r < targets.size(); ++r) {
+    const Eigen::Index t = targets[r];
     spec.Fill(t, simulated, series.inputs, x);
     const Eigen::VectorXd y = predict(x);
     for (Eigen::Index o = 0; o < y.size(); ++o) {
@@ -38,9 +40,10 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
         bad = true;
       }
     }
+    out.row(static_cast<Eigen::Index>(r)) = simulated.row(t);
   }
   if (diverged) *diverged = bad;
-  return simulated.bottomRows(rows);
+  return out;
 }
 
 }  // namespace odonata::sysid

@@ -26,6 +26,8 @@ Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count) {
   Series out;
   out.outputs = s.outputs.middleRows(begin, count);
   out.inputs = s.inputs.middleRows(begin, count);
+  for (const Eigen::Index b : s.breaks)
+    if (b > begin && b < begin + count) out.breaks.push_back(b - begin);
   return out;
 }
 

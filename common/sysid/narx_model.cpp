@@ -88,16 +88,15 @@ void NarxModel::SetScaling(const Scaling& scaling) {
 
 double NarxModel::Ndei(const Series& series, bool free_run) const {
   const Predictor predict = [this](const Eigen::VectorXd& x) { return Predict(x); };
-  const Eigen::Index t0 = spec_.first_target();
   bool diverged = false;
+  const Eigen::MatrixXd y_all = Targets(spec_, series);
   const Eigen::MatrixXd yhat = free_run && spec_.output_lags > 0
                                    ? SimulateFreeRun(spec_, series, predict, &diverged)
                                    : PredictOneStep(spec_, series, predict);
   if (diverged) return std::numeric_limits<double>::infinity();
   double sum = 0.0;
   for (int o = 0; o < outputs(); ++o) {
-    const Eigen::VectorXd y = series.outputs.col(o).tail(series.samples() - t0);
-    sum += metrics::Score(y, yhat.col(o)).ndei;
+    sum += metrics::Score(y_all.col(o), yhat.col(o)).ndei;
   }
   const double ndei = sum / outputs();
   return std::isfinite(ndei) ? ndei : std::numeric_limits<double>::infinity();

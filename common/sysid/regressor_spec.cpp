@@ -67,6 +67,29 @@ void RegressorSpec::Fill(Eigen::Index t, const Eigen::Ref<const Eigen::MatrixXd>
     for (int l = 0; l < input_lags; ++l) x(c++) = u(t - delay - l, static_cast<Eigen::Index>(i));
 }
 
+std::vector<Eigen::Index> TargetRows(const RegressorSpec& spec, const Series& series) {
+  std::vector<Eigen::Index> rows;
+  const Eigen::Index t0 = spec.first_target();
+  Eigen::Index start = 0;
+  std::size_t b = 0;
+  for (Eigen::Index t = 0; t < series.samples(); ++t) {
+    if (b < series.breaks.size() && t == series.breaks[b]) {
+      start = t;
+      ++b;
+    }
+    if (t >= start + t0) rows.push_back(t);
+  }
+  return rows;
+}
+
+Eigen::MatrixXd Targets(const RegressorSpec& spec, const Series& series) {
+  const auto rows = TargetRows(spec, series);
+  Eigen::MatrixXd y(static_cast<Eigen::Index>(rows.size()), series.outputs.cols());
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    y.row(static_cast<Eigen::Index>(r)) = series.outputs.row(rows[r]);
+  return y;
+}
+
 RegressionData BuildRegression(const RegressorSpec& spec, const Series& series) {
   if (series.outputs.cols() != static_cast<Eigen::Index>(spec.outputs.size()) ||
       series.inputs.cols() != static_cast<Eigen::Index>(spec.inputs.size())) {
@@ -75,19 +98,25 @@ RegressionData BuildRegression(const RegressorSpec& spec, const Series& series) 
         std::to_string(series.inputs.cols()) + " inputs, the regressor expects " +
         std::to_string(spec.outputs.size()) + " and " + std::to_string(spec.inputs.size()));
   }
-  const Eigen::Index t0 = spec.first_target();
-  const Eigen::Index rows = series.samples() - t0;
+  const auto targets = TargetRows(spec, series);
+  const auto rows = static_cast<Eigen::Index>(targets.size());
   if (rows < 1) {
-    throw std::invalid_argument("too few samples (" + std::to_string(series.samples()) +
-                                ") for the lags: need more than " + std::to_string(t0));
+    throw std::invalid_argument(
+        "too few samples (" + std::to_string(series.samples()) +
+        (series.breaks.empty() ? ""
+                               : " in " + std::to_string(series.breaks.size() + 1) + " segments") +
+        ") for the lags: need more than " + std::to_string(spec.first_target()) +
+        " in one segment");
   }
   RegressionData d;
   d.x.resize(rows, spec.size());
-  d.y = series.outputs.bottomRows(rows);
+  d.y.resize(rows, series.outputs.cols());
   Eigen::VectorXd x(spec.size());
   for (Eigen::Index r = 0; r < rows; ++r) {
-    spec.Fill(t0 + r, series.outputs, series.inputs, x);
+    const Eigen::Index t = targets[static_cast<std::size_t>(r)];
+    spec.Fill(t, series.outputs, series.inputs, x);
     d.x.row(r) = x.transpose();
+    d.y.row(r) = series.outputs.row(t);
   }
   return d;
 }

@@ -9,12 +9,23 @@
 
 namespace odonata::sysid {
 
-/// Time series of one experiment, one row per sample (100 Hz in the paper).
+/// Time series of one experiment, one row per sample (100 Hz in the paper). A recording with
+/// gaps it could not bridge is several segments laid end to end (docs/identifier.md §7.1): no
+/// regressor reaches across a break, and a free run starts again from measured values after one.
 struct Series {
   Eigen::MatrixXd outputs;  ///< samples × outputs
   Eigen::MatrixXd inputs;   ///< samples × inputs
+  /// Rows that start a new segment, increasing, each in (0, samples); empty for one segment.
+  std::vector<Eigen::Index> breaks;
   Eigen::Index samples() const { return outputs.rows(); }
 };
+
+struct RegressorSpec;
+/// The rows t with a complete regressor inside their own segment (t ≥ segment start +
+/// first_target()), in order: the targets of BuildRegression, PredictOneStep and SimulateFreeRun.
+std::vector<Eigen::Index> TargetRows(const RegressorSpec& spec, const Series& series);
+/// The measured outputs at TargetRows (targets × outputs): what predictions are scored against.
+Eigen::MatrixXd Targets(const RegressorSpec& spec, const Series& series);
 
 /// x(t) = [y_o(t−1) … y_o(t−n) for each output o, u_i(t−d) … u_i(t−d−m+1) for each input i],
 /// target y(t). With d = 1 and t = k+1 this is eq. 7: x(k) = [y(k) … y(k−n+1), u(k) … u(k−m+1)]
@@ -49,13 +60,13 @@ struct RegressorSpec {
             const Eigen::Ref<const Eigen::MatrixXd>& inputs, Eigen::Ref<Eigen::VectorXd> x) const;
 };
 
-/// Regressors and targets of a whole series: rows t = first_target() … samples − 1.
+/// Regressors and targets of a whole series: the rows TargetRows() lists.
 struct RegressionData {
   Eigen::MatrixXd x;  ///< rows × size()
   Eigen::MatrixXd y;  ///< rows × outputs
 };
 
-/// @throws std::invalid_argument when the series is too short for the lags.
+/// @throws std::invalid_argument when the series has no complete regressor.
 RegressionData BuildRegression(const RegressorSpec& spec, const Series& series);
 
 }  // namespace odonata::sysid

@@ -72,6 +72,8 @@ int main(int argc, char** argv) {
                  "sender name; services obey reset and shutdown only from the names in their "
                  "--control-from")
       ->capture_default_str();
+  // Like every service: a board's settings file can name the bus and the sender.
+  app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   const int8_t code = commands.at(command);

@@ -24,63 +24,92 @@
 namespace odonata::fit {
 namespace {
 
-sysid::Series LoadSeries(const std::string& path, const std::string& output,
-                         const std::vector<std::string>& inputs, const sysid::RegressorSpec& spec) {
-  const io::CsvTable table = io::CsvTable::Read(path);
-  sysid::Series s;
-  const auto rows = static_cast<Eigen::Index>(table.rows());
-  s.outputs.resize(rows, 1);
-  const auto& y = table.Column(output);
-  for (Eigen::Index r = 0; r < rows; ++r) s.outputs(r, 0) = y[static_cast<std::size_t>(r)];
-  s.inputs.resize(rows, static_cast<Eigen::Index>(inputs.size()));
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    const auto& u = table.Column(inputs[i]);
-    for (Eigen::Index r = 0; r < rows; ++r)
-      s.inputs(r, static_cast<Eigen::Index>(i)) = u[static_cast<std::size_t>(r)];
+// One data file as a series of the spec's signals, under the rules for real logs; what was
+// bridged or cut goes into `data` (and a warning).
+sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
+                         const sysid::RegressorSpec& spec, nlohmann::json* data,
+                         nlohmann::json* warnings) {
+  const io::CsvTable table = io::CsvTable::Read(path, io::MissingCells::kKeepAsNaN);
+  sysid::SeriesOptions so;
+  so.outputs = spec.outputs;
+  so.inputs = spec.inputs;
+  so.time_column = o.time_column;
+  so.rate_hz = o.rate_hz;
+  so.max_gap = o.max_gap;
+  so.min_segment = spec.first_target() + 2;
+  sysid::SeriesReport r;
+  sysid::Series s = sysid::SeriesFromTable(table, so, &r);
+  if (sysid::TargetRows(spec, s).size() < 2) {
+    throw std::runtime_error(
+        path + ": " + std::to_string(r.samples) +
+        " usable samples, but the lags (ny=" + std::to_string(spec.output_lags) +
+        ", nu=" + std::to_string(spec.input_lags) + ", delay=" + std::to_string(spec.delay) +
+        ") need at least " + std::to_string(spec.first_target() + 2) + " in one stretch");
   }
-  const int need = spec.first_target() + 2;
-  if (rows < need) {
-    throw std::runtime_error(path + ": " + std::to_string(rows) +
-                             " data rows, but the lags (ny=" + std::to_string(spec.output_lags) +
-                             ", nu=" + std::to_string(spec.input_lags) +
-                             ", delay=" + std::to_string(spec.delay) + ") need at least " +
-                             std::to_string(need));
+  nlohmann::json d = {{"file", path},
+                      {"rows", r.rows},
+                      {"samples", r.samples},
+                      {"segments", r.segments},
+                      {"bridged", r.bridged},
+                      {"missing", r.missing},
+                      {"dropped_segments", r.dropped_segments}};
+  if (!o.time_column.empty()) d["rate_hz"] = r.rate_hz;
+  if (data) (*data)[path] = d;
+  if (warnings && (r.bridged > 0 || r.missing > 0 || r.segments > 1)) {
+    warnings->push_back(path + ": " + std::to_string(r.bridged) + " missing values bridged, " +
+                        std::to_string(r.missing) + " samples dropped in longer gaps, " +
+                        std::to_string(r.segments) + " segment(s) used");
   }
   return s;
 }
 
-/// Scores a predictor on a series in both modes.
-nlohmann::json Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                        const sysid::Predictor& predict) {
-  const Eigen::Index t0 = spec.first_target();
-  const Eigen::VectorXd y = s.outputs.col(0).tail(s.samples() - t0);
-  nlohmann::json j;
-  j["one_step"] =
-      metrics::AccuracyToJson(metrics::Score(y, sysid::PredictOneStep(spec, s, predict).col(0)));
-  if (spec.output_lags > 0) {
-    bool diverged = false;
-    const Eigen::MatrixXd sim = sysid::SimulateFreeRun(spec, s, predict, &diverged);
-    j["free_run"] = metrics::AccuracyToJson(metrics::Score(y, sim.col(0)));
-    if (diverged) j["free_run"]["diverged"] = true;
+/// Scores a predictor on a series in both modes, one block per output.
+std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
+                                     const sysid::Predictor& predict) {
+  const Eigen::MatrixXd y = sysid::Targets(spec, s);
+  const Eigen::MatrixXd one = sysid::PredictOneStep(spec, s, predict);
+  bool diverged = false;
+  Eigen::MatrixXd sim;
+  if (spec.output_lags > 0) sim = sysid::SimulateFreeRun(spec, s, predict, &diverged);
+  std::vector<nlohmann::json> out;
+  for (Eigen::Index o = 0; o < y.cols(); ++o) {
+    nlohmann::json j;
+    j["one_step"] = metrics::AccuracyToJson(metrics::Score(y.col(o), one.col(o)));
+    if (spec.output_lags > 0) {
+      j["free_run"] = metrics::AccuracyToJson(metrics::Score(y.col(o), sim.col(o)));
+      if (diverged) j["free_run"]["diverged"] = true;
+    }
+    out.push_back(j);
   }
-  return j;
+  return out;
 }
 
-/// Persistence ŷ(t) = y(t−1) one step ahead; free run holds the last measured initial value.
-nlohmann::json EvaluatePersistence(const sysid::RegressorSpec& spec, const sysid::Series& s) {
-  const Eigen::Index t0 = std::max<Eigen::Index>(1, spec.first_target());
-  const Eigen::Index rows = s.samples() - spec.first_target();
-  const Eigen::VectorXd y = s.outputs.col(0).tail(rows);
-  Eigen::VectorXd one(rows), held(rows);
+/// Persistence ŷ(t) = y(t−1) one step ahead; free run holds the last measured value before each
+/// segment's first target. One block per output.
+std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec,
+                                                const sysid::Series& s) {
+  const auto targets = sysid::TargetRows(spec, s);
+  const auto rows = static_cast<Eigen::Index>(targets.size());
+  const Eigen::MatrixXd y = sysid::Targets(spec, s);
+  Eigen::MatrixXd one(rows, y.cols()), held(rows, y.cols());
   for (Eigen::Index r = 0; r < rows; ++r) {
-    const Eigen::Index t = spec.first_target() + r;
-    one(r) = s.outputs(std::max<Eigen::Index>(t - 1, 0), 0);
-    held(r) = s.outputs(t0 - 1, 0);
+    const Eigen::Index t = targets[static_cast<std::size_t>(r)];
+    const bool first = r == 0 || targets[static_cast<std::size_t>(r) - 1] != t - 1;
+    one.row(r) = s.outputs.row(std::max<Eigen::Index>(t - 1, 0));
+    if (first)
+      held.row(r) = s.outputs.row(std::max<Eigen::Index>(t - 1, 0));
+    else
+      held.row(r) = held.row(r - 1);
   }
-  nlohmann::json j;
-  j["one_step"] = metrics::AccuracyToJson(metrics::Score(y, one));
-  if (spec.output_lags > 0) j["free_run"] = metrics::AccuracyToJson(metrics::Score(y, held));
-  return j;
+  std::vector<nlohmann::json> out;
+  for (Eigen::Index o = 0; o < y.cols(); ++o) {
+    nlohmann::json j;
+    j["one_step"] = metrics::AccuracyToJson(metrics::Score(y.col(o), one.col(o)));
+    if (spec.output_lags > 0)
+      j["free_run"] = metrics::AccuracyToJson(metrics::Score(y.col(o), held.col(o)));
+    out.push_back(j);
+  }
+  return out;
 }
 
 nlohmann::json CandidateToJson(const sysid::Candidate& c) {
@@ -99,22 +128,35 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
 }
 
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
+/// One output keeps the plain column names; several get one set of columns per output (_NAME).
 void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
                       const sysid::Predictor& fuzzy, const sysid::Predictor& arx) {
-  io::CsvWriter out(path, {"set", "sample", "measured", "fuzzy_one_step", "fuzzy_free_run",
-                           "arx_one_step", "arx_free_run"});
+  const auto no = spec.outputs.size();
+  std::vector<std::string> header{"set", "sample"};
+  for (const auto& name : spec.outputs) {
+    const std::string sfx = no > 1 ? "_" + name : "";
+    for (const char* c :
+         {"measured", "fuzzy_one_step", "fuzzy_free_run", "arx_one_step", "arx_free_run"})
+      header.push_back(c + sfx);
+  }
+  io::CsvWriter out(path, header);
   double set_index = 0;
   for (const auto& [name, s] : sets) {
-    const Eigen::Index t0 = spec.first_target();
+    const auto targets = sysid::TargetRows(spec, *s);
     const Eigen::MatrixXd f1 = sysid::PredictOneStep(spec, *s, fuzzy);
     const Eigen::MatrixXd a1 = sysid::PredictOneStep(spec, *s, arx);
     const bool lags = spec.output_lags > 0;
     const Eigen::MatrixXd fr = lags ? sysid::SimulateFreeRun(spec, *s, fuzzy) : f1;
     const Eigen::MatrixXd ar = lags ? sysid::SimulateFreeRun(spec, *s, arx) : a1;
     for (Eigen::Index r = 0; r < f1.rows(); ++r) {
-      out.WriteRow({set_index, double(t0 + r), s->outputs(t0 + r, 0), f1(r, 0), fr(r, 0), a1(r, 0),
-                    ar(r, 0)});
+      const Eigen::Index t = targets[static_cast<std::size_t>(r)];
+      std::vector<double> row{set_index, double(t)};
+      for (Eigen::Index o = 0; o < f1.cols(); ++o) {
+        for (const double v : {s->outputs(t, o), f1(r, o), fr(r, o), a1(r, o), ar(r, o)})
+          row.push_back(v);
+      }
+      out.WriteRow(row);
     }
     ++set_index;
   }
@@ -145,7 +187,7 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
     out.emplace(output, std::vector<std::string>{"sample", "measured", "online", "frozen", "arx",
                                                  "online_window_fit", "frozen_window_fit",
                                                  "arx_window_fit"});
-  const Eigen::Index t0 = spec.first_target();
+  const auto targets = sysid::TargetRows(spec, s);
   Eigen::MatrixXd yhat(d.x.rows(), 3);
   for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
     const Eigen::VectorXd x = d.x.row(r).transpose();
@@ -157,10 +199,11 @@ nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
     const double p_online = online.Predict(x)(0);
     online.Learn(x, d.y.row(r).transpose());
     const double p[3] = {p_online, p_frozen, p_arx};
-    std::vector<double> row = {double(t0 + r), y, p_online, p_frozen, p_arx, 0, 0, 0};
+    const auto t = targets[static_cast<std::size_t>(r)];
+    std::vector<double> row = {double(t), y, p_online, p_frozen, p_arx, 0, 0, 0};
     for (int m = 0; m < 3; ++m) {
       yhat(r, m) = p[m];
-      const auto e = alarms[m].Push(long(t0 + r), y, p[m]);
+      const auto e = alarms[m].Push(long(t), y, p[m]);
       row[static_cast<std::size_t>(5 + m)] = alarms[m].tracking_fit();
       if (e) {
         events[m].push_back(
@@ -197,7 +240,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     model = sysid::NarxModel::Load(o.load_model);
     spec = model->spec();
   } else {
-    spec.outputs = {o.output};
+    spec.outputs = o.outputs;
     spec.inputs = o.inputs;
     const std::string problems = spec.Problems();
     if (!problems.empty()) throw std::runtime_error("invalid model structure: " + problems);
@@ -205,13 +248,16 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     if (!config_problems.empty()) throw std::runtime_error(config_problems);
   }
   const std::string output = spec.outputs.at(0);
-  std::optional<sysid::Series> train, validate;
-  if (!o.train_csv.empty()) train = LoadSeries(o.train_csv, output, spec.inputs, spec);
-  if (!o.validate_csv.empty()) validate = LoadSeries(o.validate_csv, output, spec.inputs, spec);
-  if (!train && !model) throw std::runtime_error("nothing to do: give --train or --load-model");
-
+  const std::size_t n_outputs = spec.outputs.size();
   nlohmann::json report;
   nlohmann::json warnings = nlohmann::json::array();
+  nlohmann::json data = nlohmann::json::object();
+  std::optional<sysid::Series> train, validate;
+  if (!o.train_csv.empty()) train = LoadSeries(o.train_csv, o, spec, &data, &warnings);
+  if (!o.validate_csv.empty()) validate = LoadSeries(o.validate_csv, o, spec, &data, &warnings);
+  if (!train && !model) throw std::runtime_error("nothing to do: give --train or --load-model");
+  if (!o.track_csv.empty() && n_outputs > 1)
+    throw std::runtime_error("--track follows one output; give one --output");
   ProgressBar bar(o.progress);
   fuzzy::FuzzyModelConfig cfg = o.model;
   sysid::TrainOptions topt = o.train;
@@ -242,7 +288,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     // Candidates learn with the declared scaling when there is one, as the final model will.
     so.scaling = declared;
     std::optional<sysid::Series> select_series;
-    if (!o.select_csv.empty()) select_series = LoadSeries(o.select_csv, output, spec.inputs, spec);
+    if (!o.select_csv.empty()) select_series = LoadSeries(o.select_csv, o, spec, &data, &warnings);
     const auto sel = sysid::SelectModel(
         spec, cfg, topt, *train, so,
         [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
@@ -310,15 +356,27 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   report["epochs"] = o.load_model.empty() ? topt.epochs : 0;
   report["least_squares_refinement"] = o.load_model.empty() && o.train.refine_least_squares;
   report["seed"] = o.seed;
-  if (train) report["train"] = Evaluate(spec, *train, predict);
-  if (validate) report["validate"] = Evaluate(spec, *validate, predict);
+  // Scores per output: the first output's at the top level (as with one output), every output's
+  // under per_output when there are several.
+  std::vector<nlohmann::json> per(n_outputs, nlohmann::json::object());
+  const auto put = [&per](const std::vector<nlohmann::json>& blocks, const std::string& where,
+                          const std::string& key) {
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+      if (where.empty())
+        per[k][key] = blocks[k];
+      else
+        per[k]["baselines"][where][key] = blocks[k];
+    }
+  };
+  if (train) put(Evaluate(spec, *train, predict), "", "train");
+  if (validate) put(Evaluate(spec, *validate, predict), "", "validate");
   if (train) {
     const auto arx = sysid::ArxModel::Fit(spec, *train);
     const sysid::Predictor arx_predict = [&arx](const Eigen::VectorXd& x) {
       return arx.Predict(x);
     };
-    report["baselines"]["arx"]["train"] = Evaluate(spec, *train, arx_predict);
-    report["baselines"]["persistence"]["train"] = EvaluatePersistence(spec, *train);
+    put(Evaluate(spec, *train, arx_predict), "arx", "train");
+    put(EvaluatePersistence(spec, *train), "persistence", "train");
     // ARX with squared inputs: whether a static input nonlinearity explains the fuzzy model's
     // gain (only with inputs: without them it is ARX).
     std::optional<sysid::QuadraticArxModel> quadratic;
@@ -328,37 +386,35 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     const sysid::Predictor quadratic_predict = [&quadratic](const Eigen::VectorXd& x) {
       return quadratic->Predict(x);
     };
-    if (quadratic) {
-      report["baselines"]["arx_squared_inputs"]["train"] =
-          Evaluate(spec, *train, quadratic_predict);
-    }
+    if (quadratic) put(Evaluate(spec, *train, quadratic_predict), "arx_squared_inputs", "train");
     if (validate) {
-      report["baselines"]["arx"]["validate"] = Evaluate(spec, *validate, arx_predict);
-      if (quadratic) {
-        report["baselines"]["arx_squared_inputs"]["validate"] =
-            Evaluate(spec, *validate, quadratic_predict);
-      }
-      report["baselines"]["persistence"]["validate"] = EvaluatePersistence(spec, *validate);
+      put(Evaluate(spec, *validate, arx_predict), "arx", "validate");
+      if (quadratic)
+        put(Evaluate(spec, *validate, quadratic_predict), "arx_squared_inputs", "validate");
+      put(EvaluatePersistence(spec, *validate), "persistence", "validate");
       // Warnings only: the validation data informs the reader, never a choice.
-      const auto& v = report["validate"];
-      for (const char* base : {"arx", "persistence"}) {
-        for (const char* mode : {"one_step", "free_run"}) {
-          const auto& b = report["baselines"][base]["validate"];
-          if (!v.contains(mode) || !b.contains(mode)) continue;
-          const auto& fz = v[mode]["fit"];
-          const auto& bf = b[mode]["fit"];
-          if (fz.is_number() && bf.is_number() && fz.get<double>() < bf.get<double>()) {
-            char line[160];
-            std::snprintf(line, sizeof line,
-                          "the model loses to %s on validation (%s FIT %.2f %% < %.2f %%)", base,
-                          mode, fz.get<double>(), bf.get<double>());
-            warnings.push_back(line);
+      for (std::size_t k = 0; k < n_outputs; ++k) {
+        const auto& v = per[k]["validate"];
+        for (const char* base : {"arx", "persistence"}) {
+          for (const char* mode : {"one_step", "free_run"}) {
+            const auto& b = per[k]["baselines"][base]["validate"];
+            if (!v.contains(mode) || !b.contains(mode)) continue;
+            const auto& fz = v[mode]["fit"];
+            const auto& bf = b[mode]["fit"];
+            if (fz.is_number() && bf.is_number() && fz.get<double>() < bf.get<double>()) {
+              char line[200];
+              std::snprintf(line, sizeof line,
+                            "%s%sthe model loses to %s on validation (%s FIT %.2f %% < %.2f %%)",
+                            n_outputs > 1 ? spec.outputs[k].c_str() : "", n_outputs > 1 ? ": " : "",
+                            base, mode, fz.get<double>(), bf.get<double>());
+              warnings.push_back(line);
+            }
           }
         }
       }
     }
     if (!o.track_csv.empty()) {
-      const sysid::Series track = LoadSeries(o.track_csv, output, spec.inputs, spec);
+      const sysid::Series track = LoadSeries(o.track_csv, o, spec, nullptr, &warnings);
       report["track"] =
           Track(spec, track, *model, arx, o.track_output, o.track_window, o.track_forgetting);
     }
@@ -369,8 +425,22 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
       report["predictions_file"] = o.predictions;
     }
   }
+  for (std::size_t k = 0; k < n_outputs; ++k) {
+    const auto& fk = model->model(static_cast<int>(k));
+    per[k]["rules"] = fk.rules();
+    per[k]["consequent"] = fuzzy::ToString(fk.consequent().kind());
+    per[k]["target"] = spec.TargetName(static_cast<int>(k));
+    per[k]["rule_text"] = sysid::DescribeRules(*model, static_cast<int>(k));
+  }
+  // The first output at the top level, as a one-output report always had it.
+  for (const char* key : {"train", "validate", "baselines", "rule_text"})
+    if (per[0].contains(key)) report[key] = per[0][key];
+  report["outputs"] = spec.outputs;
+  if (n_outputs > 1) {
+    for (std::size_t k = 0; k < n_outputs; ++k) report["per_output"][spec.outputs[k]] = per[k];
+  }
   report["warnings"] = warnings;
-  report["rule_text"] = sysid::DescribeRules(*model, 0);
+  report["data"] = data;
   if (!o.save_model.empty()) {
     model->Save(o.save_model);
     report["model_file"] = o.save_model;
@@ -411,7 +481,6 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       ++k;
     }
   }
-  out << "\n  data       mode       model         FIT %     VAF %        RMSE\n";
   auto row = [&](const char* data, const char* model, const nlohmann::json& block) {
     for (const char* mode : {"one_step", "free_run"}) {
       if (!block.contains(mode)) continue;
@@ -422,23 +491,37 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       out << line;
     }
   };
-  for (const char* data : {"train", "validate"}) {
-    if (!r.contains(data)) continue;
-    row(data, "fuzzy", r[data]);
-    if (r.contains("baselines")) {
-      if (r["baselines"]["arx"].contains(data)) row(data, "ARX", r["baselines"]["arx"][data]);
-      if (r["baselines"].contains("arx_squared_inputs") &&
-          r["baselines"]["arx_squared_inputs"].contains(data)) {
-        row(data, "ARX+u^2", r["baselines"]["arx_squared_inputs"][data]);
-      }
-      if (r["baselines"]["persistence"].contains(data))
-        row(data, "persistence", r["baselines"]["persistence"][data]);
+  // One table (and rule list) per output: the top level holds the first, per_output all.
+  const auto table = [&](const nlohmann::json& b) {
+    out << "\n  data       mode       model         FIT %     VAF %        RMSE\n";
+    for (const char* data : {"train", "validate"}) {
+      if (!b.contains(data)) continue;
+      row(data, "fuzzy", b[data]);
+      if (!b.contains("baselines")) continue;
+      const auto& base = b["baselines"];
+      if (base.contains("arx") && base["arx"].contains(data)) row(data, "ARX", base["arx"][data]);
+      if (base.contains("arx_squared_inputs") && base["arx_squared_inputs"].contains(data))
+        row(data, "ARX+u^2", base["arx_squared_inputs"][data]);
+      if (base.contains("persistence") && base["persistence"].contains(data))
+        row(data, "persistence", base["persistence"][data]);
     }
-  }
-  if (with_rules) {
+  };
+  const auto rules = [&](const nlohmann::json& b) {
+    if (!with_rules || !b.contains("rule_text")) return;
     out << "\n  rules:\n";
     int k = 1;
-    for (const auto& s : r["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";
+    for (const auto& s : b["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";
+  };
+  if (r.contains("per_output")) {
+    for (const auto& [name, b] : r["per_output"].items()) {
+      out << "\n  " << b["target"].get<std::string>() << ": " << b["rules"].get<int>()
+          << " rules\n";
+      table(b);
+      rules(b);
+    }
+  } else {
+    table(r);
+    rules(r);
   }
   if (r.contains("warnings")) {
     for (const auto& w : r["warnings"]) out << "\n  warning: " << w.get<std::string>();

@@ -10,16 +10,17 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
+#include "sysid/series_from_table.hpp"
 
 namespace odonata::fit {
 
 struct FitJobOptions {
-  std::string train_csv;            ///< empty only with load_model
-  std::string validate_csv;         ///< optional
-  std::string output;               ///< column to identify
-  std::vector<std::string> inputs;  ///< input columns
-  sysid::RegressorSpec spec;        ///< lags and delay (names filled from output/inputs)
-  fuzzy::FuzzyModelConfig model;    ///< entropy, cap, rates, consequent
+  std::string train_csv;             ///< empty only with load_model
+  std::string validate_csv;          ///< optional
+  std::vector<std::string> outputs;  ///< columns to identify (one model each, one regressor)
+  std::vector<std::string> inputs;   ///< input columns
+  sysid::RegressorSpec spec;         ///< lags and delay (names filled from output/inputs)
+  fuzzy::FuzzyModelConfig model;     ///< entropy, cap, rates, consequent
   sysid::TrainOptions train;
   unsigned long seed = 0;  ///< shuffles nothing today; recorded for reproducibility
   std::string save_model;  ///< optional path
@@ -47,9 +48,14 @@ struct FitJobOptions {
   /// RLS forgetting factor of the model that keeps learning over --track (0: keep the trained
   /// model's), as `odonata-control set-forgetting` sets it on a running identifier.
   double track_forgetting = 0.0;
-  bool progress = false;     ///< draw a progress bar on stderr
-  std::string ranges;        ///< optional: declared signal ranges (JSON) fix the scaling
-  std::string save_ranges;   ///< optional: write the training data's ranges (JSON)
+  bool progress = false;  ///< draw a progress bar on stderr
+  /// Real logs (docs/identifier.md §7.1): a time column resampled to `rate_hz` (0: the file's
+  /// median rate), and gaps of at most `max_gap` samples bridged, longer ones cut into segments.
+  std::string time_column;
+  double rate_hz = 0;
+  int max_gap = 3;
+  std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
+  std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
 };
 
 /// Runs the job and returns the report (the --json document).

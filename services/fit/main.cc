@@ -28,7 +28,19 @@ int main(int argc, char** argv) {
   app.add_option("--train", o.train_csv, "training CSV")->check(CLI::ExistingFile);
   app.add_option("--validate", o.validate_csv, "validation CSV (a different excitation)")
       ->check(CLI::ExistingFile);
-  app.add_option("--output", o.output, "column to identify");
+  app.add_option("--output", o.outputs,
+                 "column to identify (repeat for several: one model each over a shared regressor)");
+  app.add_option("--time", o.time_column,
+                 "time column in seconds: samples are resampled onto a fixed rate (--rate) by "
+                 "linear interpolation");
+  app.add_option("--rate", o.rate_hz, "with --time: the rate in Hz (default: the file's median)")
+      ->check(CLI::Range(1e-6, 1e7));
+  app.add_option("--max-gap", o.max_gap,
+                 "missing samples (empty or NaN cells, or time gaps) bridged by linear "
+                 "interpolation up to this many in a row; a longer gap splits the data into "
+                 "segments")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
   app.add_option("--input", o.inputs, "input column (repeat for several)");
   app.add_option("--ny", o.spec.output_lags, "output lags n")
       ->capture_default_str()
@@ -143,7 +155,7 @@ int main(int argc, char** argv) {
   try {
     if (o.load_model.empty()) {
       if (o.train_csv.empty()) throw std::runtime_error("--train is required (or --load-model)");
-      if (o.output.empty()) throw std::runtime_error("--output is required");
+      if (o.outputs.empty()) throw std::runtime_error("--output is required");
     }
     o.model.consequent = odonata::fuzzy::ConsequentKindFromString(consequent);
     o.model.entropy.measure = measure == "firing" ? odonata::fuzzy::EntropyMeasure::kFiring

@@ -272,8 +272,9 @@ TEST(FitCli, BadInputGivesAClearErrorNamingFileLineAndColumn) {
   ExpectError("--train " + good + " --output y --input nope", "no column named 'nope'");
   ExpectError("--train " + Write("text.csv", "k,u,y\n0,1,2\n1,abc,3\n") + " --output y --input u",
               "text.csv:3: column 2 ('u'): 'abc' is not a number");
+  // A NaN is a missing sample (docs/identifier.md §7.1): here it leaves too little to learn from.
   ExpectError("--train " + Write("nan.csv", "k,u,y\n0,1,2\n1,2,nan\n") + " --output y --input u",
-              "nan.csv:3: column 3 ('y'): 'nan' is not finite");
+              "nan.csv: 2 data rows, but no stretch of 3 samples");
   ExpectError("--train " + Write("inf.csv", "k,u,y\n0,inf,2\n") + " --output y --input u",
               "inf.csv:2: column 2 ('u'): 'inf' is not finite");
   ExpectError("--train " + Write("ragged.csv", "k,u,y\n0,1\n") + " --output y --input u",
@@ -296,3 +297,126 @@ TEST(FitCli, BadInputGivesAClearErrorNamingFileLineAndColumn) {
 }
 
 }  // namespace
+
+namespace {
+
+// A two-output vehicle: y1 answers u nonlinearly, y2 follows y1 (a coupled axis).
+struct TwoOutputs {
+  std::vector<double> u, y1, y2;
+};
+TwoOutputs Simulate(int n, unsigned seed) {
+  TwoOutputs d;
+  double y1 = 0, y2 = 0;
+  unsigned s = seed;
+  double level = 0;
+  for (int k = 0; k < n; ++k) {
+    if (k % 17 == 0) {
+      s = s * 1103515245u + 12345u;
+      level = -1.0 + 2.0 * ((s >> 8) % 10000) / 9999.0;
+    }
+    d.u.push_back(level);
+    d.y1.push_back(y1);
+    d.y2.push_back(y2);
+    const double n1 = 0.6 * y1 + 0.5 * std::tanh(2.0 * level);
+    y2 = 0.8 * y2 + 0.3 * y1;
+    y1 = n1;
+  }
+  return d;
+}
+
+std::string TwoOutputsCsv(const std::string& name, int n, unsigned seed) {
+  const TwoOutputs d = Simulate(n, seed);
+  std::string text = "u,y1,y2\n";
+  for (int k = 0; k < n; ++k)
+    text += std::to_string(d.u[k]) + "," + std::to_string(d.y1[k]) + "," + std::to_string(d.y2[k]) +
+            "\n";
+  return Write(name, text);
+}
+
+}  // namespace
+
+TEST(FitCli, SeveralOutputsInOneRunEachWithItsModelAndScores) {
+  const ProcessResult r = Exec("--train " + TwoOutputsCsv("two_train.csv", 1500, 3) +
+                                   " --validate " + TwoOutputsCsv("two_val.csv", 800, 9) +
+                                   " --output y1 --output y2 --input u --consequent linear "
+                                   "--entropy-threshold 0.45 --kappa 1 --epochs 3 --json",
+                               false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["outputs"], (nlohmann::json{"y1", "y2"}));
+  ASSERT_TRUE(j.contains("per_output"));
+  for (const char* name : {"y1", "y2"}) {
+    const auto& b = j["per_output"][name];
+    EXPECT_GT(b["rules"].get<int>(), 0) << name;
+    const double fuzzy = b["validate"]["free_run"]["fit"].get<double>();
+    EXPECT_GT(fuzzy, 90.0) << name;  // 97 % when written
+    EXPECT_GT(fuzzy, b["baselines"]["arx"]["validate"]["free_run"]["fit"].get<double>()) << name;
+  }
+  // The top level keeps the first output's figures, as a one-output report has them.
+  EXPECT_EQ(j["validate"], j["per_output"]["y1"]["validate"]);
+  // The readable report has a table for each.
+  const ProcessResult text = Exec("--train " + Dir() +
+                                  "/two_train.csv --output y1 --output y2 "
+                                  "--input u --no-select");
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("y1(k+1):"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("y2(k+1):"), std::string::npos) << text.out;
+}
+
+TEST(FitCli, AnIrregularTimeColumnIsResampledAndALongGapSplitsTheData) {
+  // 100 Hz with ±2 ms jitter, and one second of the log missing in the middle.
+  const TwoOutputs d = Simulate(2000, 5);
+  std::string text = "t,u,y1\n";
+  for (int k = 0; k < 2000; ++k) {
+    if (k >= 900 && k < 1000) continue;
+    const double t = 0.01 * k + 0.002 * std::sin(1.7 * k);
+    text += std::to_string(t) + "," + std::to_string(d.u[k]) + "," + std::to_string(d.y1[k]) + "\n";
+  }
+  const std::string csv = Write("timed.csv", text);
+  const ProcessResult r = Exec(
+      "--train " + csv + " --time t --rate 100 --output y1 --input u --no-select --json", false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& data = j["data"][csv];
+  EXPECT_EQ(data["rate_hz"].get<double>(), 100.0);
+  EXPECT_EQ(data["segments"].get<int>(), 2) << data;
+  EXPECT_GE(data["missing"].get<int>(), 95) << data;
+  EXPECT_LE(data["missing"].get<int>(), 101) << data;
+  EXPECT_GT(j["train"]["one_step"]["fit"].get<double>(), 90.0);
+  EXPECT_FALSE(j["warnings"].empty());
+  // Without --rate the file's median rate is taken.
+  const ProcessResult median =
+      Exec("--train " + csv + " --time t --output y1 --input u --no-select --json", false);
+  ASSERT_EQ(median.status, 0) << median.out;
+  EXPECT_NEAR(nlohmann::json::parse(median.out)["data"][csv]["rate_hz"].get<double>(), 100.0, 5.0);
+  // Time that goes back is an error naming the row.
+  ExpectError("--train " + Write("back.csv", "t,u,y1\n0,1,2\n0.02,1,2\n0.01,1,2\n") +
+                  " --time t --output y1 --input u",
+              "back.csv: data row 3: time 't' does not increase");
+}
+
+TEST(FitCli, ShortRunsOfMissingCellsAreBridgedAndLongOnesCut) {
+  const TwoOutputs d = Simulate(1200, 7);
+  std::string text = "u,y1\n";
+  for (int k = 0; k < 1200; ++k) {
+    const bool short_gap = k == 300 || k == 301;  // bridged
+    const bool long_gap = k >= 600 && k < 620;    // cut
+    text += (short_gap ? std::string("") : std::to_string(d.u[k])) + "," +
+            (long_gap ? std::string("nan") : std::to_string(d.y1[k])) + "\n";
+  }
+  const std::string csv = Write("holes.csv", text);
+  const ProcessResult r =
+      Exec("--train " + csv + " --output y1 --input u --no-select --json", false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& data = j["data"][csv];
+  EXPECT_EQ(data["bridged"].get<int>(), 2) << data;
+  EXPECT_EQ(data["missing"].get<int>(), 20) << data;
+  EXPECT_EQ(data["segments"].get<int>(), 2) << data;
+  EXPECT_EQ(data["samples"].get<int>(), 1180) << data;
+  // --max-gap 0 bridges nothing: the short gap cuts too.
+  const ProcessResult strict =
+      Exec("--train " + csv + " --output y1 --input u --no-select --max-gap 0 --json", false);
+  ASSERT_EQ(strict.status, 0) << strict.out;
+  EXPECT_EQ(nlohmann::json::parse(strict.out)["data"][csv]["segments"].get<int>(), 3);
+}
