@@ -9,7 +9,7 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre fonts-dejavu-core
   libjchart2d-java xvfb
   python3 python3-matplotlib iproute2 util-linux iptables
-  octave octave-fuzzy-logic-toolkit
+  octave octave-fuzzy-logic-toolkit file dpkg-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

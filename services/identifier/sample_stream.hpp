@@ -5,6 +5,7 @@
 // what the bus delivers and learns from what comes out.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,7 @@ class SampleStream {
   io::RowDecimator decimator_;
   bool started_ = false;
   int64_t newest_signals_ = -1;
+  std::optional<int64_t> restart_candidate_;  // a seq far below the newest, awaiting its next
   pipeline::LeapGuard signals_leaps_;
 };
 

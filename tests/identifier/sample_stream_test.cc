@@ -145,6 +145,24 @@ TEST(SampleStreamSignals, SampleKIsMessageKByNameAndGapsRestartsAndLeapsAreSeen)
   EXPECT_EQ(events[1].sample.index, 0);
 }
 
+TEST(SampleStreamSignals, ARestartWhoseSeqZeroWasLostIsConfirmedByTheNextSeq) {
+  SampleStream stream(Spec(), 1);
+  stream.Start();
+  for (int64_t k = 0; k <= 500; ++k) stream.OnSignals(Signals(k, 0.1, 0.2));
+  // One stray old packet is dropped and restarts nothing ...
+  EXPECT_THROW(stream.OnSignals(Signals(3, 0.1, 0.2)), std::invalid_argument);
+  EXPECT_EQ(Samples(stream.OnSignals(Signals(501, 0.1, 0.2))).size(), 1u);
+  EXPECT_THROW(stream.OnSignals(Signals(4, 0.1, 0.2)), std::invalid_argument);  // not after 3
+  EXPECT_EQ(Samples(stream.OnSignals(Signals(502, 0.1, 0.2))).size(), 1u);
+  // ... but seq 1 then seq 2 of a restarted vehicle (its seq 0 lost) is a restart at seq 2.
+  EXPECT_THROW(stream.OnSignals(Signals(1, 0.1, 0.2)), std::invalid_argument);
+  const auto events = stream.OnSignals(Signals(2, 0.1, 0.2));
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, SampleStream::Event::Kind::kRestart);
+  EXPECT_EQ(events[1].sample.index, 2);
+  EXPECT_EQ(Samples(stream.OnSignals(Signals(3, 0.1, 0.2))).size(), 1u);
+}
+
 TEST(SampleStreamSignals, AMissingOrNonFiniteModelSignalOrBadCountsAreRefused) {
   SampleStream stream(Spec(), 1);
   stream.Start();
