@@ -19,9 +19,8 @@ struct ChannelConfig {
   std::string heartbeat = "ODONATA_HEARTBEAT";
   std::string control = "ODONATA_CONTROL";
   std::string control_reply = "ODONATA_CONTROL_REPLY";  ///< every service's answer to a command
-  std::string ack = "ODONATA_ACK";
-  std::string signals = "VEHICLE_SIGNALS";  ///< any vehicle's samples by name (signals_t)  ///<
-                                            ///< lockstep receipts from consumers to the generator
+  std::string ack = "ODONATA_ACK";          ///< lockstep receipts from consumers to the generator
+  std::string signals = "VEHICLE_SIGNALS";  ///< any vehicle's samples by name (signals_t)
 
   /// Appends `_SUFFIX` to every name (no-op for an empty suffix).
   void ApplySuffix(const std::string& suffix);

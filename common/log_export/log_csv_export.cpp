@@ -23,6 +23,7 @@
 #include "model_messages/model_snapshot_message.hpp"
 #include "monitoring/prediction_scoreboard.hpp"
 #include "odonata/prediction_t.hpp"
+#include "sequence/sample_sequence.hpp"
 
 namespace odonata::log_export {
 namespace {
@@ -161,18 +162,28 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
                                         const std::string& channel, const std::string& csv_path,
                                         int run) {
   SignalsExportSummary summary;
-  std::vector<std::vector<odonata::signals_t>> runs;
+  // Runs, gaps and drops exactly as the identifier saw them, in the order they were logged.
+  struct SignalsRun {
+    std::vector<odonata::signals_t> samples;
+    long lost = 0;
+  };
+  std::vector<SignalsRun> runs;
+  pipeline::SampleSequence sequence;
+  using Kind = pipeline::SampleSequence::Verdict::Kind;
   ForEachEvent(log_paths, channel, [&](const lcm::LogEvent& ev) {
     odonata::signals_t m;
-    if (!SafeDecode(&m, ev.data, ev.datalen) || !messages::SignalsProblems(m).empty() ||
-        m.seq < 0) {
+    if (!SafeDecode(&m, ev.data, ev.datalen) || !messages::SignalsProblems(m).empty()) {
       ++summary.undecodable;
       return;
     }
-    // A seq going back to 0 is the vehicle starting over: a new run, as the identifier sees it.
-    if (runs.empty() || (m.seq == 0 && !runs.back().empty() && runs.back().back().seq > 0))
-      runs.emplace_back();
-    runs.back().push_back(std::move(m));
+    const auto verdict = sequence.Next(m.seq);
+    if (verdict.kind == Kind::kDrop) {
+      ++summary.dropped;
+      return;
+    }
+    if (runs.empty() || verdict.kind == Kind::kRestart) runs.emplace_back();
+    runs.back().lost += verdict.lost;
+    runs.back().samples.push_back(std::move(m));
   });
   if (runs.empty())
     throw std::runtime_error("no signals on " + channel + " in the log (" +
@@ -183,22 +194,17 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
     throw std::runtime_error("no run " + std::to_string(run) + ": the log holds " +
                              std::to_string(summary.runs));
   summary.exported_run = index;
-  auto& chosen = runs[static_cast<std::size_t>(index)];
-  std::stable_sort(chosen.begin(), chosen.end(),
-                   [](const auto& a, const auto& b) { return a.seq < b.seq; });
-  const auto& first = chosen.front();
+  const SignalsRun& chosen = runs[static_cast<std::size_t>(index)];
+  summary.lost = chosen.lost;
+  const auto& first = chosen.samples.front();
   std::vector<std::string> header{"seq", "t_s"};
   header.insert(header.end(), first.names.begin(), first.names.end());
   io::CsvWriter out(csv_path, header);
-  int64_t last = -1;
-  for (const auto& m : chosen) {
-    if (m.seq == last) continue;  // a resent duplicate: the first copy counts
+  for (const auto& m : chosen.samples) {
     if (m.names != first.names) {
       ++summary.foreign;
       continue;
     }
-    if (last >= 0) summary.lost += m.seq - last - 1;
-    last = m.seq;
     std::vector<double> row{static_cast<double>(m.seq),
                             1e-6 * static_cast<double>(m.utime - first.utime)};
     row.insert(row.end(), m.values.begin(), m.values.end());

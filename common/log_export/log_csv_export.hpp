@@ -45,13 +45,15 @@ struct SignalsExportSummary {
   int exported_run = -1;  ///< the run written
   long rows = 0;
   long undecodable = 0;  ///< events on the channel that did not decode or had bad counts
+  long dropped = 0;      ///< duplicates, stale seqs and unconfirmed leaps (all runs)
   long foreign = 0;      ///< messages of the run whose signal names differ from its first one
   long lost = 0;         ///< seqs missing in the run (rows not written: see the seq column)
 };
 
 /// Any vehicle's signals_t on `channel` (docs/lcm.md §14) as CSV: columns seq, t_s (seconds since
 /// the run's first message, from utime) and every signal of the run's first message, in its
-/// order; one row per message, in seq order, duplicates dropped. `run` as in ExportOptions.
+/// order; one row per sample the identifier would take, in the order it would take them
+/// (sequence/sample_sequence.hpp: runs, gaps and drops alike). `run` as in ExportOptions.
 /// @throws std::runtime_error on unreadable logs, no signals, or write errors.
 SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_paths,
                                         const std::string& channel, const std::string& csv_path,

@@ -2,8 +2,6 @@
 
 #include <set>
 
-#include "contract/precondition.hpp"
-
 namespace odonata::messages {
 
 std::string SignalsProblems(const odonata::signals_t& msg) {
@@ -25,19 +23,6 @@ std::optional<double> SignalValue(const odonata::signals_t& msg, const std::stri
   for (std::size_t i = 0; i < msg.names.size() && i < msg.values.size(); ++i)
     if (msg.names[i] == name) return msg.values[i];
   return std::nullopt;
-}
-
-odonata::signals_t MakeSignals(int64_t seq, const std::string& source,
-                               const std::vector<std::string>& names,
-                               const std::vector<double>& values) {
-  ODONATA_EXPECTS(names.size() == values.size());
-  odonata::signals_t m{};
-  m.seq = seq;
-  m.source = source;
-  m.num_signals = static_cast<int32_t>(names.size());
-  m.names = names;
-  m.values = values;
-  return m;
 }
 
 }  // namespace odonata::messages

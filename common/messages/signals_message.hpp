@@ -4,7 +4,6 @@
 
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "odonata/signals_t.hpp"
 
@@ -16,10 +15,5 @@ std::string SignalsProblems(const odonata::signals_t& msg);
 
 /// The value of signal `name`, or nothing when the message has no such signal.
 std::optional<double> SignalValue(const odonata::signals_t& msg, const std::string& name);
-
-/// A message holding `names` = `values`. @pre the sizes agree.
-odonata::signals_t MakeSignals(int64_t seq, const std::string& source,
-                               const std::vector<std::string>& names,
-                               const std::vector<double>& values);
 
 }  // namespace odonata::messages

@@ -51,40 +51,24 @@ std::vector<SampleStream::Event> SampleStream::OnSignals(const odonata::signals_
   const std::string problems = messages::SignalsProblems(msg);
   if (!problems.empty()) throw std::invalid_argument(problems);
   std::vector<Event> events;
-  const bool far_below = msg.seq >= 0 && msg.seq + pipeline::kConfirmLeap < newest_signals_;
-  // The vehicle started over: seq 0 again, or, when its seq 0 was lost, two consecutive seqs far
-  // below the newest (one stray old packet alone restarts nothing).
-  const bool restart = (msg.seq == 0 && newest_signals_ > 0) ||
-                       (far_below && restart_candidate_ && msg.seq == *restart_candidate_ + 1);
-  if (restart) {
+  const auto verdict = signals_sequence_.Next(msg.seq);
+  using Kind = pipeline::SampleSequence::Verdict::Kind;
+  if (verdict.kind == Kind::kDrop) throw std::invalid_argument("signals " + verdict.why);
+  if (verdict.kind == Kind::kRestart) {
     // The model's history restarts, as for a restarted plant.
     decimator_.Reset();
-    newest_signals_ = -1;
-    restart_candidate_.reset();
     Event e;
     e.kind = Event::Kind::kRestart;
     events.push_back(std::move(e));
-  } else if (msg.seq >= 0 && msg.seq <= newest_signals_) {
-    if (far_below) restart_candidate_ = msg.seq;
-    throw std::invalid_argument("signals seq " + std::to_string(msg.seq) +
-                                " is not after the newest, " + std::to_string(newest_signals_) +
-                                " (a duplicate or stale sample, or a restart that the next seq "
-                                "confirms)");
-  } else {
-    const std::string leap = signals_leaps_.Problem("signals", msg.seq, newest_signals_);
-    if (!leap.empty()) throw std::invalid_argument(leap);
-  }
-  if (newest_signals_ >= 0 && msg.seq > newest_signals_ + 1) {
+  } else if (verdict.lost > 0) {
     Event e;
     e.kind = Event::Kind::kGap;
-    e.lost = msg.seq - newest_signals_ - 1;
+    e.lost = verdict.lost;
     e.what = "gap";
     e.message = std::to_string(e.lost) + " signals samples lost before seq " +
                 std::to_string(msg.seq) + " (from '" + msg.source + "')";
     events.push_back(std::move(e));
   }
-  newest_signals_ = msg.seq;
-  restart_candidate_.reset();  // a genuine sample came in between: no restart to confirm
   if (!started_) return events;
   Event e;
   e.sample.index = msg.seq;

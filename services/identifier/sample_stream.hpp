@@ -5,14 +5,13 @@
 // what the bus delivers and learns from what comes out.
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/row_decimator.hpp"
 #include "messages/paired_sample.hpp"
 #include "odonata/signals_t.hpp"
-#include "sequence/sequence_window.hpp"
+#include "sequence/sample_sequence.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/regressor_spec.hpp"
 
@@ -40,9 +39,9 @@ class SampleStream {
   std::vector<Event> OnCommand(const odonata::wing_command_t& msg);
   std::vector<Event> OnState(const odonata::plant_state_t& msg);
   std::vector<Event> OnBeat(const odonata::beat_state_t& msg);
-  /// Any vehicle's sample k by name (source "signals"): consecutive seqs, 0 again after a restart,
-  /// a leap held until confirmed (sequence/sequence_window.hpp). Throws for a message without one
-  /// of the model's signals or with one that is not finite.
+  /// Any vehicle's sample k by name (source "signals"), in the order sequence/sample_sequence.hpp
+  /// rules (gaps, restarts, stale seqs, leaps). Throws for a message it drops, or without one of
+  /// the model's signals or with one that is not finite.
   std::vector<Event> OnSignals(const odonata::signals_t& msg);
 
   /// Samples are formed from now on; before, messages are paired (so gaps and restarts are
@@ -65,9 +64,7 @@ class SampleStream {
   messages::MessagePairer pairer_;
   io::RowDecimator decimator_;
   bool started_ = false;
-  int64_t newest_signals_ = -1;
-  std::optional<int64_t> restart_candidate_;  // a seq far below the newest, awaiting its next
-  pipeline::LeapGuard signals_leaps_;
+  pipeline::SampleSequence signals_sequence_;
 };
 
 }  // namespace odonata::identifier

@@ -91,8 +91,9 @@ int main(int argc, char** argv) {
       const auto s = odonata::log_export::ExportSignalsToCsv(logs, signals_channel, csv, ex.run);
       std::fprintf(stderr,
                    "odonata-logger: %ld signals samples of run %d (of %d) written to %s; %ld lost, "
-                   "%ld undecodable, %ld with other signal names skipped\n",
-                   s.rows, s.exported_run, s.runs, csv.c_str(), s.lost, s.undecodable, s.foreign);
+                   "%ld undecodable, %ld out of sequence, %ld with other signal names skipped\n",
+                   s.rows, s.exported_run, s.runs, csv.c_str(), s.lost, s.undecodable, s.dropped,
+                   s.foreign);
     }
     if (*exp && !signals) {
       const auto s = odonata::log_export::ExportLogToCsv(logs, csv, ex);

@@ -336,10 +336,13 @@ std::string TwoOutputsCsv(const std::string& name, int n, unsigned seed) {
 }  // namespace
 
 TEST(FitCli, SeveralOutputsInOneRunEachWithItsModelAndScores) {
+  // The settings are what odonata-fit's selection chooses on the training file's own hold-out
+  // (the validation file played no part), fixed here to keep the test fast.
   const ProcessResult r = Exec("--train " + TwoOutputsCsv("two_train.csv", 1500, 3) +
                                    " --validate " + TwoOutputsCsv("two_val.csv", 800, 9) +
                                    " --output y1 --output y2 --input u --consequent linear "
-                                   "--entropy-threshold 0.45 --kappa 1 --epochs 3 --json",
+                                   "--entropy-threshold 0.1705336974719476 --kappa 0.5 "
+                                   "--epochs 46 --json",
                                false);
   ASSERT_EQ(r.status, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
@@ -349,7 +352,7 @@ TEST(FitCli, SeveralOutputsInOneRunEachWithItsModelAndScores) {
     const auto& b = j["per_output"][name];
     EXPECT_GT(b["rules"].get<int>(), 0) << name;
     const double fuzzy = b["validate"]["free_run"]["fit"].get<double>();
-    EXPECT_GT(fuzzy, 90.0) << name;  // 97 % when written
+    EXPECT_GT(fuzzy, 90.0) << name;  // 99.9 % when written (ARX 81-83 %)
     EXPECT_GT(fuzzy, b["baselines"]["arx"]["validate"]["free_run"]["fit"].get<double>()) << name;
   }
   // The top level keeps the first output's figures, as a one-output report has them.

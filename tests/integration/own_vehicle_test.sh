@@ -21,8 +21,13 @@ sleep 0.5
 "$CONTROL" get --target own-vehicle-id --lcm-url "$URL" >"$OUT/get.out" 2>&1 || { cat "$OUT/get.out"; fail "the identifier did not answer get"; }
 learned=$(sed -nE 's/.*samples_learned=([0-9]+).*/\1/p' "$OUT/get.out")
 gaps=$(sed -nE 's/.* gaps=([0-9]+).*/\1/p' "$OUT/get.out")
-# Sample 0 has no regressor yet (ny = nu = 1): every later one is learned.
-[[ $learned == $((N - 1)) && $gaps == 0 ]] || { cat "$OUT/get.out"; fail "learned $learned of $((N - 1)) samples, $gaps gaps"; }
+# Real time over UDP guarantees no delivery; what the protocol guarantees is the accounting:
+# a sample after the first (ny = nu = 1) is learned at most once and a lost one is counted (the
+# last ones excepted: nothing after them shows the gap). On this machine none is lost, even with
+# both cores busy, but that is a benchmark figure, not a promise.
+[[ -n $learned && -n $gaps ]] || { cat "$OUT/get.out"; fail "get did not report samples_learned and gaps"; }
+((learned >= 1 && learned + gaps <= N - 1)) ||
+  { cat "$OUT/get.out"; fail "learned $learned and lost $gaps of $((N - 1)) samples"; }
 stop_clean "$PID_ident" "identifier"
 stop_clean "$PID_monitor" "monitor"
 stop_clean "$PID_logger" "logger"
@@ -30,9 +35,15 @@ fit=$(json_get "$OUT/monitor.json" "j['outputs']['vz_mps']['one_step']['fit']")
 "$PY" -c "import sys; sys.exit(0 if float(sys.argv[1]) >= 95 else 1)" "$fit" || fail "live one-step FIT $fit % < 95 %"
 "$LOGGER" export "$OUT"/log.* --signals -o "$OUT/samples.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export --signals failed"; }
 rows=$(($(wc -l <"$OUT/samples.csv") - 1))
-((rows == N)) || fail "the export holds $rows of $N samples"
 head -1 "$OUT/samples.csv" | grep -q "^seq,t_s,vz_mps,throttle,battery_v$" || fail "unexpected columns: $(head -1 "$OUT/samples.csv")"
-offline_fit "$CFG" "$OUT/samples.csv" "$OUT/offline.json"
-same_model "$OUT/model.json" "$OUT/offline.json" || fail "the online model differs from odonata-fit on the exported log"
+# Offline equals online when both saw the same samples: the logger and the identifier follow one
+# sequence rule, so with nothing lost on the way to either the two models are bit-identical.
+if ((gaps == 0 && rows == N)); then
+  offline_fit "$CFG" "$OUT/samples.csv" "$OUT/offline.json"
+  same_model "$OUT/model.json" "$OUT/offline.json" || fail "the online model differs from odonata-fit on the exported log"
+  same="offline model identical"
+else
+  same="$gaps samples lost live, $((N - rows)) in the log: models not compared"
+fi
 rules=$(json_get "$OUT/model.json" "len(j['models'][0]['rules'])")
-pass "own vehicle over signals_t: $learned samples learned, $rules rules, live one-step FIT $fit %, offline model identical"
+pass "own vehicle over signals_t: $learned samples learned, $rules rules, live one-step FIT $fit %, $same"
