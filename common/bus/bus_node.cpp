@@ -11,7 +11,6 @@
 #include <boost/asio/post.hpp>
 
 #include "bus/udpm_channel_filter.hpp"
-#include "odonata/control_reply_t.hpp"
 #include "odonata/heartbeat_t.hpp"
 
 namespace odonata::bus {
@@ -242,6 +241,13 @@ void BusNode::PublishHeartbeat() {
 
 bool BusNode::AcceptControl(const odonata::control_t& msg) {
   if (!AddressedTo(msg, options_.instance, options_.service)) return false;
+  // A message without a publish time cannot be told from another one: it is obeyed every time.
+  for (const auto& a : answered_) {
+    if (msg.utime != 0 && a.seq == msg.seq && a.utime == msg.utime && a.sender == msg.sender) {
+      Publish(options_.channels.control_reply, a.reply);  // the first answer was lost: again
+      return false;
+    }
+  }
   const std::string refusal = ControlRefusal(msg, options_.control_senders);
   if (refusal.empty()) return true;
   ++stats_.dropped;
@@ -275,6 +281,8 @@ void BusNode::ReplyControl(const odonata::control_t& request, bool accepted,
     r.values.push_back(value);
   }
   Publish(options_.channels.control_reply, r);
+  answered_.push_front({request.sender, request.seq, request.utime, r});
+  if (answered_.size() > kMaxAnswered) answered_.pop_back();
 }
 
 void BusNode::Report(const std::string& kind, const std::string& message) {

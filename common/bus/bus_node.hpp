@@ -26,6 +26,7 @@
 #include "bus/service_stats.hpp"
 #include "bus/udpm_receiver.hpp"
 #include "bus/udpm_sender.hpp"
+#include "odonata/control_reply_t.hpp"
 
 namespace odonata::bus {
 
@@ -89,8 +90,10 @@ class BusNode {
   void SetState(const std::string& state);
   void PublishHeartbeat();
   /// True when this process should act on `msg`: addressed to it and, for RESET and SHUTDOWN,
-  /// from an allowed sender. A refusal is counted as dropped and logged, every time.
-  /// A refusal is also answered (ReplyControl, rejected, with the reason).
+  /// from an allowed sender. A refusal is counted as dropped and logged, every time, and
+  /// answered (ReplyControl, rejected, with the reason). A command this process has already
+  /// answered, resent because the answer was lost (same sender, seq and non-zero utime), is not
+  /// obeyed again: its answer is published again instead.
   bool AcceptControl(const odonata::control_t& msg);
   /// Answers `request` on the control_reply channel: accepted or rejected with `reason`, and the
   /// parameters in force afterwards. Every service answers each command addressed to it by name,
@@ -148,6 +151,14 @@ class BusNode {
   std::string host_;
   int64_t heartbeat_seq_ = 0;
   int64_t reply_seq_ = 0;
+  // The newest answers, by their request's sender, seq and utime, to answer a resend again.
+  struct AnsweredControl {
+    std::string sender;
+    int64_t seq, utime;
+    odonata::control_reply_t reply;
+  };
+  std::list<AnsweredControl> answered_;
+  static constexpr std::size_t kMaxAnswered = 32;
   int exit_code_ = 0;
   bool stopping_ = false;
 };

@@ -1,8 +1,10 @@
 // odonata-control: sends one operator command (control_t) to the running services and prints
 // their answers (control_reply_t); exits non-zero when one rejects it or none answers.
 
+#include <chrono>
 #include <cstdio>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,7 @@ namespace {
 
 constexpr int kExitRejected = 1;
 constexpr int kExitNoAnswer = 3;
+constexpr std::chrono::milliseconds kResend{250};
 
 bool TakesValue(int8_t c) {
   return c == odonata::control_t::SET_ENTROPY_THRESHOLD || c == odonata::control_t::SET_FORGETTING;
@@ -122,25 +125,38 @@ int main(int argc, char** argv) {
     msg.value = value;
     msg.path = path;
 
-    int answers = 0, rejected = 0;
+    // A lost command or answer is repaired by sending the same message again every kResend until
+    // the timeout: a service that already answered it answers again without obeying twice
+    // (BusNode::AcceptControl), and each service's first answer is the one counted.
+    std::set<std::string> answered;
+    int rejected = 0;
+    bool done = false;
     bus.Subscribe<odonata::control_reply_t>(
         bus.channels().control_reply, [&](const odonata::control_reply_t& r) {
           if (r.request_sender != msg.sender || r.request_seq != msg.seq) return;
+          if (!answered.insert(r.instance).second) return;
           Print(r);
           std::fflush(stdout);
-          ++answers;
           if (!r.accepted) ++rejected;
           // An instance named as the target answers once: no need to wait any longer.
-          if (!target.empty() && r.instance == target) bus.Stop(0);
+          if (!target.empty() && r.instance == target) {
+            done = true;
+            bus.Stop(0);
+          }
         });
-    if (!bus.Publish(bus.channels().control, msg)) {
-      std::fprintf(stderr, "odonata-control: error: publish failed\n");
-      return 1;
-    }
+    const auto send = [&] {
+      if (!bus.Publish(bus.channels().control, msg))
+        std::fprintf(stderr, "odonata-control: warning: publish failed\n");
+    };
+    send();
+    bus.Every(kResend, [&] {
+      // Broadcasts go on until the timeout: who else will answer is not known.
+      if (!done && (target.empty() || answered.empty())) send();
+    });
     bus.After(std::chrono::microseconds(static_cast<int64_t>(timeout_s * 1e6)),
               [&bus] { bus.Stop(0); });
     bus.Run();
-    if (answers == 0) {
+    if (answered.empty()) {
       std::fprintf(stderr,
                    "odonata-control: no answer to %s within %.2g s%s: is the service running on "
                    "this bus, and is the name right?\n",

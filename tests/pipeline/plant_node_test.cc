@@ -316,6 +316,44 @@ TEST_F(PlantNodeTest, AnswersItsCommandsAndRejectsOthersOnlyWhenNamed) {
   EXPECT_EQ(replies[3].values[0], 1.0);
 }
 
+// odonata-control resends a command until it hears the answer: a resend (same sender, seq and
+// utime) gets the first answer again and is not obeyed twice.
+TEST_F(PlantNodeTest, AResentCommandIsAnsweredAgainNotObeyedAgain) {
+  Start(Mode::kLockstep, "roll");
+  std::vector<odonata::control_reply_t> replies;
+  bus_->Subscribe<odonata::control_reply_t>(bus_->channels().control_reply,
+                                            [&](const auto& r) { replies.push_back(r); });
+  odonata::control_t c{};
+  c.utime = 1700000000000000;
+  c.seq = 4242;
+  c.sender = "odonata-control";
+  c.target = kServiceName;
+  c.command = odonata::control_t::RESET;
+  c.path = "actuator_fz";
+  Send(Command(0, trim_));
+  Send(Command(1, trim_));
+  bus_->Publish(bus_->channels().control, c);
+  Pump(*bus_);
+  ASSERT_FALSE(states_.empty());
+  EXPECT_EQ(states_.back().seq, 0);  // state 0 of the new set-up
+  ASSERT_EQ(replies.size(), 1u);
+  Send(Command(0, trim_));
+  EXPECT_EQ(states_.back().seq, 1);
+  const std::size_t states = states_.size();
+  bus_->Publish(bus_->channels().control, c);  // the same message again
+  Pump(*bus_);
+  EXPECT_EQ(states_.size(), states) << "the resend reset the plant again";
+  EXPECT_EQ(node_->session().last().seq, 1);
+  ASSERT_EQ(replies.size(), 2u);
+  EXPECT_EQ(replies[1].seq, replies[0].seq);  // the same answer, published again
+  EXPECT_EQ(replies[1].reason, replies[0].reason);
+  c.utime += 1;  // a new command (a new publish time) is obeyed
+  bus_->Publish(bus_->channels().control, c);
+  Pump(*bus_);
+  EXPECT_EQ(states_.back().seq, 0);
+  EXPECT_EQ(replies.size(), 3u);
+}
+
 TEST_F(PlantNodeTest, RealtimeTicksWithTrimThenTheNewestCommand) {
   Start(Mode::kRealtime);
   Pump(*bus_, 65);  // ≈ 6 ticks at 100 Hz
