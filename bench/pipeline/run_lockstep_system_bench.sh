@@ -2,8 +2,9 @@
 # The whole lockstep system's rate: odonata-plant, an odonata-identifier learning the roll loop,
 # odonata-logger recording everything, and odonata-signal waiting for every receipt (the lossless
 # protocol, docs/lcm.md §10), over udpm in a private namespace. Prints samples/s per run, with
-# receipts and without (--discover-consumers 0), through odonata's own udpm path and through
-# LCM's receive thread (ODONATA_LCM_RECEIVE=lcm). As root:
+# receipts and without (--discover-consumers 0), for each command window (WINDOWS, default
+# "1 4 8 16"), through odonata's own udpm path and through LCM's receive thread
+# (ODONATA_LCM_RECEIVE=lcm; PATHS="own lcm" by default). As root:
 #   bench/pipeline/run_lockstep_system_bench.sh [BUILD] [RUNS]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -18,7 +19,7 @@ TMP=$(mktemp -d)
 cleanup() { kill $(jobs -p) 2>/dev/null || true; rm -rf "$TMP"; }
 trap cleanup EXIT
 "$ROOT/deploy/make-identifier-config" --preset roll --duration 60 --build "$BUILD" --output "$TMP/id.json" >/dev/null
-one_run() {  # one_run EXTRA_SIGNAL_FLAGS...: prints the generator's samples/s
+one_run() {  # one_run EXTRA_SIGNAL_FLAGS...: prints "RATE(commands/receipts per sample)"
   rm -f "$TMP"/log.*
   "$BUILD/services/logger/odonata-logger" record -o "$TMP/log" --lcm-url "$URL" 2>/dev/null &
   local logger=$!
@@ -30,15 +31,29 @@ one_run() {  # one_run EXTRA_SIGNAL_FLAGS...: prints the generator's samples/s
   "$BUILD/services/signal/odonata-signal" --preset roll --phase train --duration 60 --mode lockstep \
     --lcm-url "$URL" "$@" 2>"$TMP/signal.log" || { cat "$TMP/signal.log"; exit 1; }
   kill $logger $plant $ident; wait $logger $plant $ident 2>/dev/null || true
-  grep -o "[0-9]* samples/s" "$TMP/signal.log" | cut -d' ' -f1
+  local rate per
+  rate=$(grep -o "[0-9]* samples/s" "$TMP/signal.log" | cut -d' ' -f1)
+  per=$(sed -nE 's/.*per sample ([0-9.]+) commands sent, [0-9.]+ states and ([0-9.]+) receipts.*/\1\/\2/p' "$TMP/signal.log")
+  echo "$rate($per)"
 }
-for path in own lcm; do
+echo "Each sample crosses, one after the other: the command (generator -> plant), the state and"
+echo "beat state (plant -> identifier, logger, generator: one sendmmsg) and, with receipts, one"
+echo "receipt per consumer (identifier, logger -> generator): 3 hops, 2 without receipts. A window"
+echo "of W commands in flight overlaps the hops of W samples. Per run: samples/s(commands sent /"
+echo "receipts received, per sample; above 1 and 2 are resends and repeated receipts)."
+for path in ${PATHS:-own lcm}; do
   [[ $path == lcm ]] && export ODONATA_LCM_RECEIVE=lcm
-  for mode in receipts plant-only; do
-    rates=()
-    for _ in $(seq "$RUNS"); do
-      if [[ $mode == receipts ]]; then rates+=("$(one_run)"); else rates+=("$(one_run --discover-consumers 0)"); fi
+  for window in ${WINDOWS:-1 4 8 16}; do
+    for mode in receipts plant-only; do
+      rates=()
+      for _ in $(seq "$RUNS"); do
+        if [[ $mode == receipts ]]; then
+          rates+=("$(one_run --window "$window")")
+        else
+          rates+=("$(one_run --window "$window" --discover-consumers 0)")
+        fi
+      done
+      echo "whole lockstep system, 6000 samples, $path udpm path, window $window, $mode: ${rates[*]}"
     done
-    echo "whole lockstep system, 6000 samples, $path udpm path, $mode: ${rates[*]} samples/s"
   done
 done

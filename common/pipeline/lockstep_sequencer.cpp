@@ -1,15 +1,20 @@
 #include "pipeline/lockstep_sequencer.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace odonata::pipeline {
 
 LockstepSequencer::LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends,
-                                     int restart_confirm_timeouts)
+                                     int restart_confirm_timeouts, int window)
     : command_count_(command_count),
       reset_plant_(reset_plant),
       max_resends_(max_resends),
-      restart_confirm_timeouts_(restart_confirm_timeouts) {
+      restart_confirm_timeouts_(restart_confirm_timeouts),
+      window_(window) {
+  if (window < 1 || window > kMaxWindow)
+    throw std::invalid_argument("window must be 1 … " + std::to_string(kMaxWindow));
   if (command_count < 1) throw std::invalid_argument("lockstep run without commands");
   if (max_resends < 0) throw std::invalid_argument("max_resends must be >= 0");
   if (restart_confirm_timeouts < 1)
@@ -19,6 +24,8 @@ LockstepSequencer::LockstepSequencer(int64_t command_count, bool reset_plant, in
 SequencerAction LockstepSequencer::Start() {
   phase_ = Phase::kAwaitingInitial;
   current_ = 0;
+  sent_ = 0;
+  answered_ = -1;
   resends_ = 0;
   received_ = false;
   SequencerAction a;
@@ -53,13 +60,21 @@ std::string LockstepSequencer::Laggards(int64_t state_seq) const {
 
 SequencerAction LockstepSequencer::TryAdvance() {
   SequencerAction a;
-  if (!received_ || !Acknowledged(Awaited())) return a;
   if (phase_ == Phase::kAwaitingInitial) {
-    if (start_held_) return a;
+    if (!received_ || !Acknowledged(0) || start_held_) return a;
     phase_ = Phase::kAwaitingAnswer;
     current_ = 0;
+    resends_ = 0;
+    a.progressed = true;
   } else if (phase_ == Phase::kAwaitingAnswer) {
-    ++current_;
+    // The newest state the plant answered and every consumer holds; the plant answers in seq
+    // order, so everything before it was answered too.
+    int64_t confirmed = answered_;
+    for (const auto& [instance, acked] : consumers_) confirmed = std::min(confirmed, acked);
+    if (confirmed <= current_) return a;
+    current_ = confirmed;
+    resends_ = 0;
+    a.progressed = true;
     if (current_ == command_count_) {
       phase_ = Phase::kFinished;
       a.kind = SequencerAction::Kind::kFinished;
@@ -68,10 +83,13 @@ SequencerAction LockstepSequencer::TryAdvance() {
   } else {
     return a;
   }
-  received_ = false;
-  resends_ = 0;
-  a.kind = SequencerAction::Kind::kSendCommand;
-  a.seq = current_;
+  const int64_t end = std::min(current_ + window_, command_count_);
+  if (sent_ < end) {
+    a.kind = SequencerAction::Kind::kSendCommand;
+    a.seq = sent_;
+    a.count = end - sent_;
+    sent_ = end;
+  }
   return a;
 }
 
@@ -119,14 +137,16 @@ SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, boo
                 "the plant restarted (fresh state 0, twice) while it was answering command " +
                     std::to_string(current_));
   }
-  if (seq != current_ + 1 || command_seq != current_) return a;  // duplicate or stale answer
+  // Answers to commands not sent (another generator's, or stale) and resends are no news.
+  if (seq != command_seq + 1 || command_seq < 0 || command_seq >= sent_) return a;
   restart_suspected_for_ = -1;  // the plant answers: whatever said state 0 was not it
   if (diverged) {
     return Fail(SequencerAction::Failure::kDiverged, "the plant diverged while applying command " +
-                                                         std::to_string(current_) +
+                                                         std::to_string(command_seq) +
                                                          " (its divergence policy is stop)");
   }
-  received_ = true;
+  if (seq <= answered_) return a;
+  answered_ = seq;
   return TryAdvance();
 }
 
@@ -140,7 +160,9 @@ SequencerAction LockstepSequencer::OnTimeout() {
     if (++restart_suspected_for_ < restart_confirm_timeouts_) return a;
     restart_suspected_for_ = -1;
   }
-  const bool acks_missing = received_ && !Acknowledged(Awaited());
+  const bool acks_missing = phase_ == Phase::kAwaitingInitial
+                                ? received_ && !Acknowledged(0)
+                                : answered_ >= Awaited() && !Acknowledged(Awaited());
   if (resends_ >= max_resends_) {
     if (acks_missing) {
       return Fail(SequencerAction::Failure::kConsumerLost,
@@ -167,8 +189,11 @@ SequencerAction LockstepSequencer::OnTimeout() {
     if (reset_plant_) a.kind = SequencerAction::Kind::kSendReset;
     return a;
   }
+  // Everything in flight from the oldest unconfirmed command on: the plant answers the ones it
+  // applied again and applies the rest, so one timeout repairs every hole in the window.
   a.kind = SequencerAction::Kind::kSendCommand;
   a.seq = current_;
+  a.count = sent_ - current_;
   return a;
 }
 

@@ -1,17 +1,21 @@
 #pragma once
-// The signal generator's side of the lockstep protocol, without transport: which message to send
+// The signal generator's side of the lockstep protocol, without transport: which messages to send
 // next given the states that arrive and the timeouts that expire.
 //
-//   [reset] → wait for state 0 (command_seq -1) → send command 0 → wait for state 1 answering
-//   command 0 → send command 1 → … → state N answering command N-1 ⇒ finished.
-// A timeout resends what is awaited (RESET, or command k); after max_resends consecutive resends
-// without progress the run fails.
+//   [reset] → wait for state 0 (command_seq -1) → send commands 0 … W-1 → as state k + 1
+//   answering command k arrives, the window slides and command k + W goes out → … → state N
+//   answering command N-1 ⇒ finished.
+// With a window of W = 1 that is one command at a time. Larger windows keep W commands in
+// flight, so the hops of one sample overlap with those of the next; the plant applies commands
+// strictly in seq order (plant_session.hpp), so the run is the same for every W.
+// A timeout resends what is awaited (RESET, or every command from the oldest unconfirmed one on);
+// after max_resends consecutive resends without progress the run fails.
 //
-// Lossless: with consumers (identifier, logger: ack_t receipts), an answer counts only once every
-// consumer has acknowledged its state, so the next command waits for the slowest of them; a
-// consumer that lost the state or its command gets both again from the resend of command k
-// (the plant re-publishes its answer). A consumer that acknowledges nothing for max_resends
-// resends fails the run: it would otherwise miss samples silently.
+// Lossless: with consumers (identifier, logger: ack_t receipts), a state counts as confirmed only
+// once every consumer has acknowledged it, and the window slides over confirmed states only, so
+// the run waits for the slowest consumer; a consumer that lost a state or a command gets it
+// again from the resend (the plant re-publishes its answers). A consumer that acknowledges
+// nothing for max_resends resends fails the run: it would otherwise miss samples silently.
 
 #include <cstdint>
 #include <map>
@@ -24,14 +28,17 @@ struct SequencerAction {
   enum class Kind {
     kNone,         ///< nothing: keep waiting (and keep the timeout running)
     kSendReset,    ///< send RESET to the plant, then wait (restart the timeout)
-    kSendCommand,  ///< send command `seq`, then wait (restart the timeout)
+    kSendCommand,  ///< send commands `seq` … `seq` + `count` - 1, then wait (restart the timeout)
     kFinished,     ///< every command has been answered
     kFailed,       ///< give up: `message` says why
   };
   Kind kind{Kind::kNone};
   /// kFailed: why.
   enum class Failure { kNone, kNoAnswer, kRestarted, kDiverged, kConsumerLost };
-  int64_t seq{-1};                  ///< kSendCommand: the command to send
+  int64_t seq{-1};   ///< kSendCommand: the first command to send
+  int64_t count{1};  ///< kSendCommand: how many, in seq order
+  /// A state was confirmed (the window slid): restart the timeout even if nothing is sent.
+  bool progressed{};
   bool resend{};                    ///< kSendReset / kSendCommand: after a timeout
   Failure failure{Failure::kNone};  ///< kFailed
   std::string message;              ///< kFailed
@@ -42,16 +49,22 @@ class LockstepSequencer {
  public:
   enum class Phase { kIdle, kAwaitingInitial, kAwaitingAnswer, kFinished, kFailed };
 
+  /// Largest window: the plant holds this many commands ahead of a missing one, and the
+  /// identifier this many states after a missing one, before giving it up (plant_session.hpp,
+  /// sample_pairer.hpp).
+  static constexpr int kMaxWindow = 32;
+
   /// @param command_count N ≥ 1 commands to send (seq 0 … N-1).
   /// @param reset_plant start by sending RESET; otherwise wait for a fresh state 0 as it is.
   /// @param max_resends consecutive timeouts allowed per awaited message (≥ 0).
   /// @param restart_confirm_timeouts how many timeouts a fresh state 0 mid-run stays a suspicion
   ///        (nothing resent meanwhile): a restarted plant, left uncommanded, repeats its state 0
   ///        and so confirms it; a lone forged or stale one is forgotten and the run goes on.
-  /// @throws std::invalid_argument for command_count < 1, max_resends < 0 or
-  ///         restart_confirm_timeouts < 1.
+  /// @param window commands in flight, 1 … kMaxWindow.
+  /// @throws std::invalid_argument for command_count < 1, max_resends < 0,
+  ///         restart_confirm_timeouts < 1 or a window outside 1 … kMaxWindow.
   LockstepSequencer(int64_t command_count, bool reset_plant, int max_resends,
-                    int restart_confirm_timeouts = 3);
+                    int restart_confirm_timeouts = 3, int window = 1);
 
   /// First action: kSendReset, or kNone (wait for state 0).
   SequencerAction Start();
@@ -72,8 +85,11 @@ class LockstepSequencer {
   SequencerAction ReleaseStart();
 
   Phase phase() const { return phase_; }
-  /// The command whose answer is awaited (or the next to send).
+  /// The oldest command whose answer is not confirmed yet (or the next to send).
   int64_t current() const { return current_; }
+  /// Commands sent so far (each once; resends not counted).
+  int64_t sent() const { return sent_; }
+  int window() const { return window_; }
   int64_t command_count() const { return command_count_; }
   /// Resends in total (each is a lost message or a slow plant).
   int64_t total_resends() const { return total_resends_; }
@@ -84,11 +100,11 @@ class LockstepSequencer {
 
  private:
   SequencerAction Fail(SequencerAction::Failure failure, std::string message);
-  // The state the current step waits for: 0 before command 0, else the answer to current_.
+  // The state the window waits for: 0 before command 0, else the answer to current_.
   int64_t Awaited() const { return phase_ == Phase::kAwaitingInitial ? 0 : current_ + 1; }
   bool Acknowledged(int64_t state_seq) const;
   std::string Laggards(int64_t state_seq) const;
-  // Moves on when the awaited state arrived, every consumer has it and the start is not held.
+  // Confirms what the plant answered and every consumer acknowledged, then fills the window.
   SequencerAction TryAdvance();
 
   int64_t command_count_;
@@ -96,12 +112,15 @@ class LockstepSequencer {
   int max_resends_;
   int restart_confirm_timeouts_;
   int restart_suspected_for_ = -1;  // timeouts since a fresh state 0 mid-run (-1: none)
+  int window_;
   Phase phase_ = Phase::kIdle;
-  int64_t current_ = 0;
-  int resends_ = 0;  // consecutive, for the message awaited now
+  int64_t current_ = 0;    // the oldest unconfirmed command: state current_ is confirmed
+  int64_t sent_ = 0;       // commands 0 … sent_ - 1 have been sent
+  int64_t answered_ = -1;  // the newest state the plant sent in answer to a command
+  int resends_ = 0;        // consecutive, for the message awaited now
   int64_t total_resends_ = 0;
   int64_t ack_resends_ = 0;
-  bool received_ = false;  // the awaited state arrived (acknowledgements may still be missing)
+  bool received_ = false;  // state 0 arrived (acknowledgements may still be missing)
   bool start_held_ = false;
   std::map<std::string, int64_t> consumers_;  // instance -> newest acknowledged state
 };

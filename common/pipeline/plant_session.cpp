@@ -36,6 +36,8 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
   setup_ = std::move(setup);
   plant_.Reset(setup_.initial);
   newest_seq_.reset();
+  held_.clear();
+  answers_.clear();
   leaps_ = LeapGuard{};
   held_command_ = setup_.trim_command;
   held_seq_ = -1;
@@ -64,45 +66,91 @@ void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command
 
 CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& command) {
   CommandOutcome out;
-  out.problem = leaps_.Problem("command", seq, newest_seq_.value_or(-1));
+  // Leaps count from the newest command received: held ones lie up to a window ahead.
+  const int64_t newest =
+      std::max(newest_seq_.value_or(-1), held_.empty() ? -1 : held_.rbegin()->first);
+  out.problem = leaps_.Problem("command", seq, newest);
   if (!out.problem.empty()) return out;  // kRejected
   out.problem = CommandLimitProblems(command, plant_.config().limits);
   if (!out.problem.empty()) return out;  // kRejected
 
-  if (newest_seq_ && seq < *newest_seq_ + (mode_ == Mode::kLockstep ? 0 : 1)) {
-    out.verdict = CommandVerdict::kStale;
-    out.problem =
-        "command seq " + std::to_string(seq) + " is older than " +
-        (mode_ == Mode::kLockstep ? "the last one applied, " : "or equal to the newest, ") +
-        std::to_string(*newest_seq_);
+  if (mode_ == Mode::kLockstep) {
+    const int64_t expected = newest_seq_ ? *newest_seq_ + 1 : 0;
+    if (seq < expected) {
+      // The generator resent it: a consumer lost our answer (or the generator did). Answer
+      // again from the history; do not step twice.
+      for (const PlantSample& answer : answers_) {
+        if (answer.command_seq != seq) continue;
+        out.verdict = CommandVerdict::kRepeated;
+        out.publish.push_back(answer);
+        return out;
+      }
+      out.verdict = CommandVerdict::kStale;
+      out.problem = "command seq " + std::to_string(seq) + " was applied before the last " +
+                    std::to_string(kAnswerHistory) +
+                    " answers kept (newest applied: " + std::to_string(expected - 1) + ")";
+      return out;
+    }
+    if (seq > expected) {
+      // An earlier command is still on its way (or lost, and the generator will resend it).
+      // The first copy of a seq wins, as in the pairing rule (sample_pairer.hpp).
+      held_.emplace(seq, command);
+      out.verdict = CommandVerdict::kHeld;
+      if (held_.size() <= kMaxHeldCommands) return out;
+      // A generator that does not resend (a replayed log, a lossy one-way link): go on.
+      out.missing = held_.begin()->first - expected;
+      ReleaseHeld(&out);
+      out.verdict = CommandVerdict::kGap;
+      return out;
+    }
+    StepLockstep(seq, command, &out);
+    ReleaseHeld(&out);
+    out.verdict = CommandVerdict::kStepped;
     return out;
   }
-  if (mode_ == Mode::kLockstep && newest_seq_ && seq == *newest_seq_) {
-    // The generator lost our answer and resent the command: answer again, do not step twice.
-    out.verdict = CommandVerdict::kRepeated;
-    out.publish = last_;
+
+  if (newest_seq_ && seq <= *newest_seq_) {
+    out.verdict = CommandVerdict::kStale;
+    out.problem = "command seq " + std::to_string(seq) + " is older than or equal to the newest, " +
+                  std::to_string(*newest_seq_);
     return out;
   }
   if (newest_seq_ && seq > *newest_seq_ + 1) out.missing = seq - *newest_seq_ - 1;
   newest_seq_ = seq;
-  if (mode_ == Mode::kRealtime) {
-    if (held_seq_ >= 0) {
-      out.superseded_unapplied = held_applications_ == 0;
-      out.extra_applications = std::max<int64_t>(held_applications_ - 1, 0);
-    }
-    held_command_ = command;
-    held_seq_ = seq;
-    held_applications_ = 0;
-    out.verdict = CommandVerdict::kAccepted;
-    return out;
+  if (held_seq_ >= 0) {
+    out.superseded_unapplied = held_applications_ == 0;
+    out.extra_applications = std::max<int64_t>(held_applications_ - 1, 0);
   }
-  StepWith(command, seq);
-  // The answer to command k is state k + 1 whatever the plant's own count: after a jump ahead
-  // (or a first command other than 0) the state keeps naming the command it answers.
-  last_.seq = seq + 1;
-  out.verdict = out.missing > 0 ? CommandVerdict::kGap : CommandVerdict::kStepped;
-  out.publish = last_;
+  held_command_ = command;
+  held_seq_ = seq;
+  held_applications_ = 0;
+  out.verdict = CommandVerdict::kAccepted;
   return out;
+}
+
+void PlantSession::StepLockstep(int64_t seq, const plant::CommandMatrix& command,
+                                CommandOutcome* out) {
+  StepWith(command, seq);
+  // The answer to command k is state k + 1 whatever the plant's own count: after stepping over
+  // a gap the state keeps naming the command it answers.
+  last_.seq = seq + 1;
+  newest_seq_ = seq;
+  answers_.push_back(last_);
+  if (answers_.size() > kAnswerHistory) answers_.pop_front();
+  out->publish.push_back(last_);
+}
+
+void PlantSession::ReleaseHeld(CommandOutcome* out) {
+  // After a gap the oldest held command is the next one; after that only consecutive ones.
+  if (out->missing > 0 && !held_.empty()) {
+    const auto first = held_.begin();
+    StepLockstep(first->first, first->second, out);
+    held_.erase(first);
+  }
+  for (auto it = held_.begin(); it != held_.end() && it->first <= *newest_seq_ + 1;) {
+    if (it->first == *newest_seq_ + 1) StepLockstep(it->first, it->second, out);
+    it = held_.erase(it);  // applied, or a copy of an older one
+  }
 }
 
 const PlantSample& PlantSession::Tick() {

@@ -6,14 +6,18 @@
 // applied over [t_k, t_k+1); the answer to command k is state seq k + 1 with command_seq k. The
 // initial state is seq 0 with command_seq -1.
 
+#include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
-#include "sequence/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
+#include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
 
@@ -41,9 +45,13 @@ struct PlantSample {
 
 /// How a submitted command was handled.
 enum class CommandVerdict {
-  kStepped,   ///< lockstep: the expected next command; the plant stepped once
-  kGap,       ///< lockstep: a jump ahead, stepped anyway; `missing` commands were skipped
-  kRepeated,  ///< lockstep: the last command again; its state is re-sent, no step
+  kStepped,   ///< lockstep: the expected next command; the plant stepped (once, and once more
+              ///< for every held command it released)
+  kHeld,      ///< lockstep: ahead of the expected one (an earlier command is still on its
+              ///< way): held until the commands before it arrive, no step
+  kGap,       ///< lockstep: more than kMaxHeldCommands held: stepped over the missing ones
+              ///< (`missing`) and on through the held ones
+  kRepeated,  ///< lockstep: a command already applied: its answer is re-sent, no step
   kAccepted,  ///< real time: held until the next tick (may also report `missing`)
   kStale,     ///< older than (real time: or equal to) the newest command: dropped
   kRejected,  ///< not finite, outside the actuator limits, a negative seq, one that leaps
@@ -61,8 +69,10 @@ struct CommandOutcome {
   /// Real time, kAccepted: how many extra samples applied the command this one replaced, because
   /// no newer command had arrived at their tick.
   int64_t extra_applications{};
-  std::string problem;                 ///< why it was dropped (kStale, kRejected)
-  std::optional<PlantSample> publish;  ///< lockstep: the state that answers it
+  std::string problem;  ///< why it was dropped (kStale, kRejected)
+  /// Lockstep: the states to publish, in order: the answer to this command and to every held
+  /// command it released (kStepped, kGap), or the stored answer again (kRepeated).
+  std::vector<PlantSample> publish;
 };
 
 /// The plant, its onboard stabiliser and the sequence rules. Not thread-safe.
@@ -87,10 +97,18 @@ class PlantSession {
   /// accepted again. Returns state 0.
   const PlantSample& Reset(VehicleSetup setup);
 
+  /// Lockstep: commands held ahead of a missing one before the plant steps over the gap. A
+  /// generator keeps fewer than this in flight (odonata-signal's --window ≤ 32).
+  static constexpr std::size_t kMaxHeldCommands = 64;
+  /// Lockstep: answers kept to re-send when their command comes again (a consumer lost one).
+  static constexpr std::size_t kAnswerHistory = 64;
+
   /// Handles command `seq`.
-  /// Lockstep: seq == newest + 1 (or any seq ≥ 0 as the first command since the reset) steps
-  /// once and answers with state seq + 1; seq == newest re-sends that answer without stepping;
-  /// older is stale; a jump ahead steps and reports the gap.
+  /// Lockstep (commands applied strictly in seq order, 0 first after a reset, so a window of
+  /// commands in flight gives the same run as one at a time): the expected seq steps and answers
+  /// with state seq + 1, then releases the held commands that follow it; one ahead is held; one
+  /// already applied re-sends its answer without stepping (stale once it left the history); with
+  /// more than kMaxHeldCommands held, the plant steps over the gap.
   /// Real time: a newer seq replaces the held command (applied at the next Tick()); the same or
   /// an older seq is stale. Replacing reports whether the old command was never applied, or
   /// applied more than once, so a loaded machine's skips and repeats are counted, not hidden.
@@ -102,7 +120,7 @@ class PlantSession {
 
   /// The most recent state (state 0 right after a reset).
   const PlantSample& last() const { return last_; }
-  /// True once a command has been accepted since the last reset.
+  /// True once a command has been accepted (lockstep: applied) since the last reset.
   bool commanded() const { return newest_seq_.has_value(); }
   Mode mode() const { return mode_; }
   const VehicleSetup& setup() const { return setup_; }
@@ -110,13 +128,19 @@ class PlantSession {
 
  private:
   void StepWith(const plant::CommandMatrix& command, int64_t command_seq);
+  // Lockstep: steps with `command` as command `seq` and records the answer.
+  void StepLockstep(int64_t seq, const plant::CommandMatrix& command, CommandOutcome* out);
+  // Lockstep: steps through the held commands that follow the newest applied one.
+  void ReleaseHeld(CommandOutcome* out);
 
   Mode mode_;
   VehicleSetup setup_;
   plant::DimavPlant plant_;
   PlantSample last_{};
-  std::optional<int64_t> newest_seq_;  // newest command accepted since the reset
-  LeapGuard leaps_;                    // large leaps wait for a confirming command
+  std::optional<int64_t> newest_seq_;  // newest command accepted (real time), applied (lockstep)
+  std::map<int64_t, plant::CommandMatrix> held_;  // lockstep: commands ahead of a missing one
+  std::deque<PlantSample> answers_;               // lockstep: the latest answers, oldest first
+  LeapGuard leaps_;                               // large leaps wait for a confirming command
   plant::CommandMatrix held_command_{plant::CommandMatrix::Zero()};  // real time
   int64_t held_seq_ = -1;                                            // real time
   int64_t held_applications_ = 0;  // real time: ticks that applied the held command so far

@@ -14,17 +14,23 @@
 // a state whose sample still lacks a message waits (up to kMaxPendingStates states), then the
 // sample is lost.
 //
+// A missing state holds the states after it (up to kMaxStatesAfterHole, then its sample is lost):
+// with a window of lockstep commands in flight, the states that overtook a lost one wait for its
+// resend instead of turning it into a gap. A state or beat state that fills a hole is taken in
+// whatever order it comes.
+//
 // Seq rules: a state or beat state whose seq is negative or leaps too far ahead
-// (sequence_window.hpp), an older state or beat state than the newest (duplicate or out of
-// order) and a second command with a used seq from another source are bad input
-// (std::invalid_argument, nothing changes); the newest state or beat state again is a resend
-// (ignored). A fresh state 0 (command_seq < 0) after others is a plant restart: every message
-// of the old run is forgotten. A fresh beat state 0 likewise starts the beat states afresh, and
-// survives the state restart that follows it.
+// (sequence_window.hpp), one older than the newest by more than kResendReach, and a second
+// command with a used seq from another source are bad input (std::invalid_argument, nothing
+// changes); an older state or beat state already held or used is a resend (ignored). A fresh
+// state 0 (command_seq < 0) after others is a plant restart: every message of the old run is
+// forgotten. A fresh beat state 0 likewise starts the beat states afresh, and survives the state
+// restart that follows it.
 //
 // State, Command and Beat are the message types (or stand-ins in tests): State and Beat need
 // `seq` and `command_seq`, Command `seq` and `source`.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -54,6 +60,13 @@ class SamplePairer {
   static constexpr std::size_t kMaxCommands = 4096;     ///< commands kept for pairing
   static constexpr std::size_t kMaxBeats = 4096;        ///< beat states kept for pairing
   static constexpr std::size_t kMaxPendingStates = 64;  ///< states waiting before giving up
+  /// States held after a missing one before its sample is given up. A lockstep generator keeps
+  /// fewer commands than this in flight (odonata-signal --window ≤ 32), so a state lost in
+  /// lockstep is resent before it is given up.
+  static constexpr std::size_t kMaxStatesAfterHole = 32;
+  /// How far back a resent state or beat state may lie behind the newest (the plant's answer
+  /// history, plant_session.hpp); anything older is stale.
+  static constexpr int64_t kResendReach = 64;
 
   /// What became of the messages, in order.
   struct Event {
@@ -98,11 +111,19 @@ class SamplePairer {
         Event e;
         e.kind = Event::Kind::kRestart;
         events.push_back(std::move(e));
-      } else if (msg.seq == newest) {
-        return events;  // the plant re-published its latest state (lockstep resend, or at 0)
+      } else if (msg.seq < newest - kResendReach) {
+        throw std::invalid_argument("stale state seq " + std::to_string(msg.seq) + " (newest " +
+                                    std::to_string(newest) + ")");
       } else {
-        throw std::invalid_argument("duplicate or out-of-order state seq " +
-                                    std::to_string(msg.seq));
+        // A resend (held or used already: ignored), or the state a hole waits for.
+        if (previous_ && msg.seq <= previous_->seq) return events;
+        const auto at =
+            std::lower_bound(pending_.begin(), pending_.end(), msg.seq,
+                             [](const State& held, int64_t seq) { return held.seq < seq; });
+        if (at != pending_.end() && at->seq == msg.seq) return events;
+        pending_.insert(at, msg);
+        Process(&events);
+        return events;
       }
     }
     pending_.push_back(msg);
@@ -138,11 +159,15 @@ class SamplePairer {
     if (newest_beat_ >= 0 && msg.seq <= newest_beat_) {
       if (msg.seq == 0 && msg.command_seq < 0 && newest_beat_ > 0) {
         beats_.clear();  // the plant restarted: its state 0 follows (or came first)
-      } else if (msg.seq == newest_beat_) {
-        return events;  // a resend beside the state's
+      } else if (msg.seq < newest_beat_ - kResendReach) {
+        throw std::invalid_argument("stale beat state seq " + std::to_string(msg.seq) +
+                                    " (newest " + std::to_string(newest_beat_) + ")");
       } else {
-        throw std::invalid_argument("duplicate or out-of-order beat state seq " +
-                                    std::to_string(msg.seq));
+        // A resend beside the state's (held or used already: ignored), or one a hole waits for.
+        if (beats_.count(msg.seq) > 0 || (previous_ && msg.seq < previous_->seq)) return events;
+        beats_.emplace(msg.seq, msg);
+        Process(&events);
+        return events;
       }
     }
     newest_beat_ = msg.seq;
@@ -217,6 +242,8 @@ class SamplePairer {
       const State& s = pending_.front();
       if (!previous_ || s.seq != previous_->seq + 1) {
         if (previous_ && s.seq > previous_->seq + 1) {
+          // The missing state may still come (a resend), unless too many wait behind it.
+          if (pending_.size() < kMaxStatesAfterHole && !finished_) return;
           events->push_back(Gap(s.seq - previous_->seq - 1, "gap in states",
                                 "missing state seq " + std::to_string(previous_->seq + 1) + " … " +
                                     std::to_string(s.seq - 1)));

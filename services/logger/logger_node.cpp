@@ -62,27 +62,32 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
   const auto& ch = bus_.channels();
   int64_t state_seq = -1;
   // Written already whatever it holds; only genuine-looking seqs move the receipt.
+  // A fresh state 0 is a new run (a plant reset): states and commands start their marks afresh,
+  // as a fresh beat state 0 does for the beat states. Nothing else moves a mark back, so a stale
+  // or forged seq can never stall the receipts.
   if (channel == ch.state) {
     odonata::plant_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    newest_state_ = m.seq;
+    const bool fresh = m.seq == 0 && m.command_seq < 0;
+    if (fresh) commands_ = ContiguousMark{};
+    states_.Add(m.seq, fresh);
     state_seq = m.seq;
   } else if (channel == ch.command) {
     odonata::wing_command_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    newest_command_ = m.seq;
+    commands_.Add(m.seq);
   } else if (channel == ch.beat_state) {
     odonata::beat_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    newest_beat_ = m.seq;
+    beats_.Add(m.seq, m.seq == 0 && m.command_seq < 0);
     beats_seen_ = true;
   } else {
     return;
   }
   // State s is held with all it needs once command s - 1 (which it answers) and beat state s
   // (published right after it) are written too.
-  int64_t held = std::min(newest_state_, newest_command_ + 1);
-  if (beats_seen_) held = std::min(held, newest_beat_);
+  int64_t held = std::min(states_.mark(), commands_.mark() + 1);
+  if (beats_seen_) held = std::min(held, beats_.mark());
   acks_.Publish(held, state_seq);
 }
 

@@ -10,6 +10,7 @@
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "bus/event_log_writer.hpp"
+#include "sequence/contiguous_mark.hpp"
 
 namespace odonata::logger {
 
@@ -27,13 +28,14 @@ class LoggerNode {
   const bus::EventLogWriter& writer() const { return writer_; }
 
  private:
-  // Lockstep receipt (ack_t): the newest state written with its command and beat state.
+  // Lockstep receipt (ack_t): the newest state written with its command and beat state, and
+  // every earlier one with theirs.
   void Track(const std::string& channel, const lcm::ReceiveBuffer& rbuf);
 
   bus::BusNode& bus_;
   RecordOptions options_;
   bus::EventLogWriter writer_;
-  int64_t newest_state_ = -1, newest_command_ = -1, newest_beat_ = -1;
+  ContiguousMark states_, commands_, beats_;
   bool beats_seen_ = false;
   bus::AckPublisher acks_;
 };

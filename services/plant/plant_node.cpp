@@ -73,7 +73,8 @@ void PlantNode::OnCommand(const odonata::wing_command_t& msg) {
   }
   bus_.stats().repeated += out.extra_applications;
   if (session_.mode() == pipeline::PlantSession::Mode::kLockstep) bus_.SetState("running");
-  if (out.publish) Publish(*out.publish);
+  const bool fresh = out.verdict != pipeline::CommandVerdict::kRepeated;
+  for (const pipeline::PlantSample& sample : out.publish) Publish(sample, fresh);
 }
 
 void PlantNode::OnControl(const odonata::control_t& msg) {
@@ -124,8 +125,10 @@ void PlantNode::Reset(const std::string& setup_name) {
   Publish(session_.last());
 }
 
-void PlantNode::Publish(const pipeline::PlantSample& sample) {
-  if (sample.status == pipeline::SampleStatus::kReset) {
+void PlantNode::Publish(const pipeline::PlantSample& sample, bool fresh) {
+  if (!fresh) {
+    // An answer sent again: reported when it was new.
+  } else if (sample.status == pipeline::SampleStatus::kReset) {
     bus_.Report("plant diverged and reset", session_.plant().divergence_message());
   } else if (sample.status == pipeline::SampleStatus::kDiverged && !diverged_reported_) {
     diverged_reported_ = true;

@@ -43,7 +43,8 @@ class PlantNode {
   void OnCommand(const odonata::wing_command_t& msg);
   void OnControl(const odonata::control_t& msg);
   void Reset(const std::string& setup_name);
-  void Publish(const pipeline::PlantSample& sample);
+  // `fresh`: false for an answer sent again (its divergence was reported when it was new).
+  void Publish(const pipeline::PlantSample& sample, bool fresh = true);
   /// The set-up called `name`, computed once (a preset's set-up costs a trim search).
   const pipeline::VehicleSetup& Setup(const std::string& name);
 

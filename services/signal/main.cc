@@ -42,12 +42,17 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path,
                  "plant configuration JSON the commands are built for (default: built-in 40 g)")
       ->check(CLI::ExistingFile);
-  app.add_option("--mode", mode, "lockstep (wait for each answer) or realtime (a clock)")
+  app.add_option("--mode", mode, "lockstep (paced by the answers) or realtime (a clock)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   app.add_option("--rate-hz", options.rate_hz, "realtime: commands per second")
       ->check(CLI::PositiveNumber);
   app.add_option("--timeout-ms", options.timeout_ms, "lockstep: resend after this long")
       ->check(CLI::Range(1, 600000));
+  app.add_option("--window", options.window,
+                 "lockstep: commands in flight; the plant applies them in order, so every window "
+                 "gives the same run, a larger one a faster one")
+      ->capture_default_str()
+      ->check(CLI::Range(1, odonata::pipeline::LockstepSequencer::kMaxWindow));
   app.add_option("--max-resends", options.max_resends,
                  "consecutive resends before giving up on the plant")
       ->check(CLI::Range(0, 1000000));
@@ -56,8 +61,8 @@ int main(int argc, char** argv) {
   app.add_option("--plant", options.plant, "plant instance to reset and wait for");
   options.discover_s = 1.1;  // a heartbeat period and a margin
   app.add_option("--wait-for", options.wait_for,
-                 "lockstep: a consumer instance whose receipt (ODONATA_ACK) of each state the next "
-                 "command waits for (repeatable)");
+                 "lockstep: a consumer instance whose receipt (ODONATA_ACK) of each state the "
+                 "window waits for (repeatable)");
   app.add_option("--discover-consumers", options.discover_s,
                  "lockstep: seconds to listen for identifier and logger heartbeats before the "
                  "first command; each one heard is waited for too, so none loses a sample (0: "

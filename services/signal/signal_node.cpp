@@ -20,7 +20,8 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
       // 600 ms before dropping the suspicion a lone state 0 raises.
       sequencer_(static_cast<int64_t>(schedule_.size()), options_.reset_plant, options_.max_resends,
                  std::max(3, (600 + std::max(options_.timeout_ms, 1) - 1) /
-                                 std::max(options_.timeout_ms, 1))),
+                                 std::max(options_.timeout_ms, 1)),
+                 options_.window),
       timer_(bus.io()) {
   if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
     throw std::invalid_argument("rate_hz and timeout_ms must be positive");
@@ -63,12 +64,14 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
 
 void SignalNode::OnState(const odonata::plant_state_t& msg) {
   if (finished_ || realtime_started_) return;
+  ++states_received_;
   Apply(sequencer_.OnState(msg.seq, msg.command_seq,
                            msg.status == odonata::plant_state_t::STATUS_DIVERGED));
 }
 
 void SignalNode::OnAck(const odonata::ack_t& msg) {
   if (finished_) return;
+  if (sequencer_.consumers().count(msg.instance) > 0) ++receipts_received_;
   Apply(sequencer_.OnAck(msg.instance, msg.state_seq));
 }
 
@@ -114,6 +117,8 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
   using Kind = pipeline::SequencerAction::Kind;
   switch (action.kind) {
     case Kind::kNone:
+      // The window slid without anything left to send: the timeout counts from here.
+      if (action.progressed && options_.lockstep) ArmTimeout();
       return;
     case Kind::kSendReset:
       SendReset();
@@ -126,9 +131,9 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
       }
       bus_.SetState("running");
       if (!first_command_) first_command_ = std::chrono::steady_clock::now();
-      SendCommand(action.seq);
+      for (int64_t k = action.seq; k < action.seq + action.count; ++k) SendCommand(k);
       ArmTimeout();
-      ShowProgress(action.seq, false);
+      ShowProgress(sequencer_.current(), false);
       return;
     case Kind::kFinished:
       ShowProgress(sequencer_.command_count(), true);
@@ -258,6 +263,18 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
                  bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
                  rate.c_str(), static_cast<long long>(sequencer_.total_resends()),
                  static_cast<long long>(sequencer_.ack_resends()));
+    if (first_command_) {
+      // The messages each sample cost the protocol: its hops, and what loss or a slow
+      // consumer added (docs/lcm.md §10).
+      const double n = static_cast<double>(schedule_.size());
+      std::fprintf(stderr,
+                   "[%s] lockstep window %d: per sample %.2f commands sent, %.2f states and "
+                   "%.2f receipts (from %zu consumers) received\n",
+                   bus_.options().instance.c_str(), sequencer_.window(),
+                   static_cast<double>(commands_sent_) / n,
+                   static_cast<double>(states_received_) / n,
+                   static_cast<double>(receipts_received_) / n, sequencer_.consumers().size());
+    }
   } else {
     bus_.SetState("error");
     bus_.stats().last_error = message;

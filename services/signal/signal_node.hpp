@@ -38,13 +38,16 @@ inline constexpr int kExitConsumerLost = 4;
 
 /// How the generator runs.
 struct SignalOptions {
-  bool lockstep = true;     ///< false: real time, one command per 1/rate_hz
-  double rate_hz = 100.0;   ///< real time: command rate
-  int timeout_ms = 200;     ///< lockstep: resend after this long without the awaited state
-  int max_resends = 10;     ///< consecutive resends before giving up
+  bool lockstep = true;    ///< false: real time, one command per 1/rate_hz
+  double rate_hz = 100.0;  ///< real time: command rate
+  int timeout_ms = 200;    ///< lockstep: resend after this long without the awaited state
+  int max_resends = 10;    ///< consecutive resends before giving up
+  /// Lockstep: commands in flight (1 … LockstepSequencer::kMaxWindow). The run is the same for
+  /// every window; a larger one overlaps the hops of successive samples.
+  int window = 16;
   bool reset_plant = true;  ///< send RESET (with the preset name) and wait for state 0 first
   std::string plant = "odonata-plant";  ///< plant instance to address and to name in errors
-  /// Lockstep: consumers (instance names) whose receipt of each state the next command waits for.
+  /// Lockstep: consumers (instance names) whose receipt of each state the window waits for.
   std::vector<std::string> wait_for;
   /// Lockstep: listen this long before command 0 for identifier and logger heartbeats; each one
   /// heard (running or frozen) is waited for too. 0: only `wait_for`.
@@ -61,6 +64,8 @@ class SignalNode {
 
   /// Commands sent, resends included.
   int64_t commands_sent() const { return commands_sent_; }
+  /// Receipts (ack_t) from the consumers waited for: the confirmation hop's messages.
+  int64_t receipts_received() const { return receipts_received_; }
   const pipeline::LockstepSequencer& sequencer() const { return sequencer_; }
 
  private:
@@ -89,6 +94,8 @@ class SignalNode {
   bool realtime_started_ = false;
   int64_t next_realtime_ = 0;
   int64_t commands_sent_ = 0;
+  int64_t states_received_ = 0;    // answers from the plant, resent ones included
+  int64_t receipts_received_ = 0;  // ack_t from the consumers waited for
   int64_t control_seq_ = 0;
   bool finished_ = false;
   std::string consumer_left_;  // a consumer that stopped mid-run (the run failed it)

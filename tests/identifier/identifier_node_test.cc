@@ -174,7 +174,9 @@ TEST_F(IdentifierNodeTest, PredictsEveryOutputOfEverySampleFromOneRegressor) {
 
 TEST_F(IdentifierNodeTest, AMissingStateIsReportedAsAGapAndNeverBridged) {
   Start();
-  Run(0, 60, /*skip_state=*/30);
+  // The states after it wait for its resend (a lockstep window) until more than
+  // kMaxStatesAfterHole of them are held: then the hole is given up.
+  Run(0, 80, /*skip_state=*/30);
   EXPECT_GE(bus_->stats().gaps, 1);
   for (const auto& p : predictions_) {
     // Sample 30 is unknown, and sample 31's regressor would need y(30): neither is scored.
@@ -182,7 +184,7 @@ TEST_F(IdentifierNodeTest, AMissingStateIsReportedAsAGapAndNeverBridged) {
     EXPECT_NE(p.sample, 31);
   }
   ASSERT_FALSE(predictions_.empty());
-  EXPECT_EQ(predictions_.back().sample, 58);  // sample 59 needs state 60
+  EXPECT_EQ(predictions_.back().sample, 78);  // sample 79 needs state 80
 }
 
 TEST_F(IdentifierNodeTest, AStateWithoutItsCommandWaitsAndTheCommandCompletesIt) {

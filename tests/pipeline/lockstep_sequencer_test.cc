@@ -27,6 +27,71 @@ TEST(LockstepSequencer, ResetThenOneCommandPerAnswer) {
   EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);
 }
 
+// A window of W commands in flight: the window slides over confirmed states, and an answer
+// proves every earlier command applied (the plant applies them in seq order).
+TEST(LockstepSequencer, AWindowKeepsWCommandsInFlight) {
+  LockstepSequencer s(10, true, 2, 3, 4);
+  EXPECT_EQ(s.window(), 4);
+  s.Start();
+  SequencerAction a = s.OnState(0, -1, false);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 0);
+  EXPECT_EQ(a.count, 4);
+  a = s.OnState(1, 0, false);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 4);
+  EXPECT_EQ(a.count, 1);
+  a = s.OnState(3, 2, false);  // the answer to command 1 was lost on the way here
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 5);
+  EXPECT_EQ(a.count, 2);
+  EXPECT_EQ(s.current(), 3);
+  EXPECT_EQ(s.OnState(2, 1, false).kind, Kind::kNone);  // late: nothing new
+  EXPECT_EQ(s.OnState(9, 8, false).kind, Kind::kNone);  // command 8 was never sent
+  a = s.OnTimeout();                                    // everything in flight goes again
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_TRUE(a.resend);
+  EXPECT_EQ(a.seq, 3);
+  EXPECT_EQ(a.count, 4);
+  EXPECT_EQ(s.OnState(7, 6, false).count, 3);  // 7, 8, 9
+  EXPECT_EQ(s.sent(), 10);
+  a = s.OnState(8, 7, false);  // the window slides, nothing is left to send
+  EXPECT_EQ(a.kind, Kind::kNone);
+  EXPECT_TRUE(a.progressed);
+  EXPECT_FALSE(s.OnState(8, 7, false).progressed);
+  EXPECT_EQ(s.OnState(10, 9, false).kind, Kind::kFinished);
+  EXPECT_THROW(LockstepSequencer(10, true, 2, 3, 0), std::invalid_argument);
+  EXPECT_THROW(LockstepSequencer(10, true, 2, 3, LockstepSequencer::kMaxWindow + 1),
+               std::invalid_argument);
+}
+
+// With consumers the window slides only as far as the slowest receipt.
+TEST(LockstepSequencer, AWindowSlidesOverAcknowledgedStatesOnly) {
+  LockstepSequencer s(6, false, 3, 3, 3);
+  s.AddConsumer("identifier");
+  s.AddConsumer("logger");
+  s.Start();
+  s.OnState(0, -1, false);
+  s.OnAck("identifier", 0);
+  SequencerAction a = s.OnAck("logger", 0);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.count, 3);
+  for (int64_t k = 1; k <= 3; ++k) EXPECT_EQ(s.OnState(k, k - 1, false).kind, Kind::kNone);
+  EXPECT_EQ(s.OnAck("identifier", 3).kind, Kind::kNone);
+  a = s.OnAck("logger", 2);  // the logger lost state 3
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 3);
+  EXPECT_EQ(a.count, 2);
+  a = s.OnTimeout();
+  EXPECT_EQ(a.seq, 2);  // from command 2, whose answer the logger lacks
+  EXPECT_EQ(a.count, 3);
+  EXPECT_EQ(s.ack_resends(), 1);
+  a = s.OnAck("logger", 3);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 5);
+  EXPECT_EQ(a.count, 1);
+}
+
 TEST(LockstepSequencer, TimeoutsResendThenFail) {
   LockstepSequencer s(5, true, 2);
   s.Start();

@@ -11,8 +11,8 @@
 #include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_limits.hpp"
-#include "sequence/sequence_window.hpp"
 #include "pipeline/vehicle_setup.hpp"
+#include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -69,12 +69,12 @@ TEST_F(PlantSessionTest, LockstepStepsExactlyAsOdonataSimDoes) {
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const CommandOutcome out = session.Submit(static_cast<int64_t>(k), run.commands[k]);
     ASSERT_EQ(out.verdict, CommandVerdict::kStepped) << k;
-    ASSERT_TRUE(out.publish.has_value());
+    ASSERT_EQ(out.publish.size(), 1u);
     reference.Step(reference.ClampToLimits(
         experiments::ApplyAttitudeHold(run.hold_gains, run.commands[k], reference.output())));
-    EXPECT_EQ(out.publish->seq, static_cast<int64_t>(k) + 1);
-    EXPECT_EQ(out.publish->command_seq, static_cast<int64_t>(k));
-    ASSERT_TRUE(SameBits(out.publish->output, reference.output())) << "sample " << k + 1;
+    EXPECT_EQ(out.publish[0].seq, static_cast<int64_t>(k) + 1);
+    EXPECT_EQ(out.publish[0].command_seq, static_cast<int64_t>(k));
+    ASSERT_TRUE(SameBits(out.publish[0].output, reference.output())) << "sample " << k + 1;
   }
 }
 
@@ -103,12 +103,12 @@ TEST_F(PlantSessionTest, DamagePresetValidationFliesTheDamageAsOdonataSimDoes) {
   intact.Reset(run.initial);
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const CommandOutcome out = session.Submit(static_cast<int64_t>(k), run.commands[k]);
-    ASSERT_TRUE(out.publish.has_value());
+    ASSERT_EQ(out.publish.size(), 1u);
     const plant::CommandMatrix applied = reference.ClampToLimits(run.commands[k]);
     reference.Step(run.damage.Apply(applied, static_cast<double>(k) * run.sample_period_s));
     intact.Step(applied);
-    ASSERT_TRUE(SameBits(out.publish->output, reference.output())) << "sample " << k + 1;
-    EXPECT_TRUE(out.publish->applied_command == applied);
+    ASSERT_TRUE(SameBits(out.publish[0].output, reference.output())) << "sample " << k + 1;
+    EXPECT_TRUE(out.publish[0].applied_command == applied);
   }
   // The damaged wing lifts less than the intact vehicle's by the end of the run.
   EXPECT_LT(session.last().output.force_z_n(0), 0.8 * intact.output().force_z_n(0));
@@ -123,35 +123,84 @@ TEST_F(PlantSessionTest, LockstepRepeatStaleGapAndRejection) {
   // A resend: the same answer, and the plant did not move.
   const CommandOutcome again = session.Submit(0, trim);
   EXPECT_EQ(again.verdict, CommandVerdict::kRepeated);
-  ASSERT_TRUE(again.publish.has_value());
-  EXPECT_EQ(again.publish->seq, 1);
-  EXPECT_TRUE(SameBits(again.publish->output, after0.output));
+  ASSERT_EQ(again.publish.size(), 1u);
+  EXPECT_EQ(again.publish[0].seq, 1);
+  EXPECT_TRUE(SameBits(again.publish[0].output, after0.output));
   EXPECT_EQ(session.plant().output().time_s, after0.output.time_s);
 
+  // An older one is answered from the history too, as long as it is kept.
   ASSERT_EQ(session.Submit(1, trim).verdict, CommandVerdict::kStepped);
-  const CommandOutcome stale = session.Submit(0, trim);
-  EXPECT_EQ(stale.verdict, CommandVerdict::kStale);
-  EXPECT_FALSE(stale.publish.has_value());
+  const CommandOutcome older = session.Submit(0, trim);
+  EXPECT_EQ(older.verdict, CommandVerdict::kRepeated);
+  ASSERT_EQ(older.publish.size(), 1u);
+  EXPECT_EQ(older.publish[0].seq, 1);
+  EXPECT_EQ(older.publish[0].command_seq, 0);
   EXPECT_EQ(session.last().seq, 2);
+  for (int64_t k = 2; k < 2 + static_cast<int64_t>(PlantSession::kAnswerHistory); ++k)
+    ASSERT_EQ(session.Submit(k, trim).verdict, CommandVerdict::kStepped);
+  const CommandOutcome stale = session.Submit(1, trim);
+  EXPECT_EQ(stale.verdict, CommandVerdict::kStale);
+  EXPECT_TRUE(stale.publish.empty());
+  const int64_t next = session.last().seq;  // the next command expected
 
   plant::CommandMatrix nan = trim;
   nan(2, plant::kFlapFrequency) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(session.Submit(2, nan).verdict, CommandVerdict::kRejected);
+  EXPECT_EQ(session.Submit(next, nan).verdict, CommandVerdict::kRejected);
   plant::CommandMatrix high = trim;
   high(1, plant::kStrokeAmplitude) = config_.limits.max(plant::kStrokeAmplitude) + 0.01;
-  const CommandOutcome rejected = session.Submit(2, high);
+  const CommandOutcome rejected = session.Submit(next, high);
   EXPECT_EQ(rejected.verdict, CommandVerdict::kRejected);
   EXPECT_NE(rejected.problem.find("w2_amp_rad"), std::string::npos) << rejected.problem;
   EXPECT_EQ(session.Submit(-3, trim).verdict, CommandVerdict::kRejected);
-  EXPECT_EQ(session.last().seq, 2);  // nothing of the above stepped
+  EXPECT_EQ(session.last().seq, next);  // nothing of the above stepped
+}
 
-  const CommandOutcome gap = session.Submit(5, trim);
+// Commands that overtake a missing one wait for it, so a window of commands in flight gives the
+// run one at a time gives, bit for bit.
+TEST_F(PlantSessionTest, LockstepHoldsCommandsAheadOfAMissingOne) {
+  PlantSession one_by_one(config_, Mode::kLockstep, roll_);
+  PlantSession windowed(config_, Mode::kLockstep, roll_);
+  std::vector<plant::CommandMatrix> commands;
+  for (int k = 0; k < 6; ++k) {
+    plant::CommandMatrix c = roll_.trim_command;
+    c(0, plant::kFlapFrequency) += 0.5 * k;
+    commands.push_back(c);
+    one_by_one.Submit(k, c);
+  }
+  ASSERT_EQ(windowed.Submit(0, commands[0]).verdict, CommandVerdict::kStepped);
+  for (int k : {2, 3, 5}) {
+    const CommandOutcome held = windowed.Submit(k, commands[k]);
+    EXPECT_EQ(held.verdict, CommandVerdict::kHeld) << k;
+    EXPECT_TRUE(held.publish.empty());
+  }
+  EXPECT_EQ(windowed.Submit(3, commands[3]).verdict, CommandVerdict::kHeld);  // resent
+  EXPECT_EQ(windowed.last().seq, 1);
+  const CommandOutcome released = windowed.Submit(1, commands[1]);
+  EXPECT_EQ(released.verdict, CommandVerdict::kStepped);
+  ASSERT_EQ(released.publish.size(), 3u);  // 1, then the held 2 and 3; 5 waits for 4
+  EXPECT_EQ(released.publish[2].seq, 4);
+  EXPECT_EQ(released.publish[2].command_seq, 3);
+  ASSERT_EQ(windowed.Submit(4, commands[4]).publish.size(), 2u);
+  EXPECT_EQ(windowed.last().seq, 6);
+  EXPECT_TRUE(SameBits(windowed.last().output, one_by_one.last().output));
+}
+
+TEST_F(PlantSessionTest, LockstepStepsOverAGapOnlyWhenTooManyCommandsWait) {
+  PlantSession session(config_, Mode::kLockstep, roll_);
+  const plant::CommandMatrix trim = roll_.trim_command;
+  ASSERT_EQ(session.Submit(0, trim).verdict, CommandVerdict::kStepped);
+  const int64_t first_held = 4;  // 1, 2, 3 never come
+  for (int64_t k = first_held;
+       k < first_held + static_cast<int64_t>(PlantSession::kMaxHeldCommands); ++k)
+    ASSERT_EQ(session.Submit(k, trim).verdict, CommandVerdict::kHeld) << k;
+  const CommandOutcome gap =
+      session.Submit(first_held + static_cast<int64_t>(PlantSession::kMaxHeldCommands), trim);
   EXPECT_EQ(gap.verdict, CommandVerdict::kGap);
   EXPECT_EQ(gap.missing, 3);
-  ASSERT_TRUE(gap.publish.has_value());
-  EXPECT_EQ(gap.publish->seq, 6);
-  EXPECT_EQ(gap.publish->command_seq, 5);
-  EXPECT_DOUBLE_EQ(gap.publish->output.time_s, 3 * session.plant().sample_period_s());
+  ASSERT_EQ(gap.publish.size(), PlantSession::kMaxHeldCommands + 1);
+  EXPECT_EQ(gap.publish[0].seq, first_held + 1);
+  EXPECT_EQ(gap.publish[0].command_seq, first_held);
+  EXPECT_DOUBLE_EQ(gap.publish[0].output.time_s, 2 * session.plant().sample_period_s());
 }
 
 TEST_F(PlantSessionTest, ASeqThatLeapsAheadIsRejectedAndDoesNotStallTheRun) {
@@ -188,8 +237,9 @@ TEST_F(PlantSessionTest, AForgedLeapCannotMakeGenuineCommandsStale) {
     EXPECT_EQ(session.Submit(4 + 999, trim).verdict, CommandVerdict::kRejected) << k;
   }
   EXPECT_EQ(session.last().seq, 10);
-  // Within kConfirmLeap it is a gap, taken at once.
-  EXPECT_EQ(session.Submit(9 + kConfirmLeap, trim).verdict, CommandVerdict::kGap);
+  // Within kConfirmLeap it is held, and the genuine commands before it step on.
+  EXPECT_EQ(session.Submit(9 + kConfirmLeap, trim).verdict, CommandVerdict::kHeld);
+  EXPECT_EQ(session.Submit(10, trim).verdict, CommandVerdict::kStepped);
 }
 
 TEST(LeapGuard, HoldsALongLeapUntilTheNextMessageConfirmsIt) {
@@ -216,7 +266,7 @@ TEST(SequenceWindow, BoundsTheJumpFromTheNewest) {
   EXPECT_FALSE(SeqWithinWindow(6 + kMaxSeqJump, 5));
 }
 
-TEST_F(PlantSessionTest, ResetRestartsTheSequenceAndAcceptsAnyFirstCommand) {
+TEST_F(PlantSessionTest, ResetRestartsTheSequenceAtCommandZero) {
   PlantSession session(config_, Mode::kLockstep, roll_);
   const PlantSample initial = session.last();
   for (int64_t k = 0; k < 4; ++k) session.Submit(k, roll_.trim_command);
@@ -230,12 +280,17 @@ TEST_F(PlantSessionTest, ResetRestartsTheSequenceAndAcceptsAnyFirstCommand) {
   const VehicleSetup stand = VehicleSetupByName("actuator_fz", config_);
   session.Reset(stand);
   EXPECT_EQ(session.setup().name, "actuator_fz");
-  const CommandOutcome first = session.Submit(7, stand.trim_command);  // first after a reset
+  // Command 0 comes first after a reset: a later one overtaking it waits, and the plant stays
+  // uncommanded (so it goes on announcing its state 0).
+  EXPECT_EQ(session.Submit(1, stand.trim_command).verdict, CommandVerdict::kHeld);
+  EXPECT_FALSE(session.commanded());
+  const CommandOutcome first = session.Submit(0, stand.trim_command);
   EXPECT_EQ(first.verdict, CommandVerdict::kStepped);
   EXPECT_EQ(first.missing, 0);
-  EXPECT_EQ(first.publish->seq, 8);
+  ASSERT_EQ(first.publish.size(), 2u);
+  EXPECT_EQ(first.publish[1].seq, 2);
   // Clamped test stand: the body does not move.
-  EXPECT_EQ(first.publish->output.position_m, stand.initial.state.position_m);
+  EXPECT_EQ(first.publish[1].output.position_m, stand.initial.state.position_m);
 }
 
 TEST_F(PlantSessionTest, RealtimeHoldsTheNewestCommandFromTrim) {
@@ -254,7 +309,7 @@ TEST_F(PlantSessionTest, RealtimeHoldsTheNewestCommandFromTrim) {
   const CommandOutcome jump = session.Submit(4, c);
   EXPECT_EQ(jump.verdict, CommandVerdict::kAccepted);
   EXPECT_EQ(jump.missing, 3);
-  EXPECT_FALSE(jump.publish.has_value());
+  EXPECT_TRUE(jump.publish.empty());
   EXPECT_EQ(session.Submit(2, c).verdict, CommandVerdict::kStale);
   for (int i = 0; i < 3; ++i) {  // zero-order hold: the same command every tick
     const PlantSample& s = session.Tick();
@@ -305,9 +360,9 @@ TEST_F(PlantSessionTest, DivergenceStopsWithoutNaN) {
   bool diverged = false;
   for (int64_t k = 0; k < 300 && !diverged; ++k) {
     const CommandOutcome out = session.Submit(k, roll);
-    ASSERT_TRUE(out.publish.has_value());
-    EXPECT_TRUE(std::isfinite(out.publish->output.roll_rad));
-    diverged = out.publish->status == SampleStatus::kDiverged;
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_TRUE(std::isfinite(out.publish[0].output.roll_rad));
+    diverged = out.publish[0].status == SampleStatus::kDiverged;
   }
   EXPECT_TRUE(diverged);
   EXPECT_FALSE(session.plant().divergence_message().empty());

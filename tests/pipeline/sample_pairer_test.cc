@@ -188,10 +188,43 @@ TEST(SamplePairer, ABeatStateAnsweringAnotherCommandIsNotPaired) {
 TEST(SamplePairer, AGapInStatesIsReportedWithItsLength) {
   Pairer p(PairingNeeds{});
   Log log;
-  for (int64_t k = 0; k < 10; ++k)
+  const int64_t wait = static_cast<int64_t>(Pairer::kMaxStatesAfterHole);
+  for (int64_t k = 0; k < 7 + wait - 1; ++k)
     if (k < 4 || k > 6) Step(p, log, k, false);
-  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2, 7, 8}));
+  // States 4, 5, 6 may still come: the states after them wait.
+  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2}));
+  EXPECT_EQ(log.Lost(), 0);
+  EXPECT_EQ(p.newest_held_state(), 3);
+  Step(p, log, 7 + wait - 1, false);  // one too many waits: the hole is given up
   EXPECT_EQ(log.Lost(), 3);  // states 4, 5, 6 are missing: samples 3 … 6 cannot be formed
+  const std::vector<int64_t> samples = log.Samples();
+  EXPECT_EQ(samples.size(), 3u + static_cast<std::size_t>(wait - 1));
+  EXPECT_EQ(samples[3], 7);
+  EXPECT_EQ(samples.back(), 7 + wait - 2);
+}
+
+// A lockstep window: states overtake a lost one, whose resend comes later, out of order; beat
+// states likewise. Every sample is formed, in order, none lost.
+TEST(SamplePairer, AResentStateFillsItsHoleAndReleasesTheStatesAfterIt) {
+  Pairer p(PairingNeeds{true, true});
+  Log log;
+  for (int64_t k = 0; k < 3; ++k) Step(p, log, k, true);
+  log.Add(p.OnCommand(C(3)));
+  log.Add(p.OnBeat(B(3)));  // state 3 lost; beat state 3 came
+  for (int64_t k = 4; k < 6; ++k) log.Add(p.OnState(S(k)));
+  log.Add(p.OnBeat(B(5)));  // beat state 4 lost
+  log.Add(p.OnCommand(C(4)));
+  log.Add(p.OnCommand(C(5)));
+  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1}));
+  EXPECT_EQ(p.newest_held_state(), 2);
+  log.Add(p.OnState(S(3)));                                   // the resend
+  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2}));  // sample 3 needs beat state 4
+  EXPECT_EQ(p.newest_held_state(), 3);
+  log.Add(p.OnState(S(3)));  // again: ignored
+  log.Add(p.OnBeat(B(4)));
+  EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(p.newest_held_state(), 5);
+  EXPECT_EQ(log.Lost(), 0);
 }
 
 TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
@@ -202,8 +235,8 @@ TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
   log.Add(p.OnBeat(B(2)));   // … and its beat state
   log.Add(p.OnCommand(C(2)));
   EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1}));
-  EXPECT_THROW(p.OnState(S(1)), std::invalid_argument);  // out of order
-  EXPECT_THROW(p.OnBeat(B(1)), std::invalid_argument);
+  log.Add(p.OnState(S(1)));  // resends from further back (a lockstep window): ignored
+  log.Add(p.OnBeat(B(1)));
   EXPECT_THROW(p.OnState(S(-3)), std::invalid_argument);
   EXPECT_THROW(p.OnBeat(B(-3)), std::invalid_argument);
   EXPECT_THROW(p.OnCommand(C(-3)), std::invalid_argument);
@@ -215,6 +248,9 @@ TEST(SamplePairer, ResendsAreIgnoredAndBadSeqsRejected) {
   log.Add(p.OnBeat(B(3)));
   EXPECT_EQ(log.Samples(), (std::vector<int64_t>{0, 1, 2}));
   EXPECT_EQ(log.Lost(), 0);
+  for (int64_t k = 4; k < 80; ++k) Step(p, log, k, true);
+  EXPECT_THROW(p.OnState(S(5)), std::invalid_argument);  // beyond any resend: stale
+  EXPECT_THROW(p.OnBeat(B(5)), std::invalid_argument);
 }
 
 // One forged in-window state, command and beat state far ahead (+900000) are held back, and the

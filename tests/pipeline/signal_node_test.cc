@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "experiments/experiment_preset.hpp"
 #include "experiments/sample_columns.hpp"
@@ -101,12 +102,54 @@ TEST(SignalNode, ResendsACommandWhoseAnswerWasLost) {
   });
   SignalOptions options;
   options.timeout_ms = 20;
+  options.window = 1;
   SignalNode signal(bus, Roll(0.1), options);
   ASSERT_EQ(RunFenced(bus), 0);
   EXPECT_EQ(received.size(), 10u);
   EXPECT_EQ(received[3], 2);
   EXPECT_EQ(received[4], 1);
   EXPECT_EQ(signal.sequencer().total_resends(), 1);
+}
+
+// A window of 4: the plant applies in seq order, so losing command 3 holds 4 … 6 back until the
+// timeout resends the window from 3 on; the plant answers the applied ones again.
+TEST(SignalNode, AWindowResendsEverythingInFlightFromTheOldestUnconfirmedCommand) {
+  bus::BusNode bus(MemqOptions());
+  std::map<int64_t, int> received;  // command seq → times seen
+  int64_t next = 0;                 // the in-order plant's next command
+  std::set<int64_t> held;
+  const auto answer = [&](int64_t seq) {
+    odonata::plant_state_t s{};
+    s.seq = seq + 1;
+    s.command_seq = seq;
+    bus.Publish(bus.channels().state, s);
+  };
+  bus.Subscribe<odonata::wing_command_t>(bus.channels().command, [&](const auto& m) {
+    if (++received[m.seq] == 1 && m.seq == 3) return;  // lost on the way
+    if (m.seq < next) return answer(m.seq);            // applied before: answered again
+    held.insert(m.seq);
+    while (held.count(next) > 0) {
+      held.erase(next);
+      answer(next++);
+    }
+  });
+  bus.Subscribe<odonata::control_t>(bus.channels().control, [&](const auto& c) {
+    if (c.command != odonata::control_t::RESET) return;
+    odonata::plant_state_t s{};
+    s.command_seq = -1;
+    bus.Publish(bus.channels().state, s);
+  });
+  SignalOptions options;
+  options.timeout_ms = 20;
+  options.window = 4;
+  SignalNode signal(bus, Roll(0.1), options);
+  ASSERT_EQ(RunFenced(bus), 0);
+  EXPECT_EQ(next, 10);
+  EXPECT_EQ(received[2], 1);
+  for (int64_t k = 3; k <= 6; ++k) EXPECT_EQ(received[k], 2) << k;
+  EXPECT_EQ(received[7], 1);
+  EXPECT_EQ(signal.sequencer().total_resends(), 1);
+  EXPECT_EQ(signal.commands_sent(), 14);
 }
 
 TEST(SignalNode, MissingPlantFailsAfterTheResends) {
