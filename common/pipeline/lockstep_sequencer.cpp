@@ -124,8 +124,8 @@ SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, boo
     return TryAdvance();
   }
   if (phase_ != Phase::kAwaitingAnswer) return a;
-  if (seq == 0 && command_seq == -1 && current_ > 0) {
-    // The plant published state 1 already, so this is not a late copy of state 0: the plant
+  if (seq == 0 && command_seq == -1 && answered_ > 0) {
+    // The plant answered a command already, so this is not a late copy of state 0: the plant
     // restarted (or someone reset it) and the rest of the run would start from scratch unseen —
     // or one forged packet says so. Suspect first; a second fresh state 0 (a restarted plant
     // repeats it while nothing commands it) confirms.
@@ -190,10 +190,15 @@ SequencerAction LockstepSequencer::OnTimeout() {
     return a;
   }
   // Everything in flight from the oldest unconfirmed command on: the plant answers the ones it
-  // applied again and applies the rest, so one timeout repairs every hole in the window.
+  // applied again and applies the rest, so one timeout repairs every hole in the window. A
+  // consumer that restarted may hold less than what was confirmed before: from the answer it
+  // lacks on, as far back as the plant still answers.
+  int64_t from = current_;
+  for (const auto& [instance, acked] : consumers_) from = std::min(from, acked);
+  from = std::max({from, sent_ - kResendReach, int64_t{0}});
   a.kind = SequencerAction::Kind::kSendCommand;
-  a.seq = current_;
-  a.count = sent_ - current_;
+  a.seq = from;
+  a.count = sent_ - from;
   return a;
 }
 

@@ -49,10 +49,13 @@ class LockstepSequencer {
  public:
   enum class Phase { kIdle, kAwaitingInitial, kAwaitingAnswer, kFinished, kFailed };
 
-  /// Largest window: the plant holds this many commands ahead of a missing one, and the
-  /// identifier this many states after a missing one, before giving it up (plant_session.hpp,
-  /// sample_pairer.hpp).
-  static constexpr int kMaxWindow = 32;
+  /// Largest window: a receiver confirms a leap of more than kConfirmLeap seqs before it
+  /// believes it (sequence_window.hpp), and the plant and the identifier hold more than this
+  /// many commands or states behind a missing one (plant_session.hpp, sample_pairer.hpp).
+  static constexpr int kMaxWindow = 16;
+  /// How far back a resend may reach: the plant answers again only its last 64 commands
+  /// (plant_session.hpp).
+  static constexpr int64_t kResendReach = 64;
 
   /// @param command_count N ≥ 1 commands to send (seq 0 … N-1).
   /// @param reset_plant start by sending RESET; otherwise wait for a fresh state 0 as it is.

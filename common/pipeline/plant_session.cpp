@@ -6,6 +6,7 @@
 
 #include "experiments/vehicle_step.hpp"
 #include "pipeline/command_limits.hpp"
+#include "pipeline/lockstep_sequencer.hpp"
 #include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
@@ -99,6 +100,7 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
       if (held_.size() <= kMaxHeldCommands) return out;
       // A generator that does not resend (a replayed log, a lossy one-way link): go on.
       out.missing = held_.begin()->first - expected;
+      out.missing_from = expected;
       ReleaseHeld(&out);
       out.verdict = CommandVerdict::kGap;
       return out;
@@ -115,7 +117,10 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
                   std::to_string(*newest_seq_);
     return out;
   }
-  if (newest_seq_ && seq > *newest_seq_ + 1) out.missing = seq - *newest_seq_ - 1;
+  if (newest_seq_ && seq > *newest_seq_ + 1) {
+    out.missing = seq - *newest_seq_ - 1;
+    out.missing_from = *newest_seq_ + 1;
+  }
   newest_seq_ = seq;
   if (held_seq_ >= 0) {
     out.superseded_unapplied = held_applications_ == 0;
@@ -127,6 +132,9 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
   out.verdict = CommandVerdict::kAccepted;
   return out;
 }
+
+static_assert(PlantSession::kAnswerHistory >= LockstepSequencer::kResendReach,
+              "the plant must answer every command the generator may resend");
 
 void PlantSession::StepLockstep(int64_t seq, const plant::CommandMatrix& command,
                                 CommandOutcome* out) {

@@ -62,7 +62,8 @@ enum class CommandVerdict {
 /// Result of PlantSession::Submit().
 struct CommandOutcome {
   CommandVerdict verdict{CommandVerdict::kRejected};
-  int64_t missing{};  ///< sequence numbers skipped before this one
+  int64_t missing{};       ///< sequence numbers skipped (before this one, or before `missing_from`)
+  int64_t missing_from{};  ///< the first of them
   /// Real time, kAccepted: the command this one replaced was never applied (a tick came late and
   /// both arrived within one sample period).
   bool superseded_unapplied{false};
@@ -98,7 +99,7 @@ class PlantSession {
   const PlantSample& Reset(VehicleSetup setup);
 
   /// Lockstep: commands held ahead of a missing one before the plant steps over the gap. A
-  /// generator keeps fewer than this in flight (odonata-signal's --window ≤ 32).
+  /// generator keeps fewer than this in flight (odonata-signal's --window ≤ 16).
   static constexpr std::size_t kMaxHeldCommands = 64;
   /// Lockstep: answers kept to re-send when their command comes again (a consumer lost one).
   static constexpr std::size_t kAnswerHistory = 64;

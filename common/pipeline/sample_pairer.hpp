@@ -61,7 +61,7 @@ class SamplePairer {
   static constexpr std::size_t kMaxBeats = 4096;        ///< beat states kept for pairing
   static constexpr std::size_t kMaxPendingStates = 64;  ///< states waiting before giving up
   /// States held after a missing one before its sample is given up. A lockstep generator keeps
-  /// fewer commands than this in flight (odonata-signal --window ≤ 32), so a state lost in
+  /// fewer commands than this in flight (odonata-signal --window ≤ 16), so a state lost in
   /// lockstep is resent before it is given up.
   static constexpr std::size_t kMaxStatesAfterHole = 32;
   /// How far back a resent state or beat state may lie behind the newest (the plant's answer

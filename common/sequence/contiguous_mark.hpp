@@ -1,9 +1,8 @@
 #pragma once
 // The newest seq of a stream up to which nothing is missing, when messages may overtake a lost
-// one and its resend comes later (a lockstep window, docs/lcm.md §10): what a consumer that keeps
-// messages as they come (odonata-logger) can acknowledge. Seqs after a hole are remembered until
-// the hole fills; with more than `max_after_hole` of them the hole is given up, so a stream that
-// is never repaired (real time) keeps moving.
+// one and its resend comes later (a lockstep window, docs/lcm.md §10). Seqs after a hole are
+// remembered until the hole fills; with more than `max_after_hole` of them the hole is given up,
+// so a stream that is never repaired (real time) keeps moving.
 
 #include <cstddef>
 #include <cstdint>
@@ -15,13 +14,20 @@ class ContiguousMark {
  public:
   explicit ContiguousMark(std::size_t max_after_hole = 64) : max_after_hole_(max_after_hole) {}
 
-  /// Seq `seq` arrived. The first seq starts the mark wherever it is (a consumer that joins
-  /// mid-run); `restart` (the sender began a new run) starts it afresh at `seq`.
-  void Add(int64_t seq, bool restart = false) {
-    if (restart || mark_ < 0) {
-      mark_ = seq;
-      after_hole_.clear();
-    } else if (seq > mark_ + 1) {
+  /// The stream (re)starts: `next` is the first seq it will count. Without a call, the first seq
+  /// that arrives starts the mark (a receiver that joins mid-run).
+  void ExpectFrom(int64_t next) {
+    mark_ = next - 1;
+    started_ = true;
+    after_hole_.clear();
+  }
+
+  /// Seq `seq` arrived.
+  void Add(int64_t seq) {
+    if (!started_) {
+      ExpectFrom(seq);
+    }
+    if (seq > mark_ + 1) {
       after_hole_.insert(seq);
       if (after_hole_.size() > max_after_hole_) mark_ = *after_hole_.begin();
     } else if (seq == mark_ + 1) {
@@ -34,11 +40,12 @@ class ContiguousMark {
     }
   }
 
-  /// -1 before any seq.
-  int64_t mark() const { return mark_; }
+  /// The newest seq with none missing before it since the start; start - 1 before any.
+  int64_t mark() const { return started_ ? mark_ : -1; }
 
  private:
   std::size_t max_after_hole_;
+  bool started_ = false;
   int64_t mark_ = -1;
   std::set<int64_t> after_hole_;
 };

@@ -62,32 +62,23 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
   const auto& ch = bus_.channels();
   int64_t state_seq = -1;
   // Written already whatever it holds; only genuine-looking seqs move the receipt.
-  // A fresh state 0 is a new run (a plant reset): states and commands start their marks afresh,
-  // as a fresh beat state 0 does for the beat states. Nothing else moves a mark back, so a stale
-  // or forged seq can never stall the receipts.
   if (channel == ch.state) {
     odonata::plant_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    const bool fresh = m.seq == 0 && m.command_seq < 0;
-    if (fresh) commands_ = ContiguousMark{};
-    states_.Add(m.seq, fresh);
+    marks_.OnState(m.seq, m.command_seq < 0);
     state_seq = m.seq;
   } else if (channel == ch.command) {
     odonata::wing_command_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    commands_.Add(m.seq);
+    marks_.OnCommand(m.seq);
   } else if (channel == ch.beat_state) {
     odonata::beat_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
-    beats_.Add(m.seq, m.seq == 0 && m.command_seq < 0);
-    beats_seen_ = true;
+    marks_.OnBeat(m.seq);
   } else {
     return;
   }
-  // State s is held with all it needs once command s - 1 (which it answers) and beat state s
-  // (published right after it) are written too.
-  int64_t held = std::min(states_.mark(), commands_.mark() + 1);
-  if (beats_seen_) held = std::min(held, beats_.mark());
+  const int64_t held = marks_.held();
   acks_.Publish(held, state_seq);
 }
 

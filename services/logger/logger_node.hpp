@@ -10,7 +10,7 @@
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "bus/event_log_writer.hpp"
-#include "sequence/contiguous_mark.hpp"
+#include "sequence/written_run_marks.hpp"
 
 namespace odonata::logger {
 
@@ -35,8 +35,7 @@ class LoggerNode {
   bus::BusNode& bus_;
   RecordOptions options_;
   bus::EventLogWriter writer_;
-  ContiguousMark states_, commands_, beats_;
-  bool beats_seen_ = false;
+  WrittenRunMarks marks_;
   bus::AckPublisher acks_;
 };
 

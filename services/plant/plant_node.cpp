@@ -62,8 +62,8 @@ void PlantNode::OnCommand(const odonata::wing_command_t& msg) {
   }
   if (out.missing > 0) {
     bus_.stats().gaps += out.missing;
-    bus_.Report("gap in commands", "missing command seq " + std::to_string(msg.seq - out.missing) +
-                                       " … " + std::to_string(msg.seq - 1));
+    bus_.Report("gap in commands", "missing command seq " + std::to_string(out.missing_from) +
+                                       " … " + std::to_string(out.missing_from + out.missing - 1));
   }
   if (out.superseded_unapplied) {
     ++bus_.stats().skipped;

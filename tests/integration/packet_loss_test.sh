@@ -48,8 +48,17 @@ loss 0
 ((lost > 0)) || fail "iptables dropped nothing"
 same_model "$OUT/clean/model.json" "$OUT/lossy/model.json" ||
   fail "5 % loss with a window of commands in flight changed the lockstep model"
+# The logger acknowledged only what it had written: both logs export the same 500 samples.
+for name in clean lossy; do
+  "$LOGGER" export "$OUT/$name"/log.* -o "$OUT/$name/train.csv" >"$OUT/$name/export.log" 2>&1 ||
+    { cat "$OUT/$name/export.log"; fail "export of the $name log failed"; }
+done
+rows=$(($(wc -l <"$OUT/lossy/train.csv") - 1))
+((rows == 500)) || fail "the lossy run's log holds $rows of 500 samples"
+cmp -s "$OUT/clean/train.csv" "$OUT/lossy/train.csv" ||
+  fail "the lossy run's log exports other samples than the clean run's"
 resends=$(grep -o "sent [0-9]* commands.*" "$OUT/lossy/signal.log")
-echo "lockstep, 5 % loss: $lost datagrams dropped; $resends; model identical to the clean run's"
+echo "lockstep, 5 % loss: $lost datagrams dropped; $resends; model and logged samples identical to the clean run's"
 
 # Real time: clean, 1 %, 5 %.
 realtime() {  # realtime NAME PERCENT
@@ -82,4 +91,4 @@ for name, pct in (("one", 1), ("five", 5)):
     if abs(fit - clean) > 1.0:
         print(f"FAIL: FIT {fit:.2f} % is more than 1 point from the clean run's {clean:.2f} %"); sys.exit(1)
 PYEOF
-pass "packet loss: lockstep (window 16 against 1) bit-identical at 5 %, real time within 1 point at 1 % and 5 %, losses counted"
+pass "packet loss: lockstep (window 16 against 1) bit-identical at 5 % (model and log), real time within 1 point at 1 % and 5 %, losses counted"

@@ -92,6 +92,50 @@ TEST(LockstepSequencer, AWindowSlidesOverAcknowledgedStatesOnly) {
   EXPECT_EQ(a.count, 1);
 }
 
+// A consumer that restarted mid-run holds less than was confirmed: the resend reaches back to
+// the answer it lacks (as far as the plant still answers), not only to the window.
+TEST(LockstepSequencer, AResendReachesBackToWhatARestartedConsumerLacks) {
+  LockstepSequencer s(200, false, 5, 3, 4);
+  s.AddConsumer("a");
+  s.AddConsumer("b");
+  s.Start();
+  s.OnState(0, -1, false);
+  s.OnAck("a", 0);
+  s.OnAck("b", 0);
+  for (int64_t k = 1; k <= 100; ++k) {
+    s.OnState(k, k - 1, false);
+    s.OnAck("a", k);
+    s.OnAck("b", k);
+  }
+  EXPECT_EQ(s.current(), 100);
+  EXPECT_EQ(s.sent(), 104);
+  s.OnAck("b", 95);  // restarted: it holds from a resent state 95 on, and lost 96
+  SequencerAction a = s.OnTimeout();
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 95);  // state 96 answers command 95
+  EXPECT_EQ(a.count, 104 - 95);
+  s.OnAck("b", -1);  // restarted again, holding nothing: as far back as the plant answers
+  a = s.OnTimeout();
+  EXPECT_EQ(a.seq, 104 - LockstepSequencer::kResendReach);
+}
+
+// Once the plant has answered a command, a fresh state 0 is a restart even before the first
+// answer is confirmed: a window may have been answered while the consumers catch up.
+TEST(LockstepSequencer, ARestartBeforeTheFirstConfirmationIsSeen) {
+  LockstepSequencer s(10, false, 5, 3, 4);
+  s.AddConsumer("identifier");
+  s.Start();
+  s.OnState(0, -1, false);
+  ASSERT_EQ(s.OnAck("identifier", 0).count, 4);
+  s.OnState(1, 0, false);
+  s.OnState(2, 1, false);
+  EXPECT_EQ(s.current(), 0);  // the identifier has not acknowledged state 1 yet
+  EXPECT_EQ(s.OnState(0, -1, false).kind, Kind::kNone);  // suspected
+  const SequencerAction a = s.OnState(0, -1, false);
+  EXPECT_EQ(a.kind, Kind::kFailed);
+  EXPECT_EQ(a.failure, SequencerAction::Failure::kRestarted);
+}
+
 TEST(LockstepSequencer, TimeoutsResendThenFail) {
   LockstepSequencer s(5, true, 2);
   s.Start();
