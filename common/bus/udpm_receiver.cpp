@@ -18,6 +18,23 @@
 namespace odonata::bus {
 namespace {
 
+// Without recv_buf_size in the URL: room for a lockstep window's burst (16 samples of commands,
+// states, beat states, receipts and predictions, plus a model snapshot's fragments) while the
+// process is off the CPU. The kernel's default (212992 bytes, in truesize) holds about 150 small
+// datagrams; a lost prediction is not resent (docs/lcm.md §5).
+constexpr int kDefaultReceiveBuffer = 8 << 20;
+
+// SO_RCVBUF is capped at net.core.rmem_max (212992 on a stock Debian); a process with
+// CAP_NET_ADMIN (the services run as root in the tests and the systemd units) may exceed it.
+void SetReceiveBuffer(int fd, int requested) {
+  const int want = requested > 0 ? requested : kDefaultReceiveBuffer;
+  setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &want, sizeof want);
+  int got = 0;
+  socklen_t len = sizeof got;
+  getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &got, &len);
+  if (got / 2 < want) setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &want, sizeof want);  // may fail
+}
+
 int64_t WallUtime() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::system_clock::now().time_since_epoch())
@@ -36,8 +53,7 @@ UdpmReceiver::UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endp
     socket_.open(ip::udp::v4());
     // Every process on the host binds the same group and port and gets its own copy.
     socket_.set_option(ip::udp::socket::reuse_address(true));
-    if (endpoint.recv_buf_size > 0)
-      socket_.set_option(boost::asio::socket_base::receive_buffer_size(endpoint.recv_buf_size));
+    SetReceiveBuffer(socket_.native_handle(), endpoint.recv_buf_size);
     const int on = 1;
     // The kernel's arrival time is the receive time LCM reports (and the logger records).
     if (setsockopt(socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) != 0)
