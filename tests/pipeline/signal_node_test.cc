@@ -83,6 +83,16 @@ TEST(SignalNode, LockstepRunWithThePlantNodeMatchesTheOfflineSession) {
   }
 }
 
+// A fake plant's reset: a fresh state 0.
+void AnswerResetWithStateZero(bus::BusNode& bus) {
+  bus.Subscribe<odonata::control_t>(bus.channels().control, [&bus](const auto& c) {
+    if (c.command != odonata::control_t::RESET) return;
+    odonata::plant_state_t s{};
+    s.command_seq = -1;
+    bus.Publish(bus.channels().state, s);
+  });
+}
+
 TEST(SignalNode, ResendsACommandWhoseAnswerWasLost) {
   bus::BusNode bus(MemqOptions());
   std::map<int64_t, int> received;  // command seq → times seen
@@ -94,12 +104,7 @@ TEST(SignalNode, ResendsACommandWhoseAnswerWasLost) {
     s.command_seq = m.seq;
     bus.Publish(bus.channels().state, s);
   });
-  bus.Subscribe<odonata::control_t>(bus.channels().control, [&](const auto& c) {
-    if (c.command != odonata::control_t::RESET) return;
-    odonata::plant_state_t s{};
-    s.command_seq = -1;
-    bus.Publish(bus.channels().state, s);
-  });
+  AnswerResetWithStateZero(bus);
   SignalOptions options;
   options.timeout_ms = 20;
   options.window = 1;
@@ -133,12 +138,7 @@ TEST(SignalNode, AWindowResendsEverythingInFlightFromTheOldestUnconfirmedCommand
       answer(next++);
     }
   });
-  bus.Subscribe<odonata::control_t>(bus.channels().control, [&](const auto& c) {
-    if (c.command != odonata::control_t::RESET) return;
-    odonata::plant_state_t s{};
-    s.command_seq = -1;
-    bus.Publish(bus.channels().state, s);
-  });
+  AnswerResetWithStateZero(bus);
   SignalOptions options;
   options.timeout_ms = 20;
   options.window = 4;
