@@ -1,7 +1,7 @@
 #pragma once
 // The receipts a lockstep consumer sends as ack_t on ODONATA_ACK, alike for every consumer: one
 // when the held state moves, and one for every repeated state (the generator's resend), so a
-// lost receipt is repaired by the resend (the lossless lockstep protocol, docs/lcm.md §10).
+// lost receipt is repaired by the resend. The protocol is in docs/lcm.md §10.
 
 #include <cstdint>
 #include <string>

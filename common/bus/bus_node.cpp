@@ -152,7 +152,7 @@ void BusNode::WaitForLcm() {
                        // select() cost two system calls per message (one finding it, one
                        // finding the queue empty). LCM keeps its notify pipe readable while
                        // messages remain, so the next wait fires at once, and timers get their
-                       // turn between messages (the receive paths, docs/lcm.md §9).
+                       // turn between messages. Both receive paths: docs/lcm.md §9.
                        lcm_->handle();
                        WaitForLcm();
                      });

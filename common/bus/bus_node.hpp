@@ -2,8 +2,8 @@
 // One process's LCM endpoint inside one Boost.Asio event loop: its receive path, timers,
 // SIGINT/SIGTERM, typed subscriptions that count undecodable messages, and the heartbeat.
 // Over udpm the node reads the multicast socket itself (UdpmReceiver); other providers
-// (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread (both paths:
-// docs/lcm.md §9).
+// (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread. Both paths are
+// in docs/lcm.md §9.
 
 #include <chrono>
 #include <functional>
