@@ -1,6 +1,7 @@
 #include "pipeline/lockstep_sequencer.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -42,10 +43,10 @@ SequencerAction LockstepSequencer::Fail(SequencerAction::Failure failure, std::s
   return a;
 }
 
-bool LockstepSequencer::Acknowledged(int64_t state_seq) const {
-  for (const auto& [instance, acked] : consumers_)
-    if (acked < state_seq) return false;
-  return true;
+int64_t LockstepSequencer::LowestAck() const {
+  int64_t lowest = std::numeric_limits<int64_t>::max();
+  for (const auto& [instance, acked] : consumers_) lowest = std::min(lowest, acked);
+  return lowest;
 }
 
 std::string LockstepSequencer::Laggards(int64_t state_seq) const {
@@ -69,8 +70,7 @@ SequencerAction LockstepSequencer::TryAdvance() {
   } else if (phase_ == Phase::kAwaitingAnswer) {
     // The newest state the plant answered and every consumer holds; the plant answers in seq
     // order, so everything before it was answered too.
-    int64_t confirmed = answered_;
-    for (const auto& [instance, acked] : consumers_) confirmed = std::min(confirmed, acked);
+    const int64_t confirmed = std::min(answered_, LowestAck());
     if (confirmed <= current_) return a;
     current_ = confirmed;
     resends_ = 0;
@@ -193,9 +193,8 @@ SequencerAction LockstepSequencer::OnTimeout() {
   // applied again and applies the rest, so one timeout repairs every hole in the window. A
   // consumer that restarted may hold less than what was confirmed before: from the answer it
   // lacks on, as far back as the plant still answers.
-  int64_t from = current_;
-  for (const auto& [instance, acked] : consumers_) from = std::min(from, acked);
-  from = std::max({from, sent_ - kResendReach, int64_t{0}});
+  const int64_t from =
+      std::max({std::min(current_, LowestAck()), sent_ - kResendReach, int64_t{0}});
   a.kind = SequencerAction::Kind::kSendCommand;
   a.seq = from;
   a.count = sent_ - from;

@@ -21,6 +21,8 @@
 #include <map>
 #include <string>
 
+#include "sequence/lockstep_window.hpp"
+
 namespace odonata::pipeline {
 
 /// What the caller must do next.
@@ -49,13 +51,10 @@ class LockstepSequencer {
  public:
   enum class Phase { kIdle, kAwaitingInitial, kAwaitingAnswer, kFinished, kFailed };
 
-  /// Largest window: a receiver confirms a leap of more than kConfirmLeap seqs before it
-  /// believes it (sequence_window.hpp), and the plant and the identifier hold more than this
-  /// many commands or states behind a missing one (plant_session.hpp, sample_pairer.hpp).
-  static constexpr int kMaxWindow = 16;
-  /// How far back a resend may reach: the plant answers again only its last 64 commands
-  /// (plant_session.hpp).
-  static constexpr int64_t kResendReach = 64;
+  /// Largest window (sequence/lockstep_window.hpp).
+  static constexpr int kMaxWindow = static_cast<int>(kMaxLockstepWindow);
+  /// How far back a resend may reach: as far as the plant keeps its answers.
+  static constexpr int64_t kResendReach = kLockstepResendReach;
 
   /// @param command_count N ≥ 1 commands to send (seq 0 … N-1).
   /// @param reset_plant start by sending RESET; otherwise wait for a fresh state 0 as it is.
@@ -105,7 +104,9 @@ class LockstepSequencer {
   SequencerAction Fail(SequencerAction::Failure failure, std::string message);
   // The state the window waits for: 0 before command 0, else the answer to current_.
   int64_t Awaited() const { return phase_ == Phase::kAwaitingInitial ? 0 : current_ + 1; }
-  bool Acknowledged(int64_t state_seq) const;
+  // The newest state every consumer holds (the largest int64_t without consumers).
+  int64_t LowestAck() const;
+  bool Acknowledged(int64_t state_seq) const { return LowestAck() >= state_seq; }
   std::string Laggards(int64_t state_seq) const;
   // Confirms what the plant answered and every consumer acknowledged, then fills the window.
   SequencerAction TryAdvance();

@@ -6,7 +6,6 @@
 
 #include "experiments/vehicle_step.hpp"
 #include "pipeline/command_limits.hpp"
-#include "pipeline/lockstep_sequencer.hpp"
 #include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
@@ -133,8 +132,8 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
   return out;
 }
 
-static_assert(PlantSession::kAnswerHistory >= LockstepSequencer::kResendReach,
-              "the plant must answer every command the generator may resend");
+static_assert(static_cast<int64_t>(PlantSession::kMaxHeldCommands) > kMaxLockstepWindow,
+              "a lockstep window's commands behind a lost one must wait for its resend");
 
 void PlantSession::StepLockstep(int64_t seq, const plant::CommandMatrix& command,
                                 CommandOutcome* out) {

@@ -17,6 +17,7 @@
 #include "pipeline/vehicle_setup.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
+#include "sequence/lockstep_window.hpp"
 #include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
@@ -101,8 +102,9 @@ class PlantSession {
   /// Lockstep: commands held ahead of a missing one before the plant steps over the gap. A
   /// generator keeps fewer than this in flight (odonata-signal's --window ≤ 16).
   static constexpr std::size_t kMaxHeldCommands = 64;
-  /// Lockstep: answers kept to re-send when their command comes again (a consumer lost one).
-  static constexpr std::size_t kAnswerHistory = 64;
+  /// Lockstep: answers kept to re-send when their command comes again (a consumer lost one):
+  /// every one a generator's resend may reach (sequence/lockstep_window.hpp).
+  static constexpr std::size_t kAnswerHistory = kLockstepResendReach;
 
   /// Handles command `seq`.
   /// Lockstep (commands applied strictly in seq order, 0 first after a reset, so a window of

@@ -41,6 +41,7 @@
 #include <utility>
 #include <vector>
 
+#include "sequence/lockstep_window.hpp"
 #include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
@@ -64,9 +65,10 @@ class SamplePairer {
   /// fewer commands than this in flight (odonata-signal --window ≤ 16), so a state lost in
   /// lockstep is resent before it is given up.
   static constexpr std::size_t kMaxStatesAfterHole = 32;
-  /// How far back a resent state or beat state may lie behind the newest (the plant's answer
-  /// history, plant_session.hpp); anything older is stale.
-  static constexpr int64_t kResendReach = 64;
+  static_assert(static_cast<int64_t>(kMaxStatesAfterHole) > kMaxLockstepWindow);
+  /// How far back a resent state or beat state may lie behind the newest (as far as a
+  /// generator's resend reaches); anything older is stale.
+  static constexpr int64_t kResendReach = kLockstepResendReach;
 
   /// What became of the messages, in order.
   struct Event {

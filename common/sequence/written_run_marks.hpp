@@ -16,12 +16,15 @@
 #include <optional>
 
 #include "sequence/contiguous_mark.hpp"
+#include "sequence/lockstep_window.hpp"
 
 namespace odonata {
 
 class WrittenRunMarks {
  public:
   static constexpr int64_t kStaleCandidate = 32;
+  static_assert(kStaleCandidate > pipeline::kMaxLockstepWindow,
+                "a restarted run's first answer comes within one window");
 
   void OnState(int64_t seq, bool fresh) {
     if (fresh && seq == 0) {

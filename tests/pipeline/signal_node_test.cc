@@ -83,6 +83,14 @@ TEST(SignalNode, LockstepRunWithThePlantNodeMatchesTheOfflineSession) {
   }
 }
 
+// A fake plant's answer to command `seq`: state seq + 1.
+void AnswerCommand(bus::BusNode& bus, int64_t seq) {
+  odonata::plant_state_t s{};
+  s.seq = seq + 1;
+  s.command_seq = seq;
+  bus.Publish(bus.channels().state, s);
+}
+
 // A fake plant's reset: a fresh state 0.
 void AnswerResetWithStateZero(bus::BusNode& bus) {
   bus.Subscribe<odonata::control_t>(bus.channels().control, [&bus](const auto& c) {
@@ -99,10 +107,7 @@ TEST(SignalNode, ResendsACommandWhoseAnswerWasLost) {
   // A fake plant that answers every command but the first copy of command 3.
   bus.Subscribe<odonata::wing_command_t>(bus.channels().command, [&](const auto& m) {
     if (++received[m.seq] == 1 && m.seq == 3) return;
-    odonata::plant_state_t s{};
-    s.seq = m.seq + 1;
-    s.command_seq = m.seq;
-    bus.Publish(bus.channels().state, s);
+    AnswerCommand(bus, m.seq);
   });
   AnswerResetWithStateZero(bus);
   SignalOptions options;
@@ -123,12 +128,7 @@ TEST(SignalNode, AWindowResendsEverythingInFlightFromTheOldestUnconfirmedCommand
   std::map<int64_t, int> received;  // command seq → times seen
   int64_t next = 0;                 // the in-order plant's next command
   std::set<int64_t> held;
-  const auto answer = [&](int64_t seq) {
-    odonata::plant_state_t s{};
-    s.seq = seq + 1;
-    s.command_seq = seq;
-    bus.Publish(bus.channels().state, s);
-  };
+  const auto answer = [&bus](int64_t seq) { AnswerCommand(bus, seq); };
   bus.Subscribe<odonata::wing_command_t>(bus.channels().command, [&](const auto& m) {
     if (++received[m.seq] == 1 && m.seq == 3) return;  // lost on the way
     if (m.seq < next) return answer(m.seq);            // applied before: answered again
