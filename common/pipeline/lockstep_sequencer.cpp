@@ -83,7 +83,12 @@ SequencerAction LockstepSequencer::TryAdvance() {
   } else {
     return a;
   }
-  const int64_t end = std::min(current_ + window_, command_count_);
+  return FillWindow(a);
+}
+
+SequencerAction LockstepSequencer::FillWindow(SequencerAction a) {
+  int64_t end = std::min(current_ + window_, command_count_);
+  if (hold_at_ >= 0) end = std::min(end, hold_at_);
   if (sent_ < end) {
     a.kind = SequencerAction::Kind::kSendCommand;
     a.seq = sent_;
@@ -114,6 +119,22 @@ SequencerAction LockstepSequencer::OnAck(const std::string& instance, int64_t st
 SequencerAction LockstepSequencer::ReleaseStart() {
   start_held_ = false;
   return TryAdvance();
+}
+
+void LockstepSequencer::HoldAt(int64_t seq) {
+  if (seq < 1 || seq >= command_count_)
+    throw std::invalid_argument("hold at command " + std::to_string(seq) + ": must be 1 … " +
+                                std::to_string(command_count_ - 1));
+  hold_at_ = seq;
+}
+
+SequencerAction LockstepSequencer::ReleaseHold() {
+  hold_at_ = -1;
+  if (phase_ != Phase::kAwaitingAnswer) return TryAdvance();
+  // Nothing new is confirmed: what the hold kept back goes out now, and the timeout restarts.
+  SequencerAction a;
+  a.progressed = true;
+  return FillWindow(a);
 }
 
 SequencerAction LockstepSequencer::OnState(int64_t seq, int64_t command_seq, bool diverged) {
@@ -154,6 +175,7 @@ SequencerAction LockstepSequencer::OnTimeout() {
   SequencerAction a;
   if (phase_ != Phase::kAwaitingInitial && phase_ != Phase::kAwaitingAnswer) return a;
   if (phase_ == Phase::kAwaitingInitial && received_ && start_held_) return a;  // discovering
+  if (holding()) return a;  // nothing in flight, nothing awaited
   if (restart_suspected_for_ >= 0) {
     // Resending now would command a restarted plant and hide its restart: wait for it to repeat
     // its state 0, and only then give up the suspicion.

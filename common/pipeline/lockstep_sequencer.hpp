@@ -85,6 +85,15 @@ class LockstepSequencer {
   /// Holds command 0 until ReleaseStart() (while the generator discovers its consumers).
   void HoldStart() { start_held_ = true; }
   SequencerAction ReleaseStart();
+  /// Sends no command from `seq` on until ReleaseHold(): the run stands still with every state up
+  /// to `seq` confirmed, so whatever happens meanwhile (a test's fault) lands at a definite sample.
+  /// @throws std::invalid_argument unless 1 ≤ seq < command_count.
+  void HoldAt(int64_t seq);
+  SequencerAction ReleaseHold();
+  /// Every command before the hold is confirmed and nothing is in flight.
+  bool holding() const {
+    return hold_at_ >= 0 && phase_ == Phase::kAwaitingAnswer && current_ == hold_at_;
+  }
 
   Phase phase() const { return phase_; }
   /// The oldest command whose answer is not confirmed yet (or the next to send).
@@ -110,6 +119,8 @@ class LockstepSequencer {
   std::string Laggards(int64_t state_seq) const;
   // Confirms what the plant answered and every consumer acknowledged, then fills the window.
   SequencerAction TryAdvance();
+  // Sends what the window (and the hold) allow beyond what was sent: `a` with the commands.
+  SequencerAction FillWindow(SequencerAction a);
 
   int64_t command_count_;
   bool reset_plant_;
@@ -126,6 +137,7 @@ class LockstepSequencer {
   int64_t ack_resends_ = 0;
   bool received_ = false;  // state 0 arrived (acknowledgements may still be missing)
   bool start_held_ = false;
+  int64_t hold_at_ = -1;  // no command from here on until ReleaseHold() (-1: no hold)
   std::map<std::string, int64_t> consumers_;  // instance -> newest acknowledged state
 };
 

@@ -69,6 +69,11 @@ int main(int argc, char** argv) {
                  "only --wait-for)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--hold-at", options.hold_at,
+                 "lockstep, for tests: send no command from this seq on until SIGUSR1; stderr "
+                 "says 'holding before command K' once every state up to K is confirmed, so a "
+                 "fault injected then lands at a definite sample")
+      ->check(CLI::PositiveNumber);
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name (default odonata-signal)");
   odonata::cli::ChannelOptions channels;

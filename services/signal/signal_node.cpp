@@ -1,6 +1,7 @@
 #include "signal_node.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <stdexcept>
 
@@ -22,9 +23,16 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
                  std::max(3, (600 + std::max(options_.timeout_ms, 1) - 1) /
                                  std::max(options_.timeout_ms, 1)),
                  options_.window),
-      timer_(bus.io()) {
+      timer_(bus.io()),
+      release_(bus.io()) {
   if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
     throw std::invalid_argument("rate_hz and timeout_ms must be positive");
+  }
+  if (options_.hold_at >= 0) {
+    if (!options_.lockstep) throw std::invalid_argument("--hold-at needs lockstep mode");
+    sequencer_.HoldAt(options_.hold_at);
+    release_.add(SIGUSR1);
+    WaitForRelease();
   }
   const auto& ch = bus_.channels();
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
@@ -51,6 +59,8 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
     if (options_.progress && !finished_) std::fputc('\n', stderr);  // end the progress line
     finished_ = true;
     timer_.cancel();
+    boost::system::error_code ignored;
+    release_.cancel(ignored);
   });
   if (!options_.lockstep && !options_.reset_plant) {
     StartRealtime();  // real time without a reset does not wait for the plant at all
@@ -119,6 +129,7 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
     case Kind::kNone:
       // The window slid without anything left to send: the timeout counts from here.
       if (action.progressed && options_.lockstep) ArmTimeout();
+      if (sequencer_.holding()) AnnounceHold();
       return;
     case Kind::kSendReset:
       SendReset();
@@ -159,6 +170,32 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
       return;
     }
   }
+}
+
+void SignalNode::AnnounceHold() {
+  if (hold_announced_) return;
+  hold_announced_ = true;
+  std::fprintf(stderr,
+               "[%s] holding before command %lld: every state up to %lld is confirmed; SIGUSR1 "
+               "resumes\n",
+               bus_.options().instance.c_str(), static_cast<long long>(options_.hold_at),
+               static_cast<long long>(options_.hold_at));
+  std::fflush(stderr);
+}
+
+void SignalNode::WaitForRelease() {
+  release_.async_wait([this](const boost::system::error_code& ec, int) {
+    if (ec || finished_) return;
+    if (!sequencer_.holding()) {  // too early: the hold stands, and so does the wait
+      std::fprintf(stderr, "[%s] SIGUSR1 before the hold was reached: ignored\n",
+                   bus_.options().instance.c_str());
+      WaitForRelease();
+      return;
+    }
+    std::fprintf(stderr, "[%s] released at command %lld\n", bus_.options().instance.c_str(),
+                 static_cast<long long>(options_.hold_at));
+    Apply(sequencer_.ReleaseHold());
+  });
 }
 
 void SignalNode::ArmTimeout() {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 
 #include "bus/bus_node.hpp"
@@ -53,6 +54,9 @@ struct SignalOptions {
   /// heard (running or frozen) is waited for too. 0: only `wait_for`.
   double discover_s = 0;
   bool progress = false;  ///< show "sample k of N" on stderr (only for a terminal)
+  /// Lockstep: send no command from this seq on until SIGUSR1, and say so on stderr once every
+  /// state up to it is confirmed (-1: no hold). Tests fault a service there, at a definite sample.
+  int64_t hold_at = -1;
 };
 
 class SignalNode {
@@ -81,6 +85,8 @@ class SignalNode {
   void SendCommand(int64_t k);
   void SendReset();
   void ShowProgress(int64_t k, bool last);
+  void AnnounceHold();
+  void WaitForRelease();
   void Finish(int exit_code, const std::string& message);
 
   bus::BusNode& bus_;
@@ -88,7 +94,9 @@ class SignalNode {
   SignalOptions options_;
   pipeline::LockstepSequencer sequencer_;
   boost::asio::steady_timer timer_;  // lockstep timeout, or real-time pacing
-  uint64_t timer_generation_ = 0;    // a handler of a superseded wait does nothing
+  boost::asio::signal_set release_;  // SIGUSR1 ends a hold (options_.hold_at)
+  bool hold_announced_ = false;
+  uint64_t timer_generation_ = 0;  // a handler of a superseded wait does nothing
   std::chrono::steady_clock::time_point timeout_deadline_{};  // lockstep: resend after this
   bool timeout_armed_ = false;
   bool realtime_started_ = false;

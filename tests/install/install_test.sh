@@ -74,13 +74,19 @@ for svc in plant identifier monitor logger; do
   "$stage"/bin/$args >"$work/$svc.log" 2>&1 &
   PIDS+=($!)
 done
-sleep 1
-for p in "${PIDS[@]}"; do kill -0 "$p" 2>/dev/null || { cat "$work"/*.log; fail "a service exited at start"; }; done
+# Up means answering on the bus (a get from each of the four), not a second gone by.
+up=0
+for _ in $(seq 60); do
+  for p in "${PIDS[@]}"; do kill -0 "$p" 2>/dev/null || { cat "$work"/*.log; fail "a service exited at start"; }; done
+  "$stage/bin/odonata-control" get --timeout 1 >"$work/get.out" 2>&1 || true
+  n=$(grep -c ": accepted" "$work/get.out") || true
+  ((${n:-0} >= 4)) && { up=1; break; }
+done
+((up)) || { cat "$work/get.out"; fail "the four services did not all answer get within a minute"; }
 args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-signal.service" | sed -E 's|^ExecStart=/usr/bin/||')
 args=${args//\/etc\/odonata/$board}
 # shellcheck disable=SC2086
 "$stage"/bin/$args --duration 2 >"$work/signal.log" 2>&1 || { cat "$work/signal.log"; fail "signal failed"; }
-sleep 0.5
 for p in "${PIDS[@]}"; do
   kill -TERM "$p"
   wait "$p" || fail "a service did not stop cleanly on SIGTERM (as systemctl stop sends)"

@@ -12,12 +12,15 @@ start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start monitor "$MONITOR" --lcm-url "$URL" --summary-json "$OUT/monitor.json"
 start plant "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start ident "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
-sleep 0.5
+wait_up "$URL" logger monitor odonata-plant identifier
 start bad "$BUILD/tests/integration/bad_input_publisher" "$URL" 600 5
-sleep 0.3
+# The garbage is on the bus before the run starts: the plant has already counted some.
+wait_count "$URL" odonata-plant decode_errors 1
 timeout 120 "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL" \
   >"$OUT/signal.log" 2>&1 || { cat "$OUT/signal.log"; fail "the run did not complete under bad input"; }
-sleep 1.2  # heartbeats carry the final counters
+# The monitor's summary takes the counters from heartbeats: wait for ones that carry them.
+wait_up "$URL" identifier odonata-plant logger -- --fresh --at-least decode_errors=1
+wait_count "$URL" odonata-plant dropped 1
 for p in "$PID_logger" "$PID_monitor" "$PID_plant" "$PID_ident"; do
   kill -0 "$p" 2>/dev/null || fail "a service crashed under bad input"
 done

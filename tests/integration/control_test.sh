@@ -12,7 +12,7 @@ start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start plant "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start monitor "$MONITOR" --lcm-url "$URL" --summary-json "$OUT/monitor.json"
 start ident "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --instance roll-id
-sleep 0.8
+wait_up "$URL" logger odonata-plant monitor roll-id
 ctl() { "$CONTROL" "$@" --lcm-url "$URL" >"$OUT/ctl.out" 2>&1; }
 
 ctl set-entropy-threshold 0.3 --target roll-id || { cat "$OUT/ctl.out"; fail "set-entropy-threshold 0.3 (positional) exited $?"; }

@@ -12,6 +12,7 @@ MONITOR=$BUILD/services/monitor/odonata-monitor
 LOGGER=$BUILD/services/logger/odonata-logger
 CONTROL=$BUILD/services/control/odonata-control
 FIT=$BUILD/services/fit/odonata-fit
+HBWAIT=$BUILD/tests/integration/heartbeat_wait
 PY=/usr/bin/python3
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -43,10 +44,48 @@ stop_all() {
   done
 }
 
-# wait_for_log FILE PATTERN: waits up to 5 s for a line matching PATTERN in FILE (a process's log).
+# wait_for_log FILE PATTERN [SECONDS]: waits (5 s unless told) for a line matching PATTERN in
+# FILE (a process's log); returns 1 at the timeout.
 wait_for_log() {
-  for _ in $(seq 100); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
+  local polls=$(((${3:-5} * 20)))
+  for _ in $(seq "$polls"); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.05; done
   return 1
+}
+
+# The tests wait for the system, not the clock: a sleep that stands for "the services are up" or
+# "the run is halfway" breaks on a machine faster or slower than the one it was tuned on.
+#
+# wait_up URL NAME... [-- HEARTBEAT_WAIT_FLAGS...]: waits (up to 60 s) until every named instance
+# (or service) has published a heartbeat meeting the flags after `--` (heartbeat_wait.cc), e.g.
+# `-- --state running --fresh`; fails naming them and what it last saw of each.
+wait_up() {
+  local url=$1 args=()
+  shift
+  while (($#)) && [[ $1 != -- ]]; do args+=(--instance "$1"); shift; done
+  (($#)) && shift
+  local netns=()  # ODONATA_NETNS: listen from inside that namespace (a test's board)
+  [[ -n ${ODONATA_NETNS:-} ]] && netns=(ip netns exec "$ODONATA_NETNS")
+  "${netns[@]}" "$HBWAIT" --lcm-url "$url" "${args[@]}" --timeout 60 "$@" >/dev/null 2>"$OUT/heartbeat_wait.err" ||
+    fail "waited for $(cat "$OUT/heartbeat_wait.err")"
+}
+
+# wait_count URL NAME COUNTER N: waits (up to 60 s) until NAME's heartbeat reports COUNTER ≥ N
+# (messages_in, messages_out, …): "the run is under way" read off the bus.
+wait_count() {
+  wait_up "$1" "$2" -- --at-least "$3=$4"
+}
+
+# wait_hold PID LOG K: waits until the generator (pid PID, stderr in LOG), started with
+# --hold-at K, holds before command K with every state up to K confirmed; fails if it exits or
+# takes more than 120 s. Whatever the test does next happens at sample K, at any speed.
+wait_hold() {
+  local pid=$1 log=$2 k=$3
+  for _ in $(seq 2400); do
+    grep -q "holding before command $k:" "$log" 2>/dev/null && return 0
+    kill -0 "$pid" 2>/dev/null || fail "the generator exited before holding at command $k: $(cat "$log")"
+    sleep 0.05
+  done
+  fail "the generator did not hold at command $k within 120 s: $(cat "$log")"
 }
 
 # Stops a process with SIGTERM and fails unless it exits 0 within 5 s.

@@ -13,9 +13,9 @@ split-mb = 0.05
 lcm-url = "$URL"
 TOML
 start logger "$LOGGER" --settings "$OUT/logger.toml" record
-sleep 0.3
+wait_up "$URL" logger
 "$BUILD/tests/integration/bad_input_publisher" "$URL" 150 2
-sleep 0.5
+wait_up "$URL" logger -- --fresh  # its loop has gone round since the last datagram
 stop_clean "$PID_logger" logger
 files=("$OUT"/rot.*)
 ((${#files[@]} >= 3)) || fail "expected several files at 50 kB each, got ${#files[@]}"

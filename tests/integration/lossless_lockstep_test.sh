@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Lossless lockstep on a loaded machine: a CPU hog on every core, and the identifier paused
-# (SIGSTOP) for half a second mid-run. The generator waits for the identifier's and the logger's
-# receipts, so neither loses a sample: the log holds every one, the identifier learned every one
+# (SIGSTOP) for a second at sample 500 of 1000 (the generator holds there until it is paused).
+# The generator waits for the identifier's and the logger's receipts, so neither loses a sample: the log holds every one, the identifier learned every one
 # (its model equals odonata-fit's on the exported samples, bit for bit), and a consumer killed
 # mid-run fails the run instead of passing it with samples missing.
 source "$(dirname "$0")/lib.sh"
@@ -18,18 +18,18 @@ done
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start plant "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start ident "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
-sleep 0.5
-start signal "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL"
-# Pause the identifier once the run is under way (the discovery second is over).
-wait_for_log "$OUT/signal.log" "waits for receipts" || true
+wait_up "$URL" logger odonata-plant identifier -- --state running --state waiting
+start signal "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL" \
+  --hold-at 500
+# Pause the identifier at sample 500 of 1000, then let the run go on: the window must wait for it.
+wait_hold "$PID_signal" "$OUT/signal.log" 500
 grep -q "waits for receipts from: identifier logger" "$OUT/signal.log" ||
   fail "the generator did not find both consumers: $(cat "$OUT/signal.log")"
-sleep 0.2
 kill -STOP "$PID_ident"
-sleep 0.5
+kill -USR1 "$PID_signal"
+sleep 1  # the pause itself: five of the generator's 200 ms timeouts
 kill -CONT "$PID_ident"
 wait "$PID_signal" || fail "the run failed: $(cat "$OUT/signal.log")"
-sleep 0.3
 stop_clean "$PID_ident" identifier
 stop_clean "$PID_plant" plant
 stop_clean "$PID_logger" logger
@@ -45,21 +45,26 @@ preds=$(($(wc -l <"$OUT/pred.csv") - 1))
   fail "the identifier predicted $preds samples, $first … $last, of 1000"
 offline_fit "$OUT/id.json" "$OUT/train.csv" "$OUT/offline.json"
 same_model "$OUT/model.json" "$OUT/offline.json" || fail "the online model differs from the offline one"
-grep -o "[0-9]* for missing receipts" "$OUT/signal.log" || true
+# The pause landed mid-run: the generator resent for the receipts it missed meanwhile.
+waited=$(sed -nE 's/.* ([0-9]+) for missing receipts.*/\1/p' "$OUT/signal.log")
+((${waited:-0} > 0)) || fail "no resend for missing receipts: the pause did not land mid-run ($(cat "$OUT/signal.log"))"
 
 # A consumer killed mid-run: the generator fails loudly (exit 4) instead of finishing without it.
 start plant2 "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
-start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0
-sleep 0.5
-# A long run (30000 samples, several seconds even at the fastest lockstep rate), so the kill
-# lands mid-run: a 10 s run of 1000 samples could end before it.
-start signal2 "$SIGNAL" --preset roll --phase train --duration 300 --mode lockstep --lcm-url "$URL" \
-  --timeout-ms 50 --max-resends 4
-wait_for_log "$OUT/signal2.log" "waits for receipts" || true
-sleep 0.2
+start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --instance ident2
+wait_up "$URL" odonata-plant ident2 -- --state running --state waiting
+start signal2 "$SIGNAL" --preset roll --phase train --duration 20 --mode lockstep --lcm-url "$URL" \
+  --timeout-ms 50 --max-resends 4 --hold-at 1000
+wait_hold "$PID_signal2" "$OUT/signal2.log" 1000
+grep -q "waits for receipts from: ident2" "$OUT/signal2.log" ||
+  fail "the generator did not find the identifier: $(cat "$OUT/signal2.log")"
 kill -KILL "$PID_ident2"
+kill -USR1 "$PID_signal2"
 rc=0
 wait "$PID_signal2" || rc=$?
 ((rc == 4)) || fail "losing a consumer gave exit code $rc, not 4: $(cat "$OUT/signal2.log")"
 grep -q "no acknowledgement of state" "$OUT/signal2.log" || fail "no clear message: $(cat "$OUT/signal2.log")"
+# ... and it names a state past the kill: the kill came mid-run, not after the end.
+grep -qE "no acknowledgement of state 10[0-9][0-9] " "$OUT/signal2.log" ||
+  fail "the failure is not at the kill (command 1000): $(cat "$OUT/signal2.log")"
 pass "lockstep under load with a paused identifier: 1000 of 1000 samples logged and learned; a killed consumer fails the run"

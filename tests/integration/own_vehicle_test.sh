@@ -14,10 +14,10 @@ N=2000
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start monitor "$MONITOR" --lcm-url "$URL" --summary-json "$OUT/monitor.json"
 start ident "$IDENT" --config "$CFG" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
-sleep 0.8
+wait_up "$URL" logger monitor own-vehicle-id
 # 400 Hz: faster than a flight loop, slow enough that no process falls behind on a busy machine.
 "$VEHICLE" --samples $N --rate 400 --lcm-url "$URL" >"$OUT/vehicle.log" 2>&1 || fail "the vehicle failed"
-sleep 0.5
+wait_up "$URL" own-vehicle-id -- --fresh
 "$CONTROL" get --target own-vehicle-id --lcm-url "$URL" >"$OUT/get.out" 2>&1 || { cat "$OUT/get.out"; fail "the identifier did not answer get"; }
 learned=$(sed -nE 's/.*samples_learned=([0-9]+).*/\1/p' "$OUT/get.out")
 gaps=$(sed -nE 's/.* gaps=([0-9]+).*/\1/p' "$OUT/get.out")

@@ -30,11 +30,10 @@ lockstep() {  # lockstep NAME [SIGNAL_FLAGS...]
   start "plant_$name" "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
   start "ident_$name" "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 \
     --save-model "$OUT/$name/model.json"
-  sleep 0.5
+  wait_up "$URL" logger odonata-plant identifier -- --fresh
   timeout 120 "$SIGNAL" --preset roll --phase train --duration 5 --mode lockstep --lcm-url "$URL" \
     --timeout-ms 20 --max-resends 50 "$@" >"$OUT/$name/signal.log" 2>&1 ||
     fail "lockstep run ($name) failed: $(cat "$OUT/$name/signal.log")"
-  sleep 0.3
   eval "stop_clean \$PID_ident_$name identifier; stop_clean \$PID_plant_$name plant; stop_clean \$PID_logger_$name logger"
 }
 mkdir -p "$OUT/clean" "$OUT/lossy"

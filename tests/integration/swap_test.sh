@@ -13,23 +13,29 @@ start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start monitor "$MONITOR" --lcm-url "$URL" --heartbeat-timeout 1.5 --summary-json "$OUT/monitor.json"
 start plant "$PLANT" --mode realtime --preset roll --lcm-url "$URL"
 start ident1 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model1.json"
-sleep 0.5
-start signal "$SIGNAL" --preset roll --phase train --duration 10 --mode realtime --lcm-url "$URL"
-sleep 2.5
+wait_up "$URL" logger monitor odonata-plant identifier
+# 60 s of commands: long enough for every swap below on a slow machine; the test stops the
+# generator once the last swap is done, and fails if its run ended before that.
+start signal "$SIGNAL" --preset roll --phase train --duration 60 --mode realtime --lcm-url "$URL"
+# The first identifier stops once it has learned a few hundred samples (its heartbeat's count).
+wait_count "$URL" identifier messages_in 600
 stop_clean "$PID_ident1" "identifier (first instance)"
-sleep 0.3
 start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 2 --save-model "$OUT/model.json"
-sleep 1.5
+wait_up "$URL" identifier -- --state running --fresh
 stop_clean "$PID_logger" "logger (first instance)"
 start logger2 "$LOGGER" record -o "$OUT/log2" --lcm-url "$URL"
 stop_clean "$PID_monitor" "monitor (first instance)"
 start monitor2 "$MONITOR" --lcm-url "$URL" --heartbeat-timeout 1.5 --summary-json "$OUT/monitor.json"
-sleep 1.5
+wait_up "$URL" logger monitor -- --fresh
+# A plant heartbeat sent after the new monitor was up: the monitor knows the plant it will miss.
+wait_up "$URL" odonata-plant -- --fresh
 kill -KILL "$PID_plant"
-sleep 2.2
+wait_for_log "$OUT/monitor2.log" "odonata-plant.*silent" 30 || { cat "$OUT/monitor2.log"; fail "the new monitor did not report the killed plant"; }
 start plant2 "$PLANT" --mode realtime --preset roll --lcm-url "$URL"
-wait "$PID_signal" || fail "the signal generator failed while services were swapped"
-sleep 0.5
+wait_for_log "$OUT/monitor2.log" "odonata-plant.*is back" 30 || { cat "$OUT/monitor2.log"; fail "the new monitor did not see the new plant"; }
+# Every swap happened while the generator was still sending: it must still run, and stop cleanly.
+kill -0 "$PID_signal" 2>/dev/null || fail "the generator's run ended before the swaps did: $(cat "$OUT/signal.log")"
+stop_clean "$PID_signal" "the signal generator, still running after the swaps"
 for p in "$PID_ident2" "$PID_monitor2" "$PID_logger2" "$PID_plant2"; do
   kill -0 "$p" 2>/dev/null || fail "a service died during the swaps"
 done
@@ -43,11 +49,9 @@ resumed=$(sed -n 's/.*from the bus snapshot after \([0-9]*\) learned.*/\1/p' "$O
 learned=$(sed -n 's/.*model saved to .*, \([0-9]*\) samples learned.*/\1/p' "$OUT/ident1.log")
 [[ -n $learned && $resumed == "$learned" ]] || { cat "$OUT/ident1.log" "$OUT/ident2.log"; fail "resumed from sample $resumed, but the first identifier had learned ${learned:-?}"; }
 ((resumed > 100)) || fail "resumed from sample $resumed only"
-grep -q "odonata-plant.*silent" "$OUT/monitor2.log" || { cat "$OUT/monitor2.log"; fail "the new monitor did not report the killed plant"; }
-grep -q "odonata-plant.*is back" "$OUT/monitor2.log" || fail "the new monitor did not see the new plant"
 [[ -s $OUT/monitor.json ]] || fail "the new monitor wrote no summary"
 
 "$LOGGER" export "$OUT"/log.* "$OUT"/log2.* -o "$OUT/samples.csv" --predictions "$OUT/pred.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export failed"; }
 [[ $(wc -l <"$OUT/pred.csv") -gt 300 ]] || fail "too few predictions recorded across the swaps"
 [[ -s $OUT/model.json ]] || fail "the second identifier did not save its model"
-pass "identifier resumed from sample $resumed of $learned; logger and monitor replaced; plant killed, reported silent, replaced; generator finished"
+pass "identifier resumed from sample $resumed of $learned; logger and monitor replaced; plant killed, reported silent, replaced; all while the generator ran"

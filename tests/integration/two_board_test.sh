@@ -32,10 +32,11 @@ start logger ip netns exec "$A" "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start plant ip netns exec "$A" "$PLANT" --mode lockstep --preset yaw --lcm-url "$URL"
 start monitor ip netns exec "$B" "$MONITOR" --lcm-url "$URL" --summary-json "$OUT/monitor.json"
 start ident ip netns exec "$B" "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
-sleep 0.8
+# Board B's services seen from board A, across the bridge.
+wait_up_on() { local ns=$1; shift; ODONATA_NETNS=$ns wait_up "$@"; }
+wait_up_on "$A" "$URL" logger odonata-plant identifier monitor
 timeout 60 ip netns exec "$A" "$SIGNAL" --preset yaw --phase train --duration 3 --mode lockstep --lcm-url "$URL" \
   >"$OUT/signal.log" 2>&1 || { cat "$OUT/signal.log"; fail "the run across the bridge did not complete"; }
-sleep 1.2
 stop_clean "$PID_ident" "identifier on board B"
 stop_clean "$PID_monitor" "monitor on board B"
 stop_clean "$PID_plant" "plant on board A"

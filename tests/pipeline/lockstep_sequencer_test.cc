@@ -1,6 +1,8 @@
 // LockstepSequencer: the generator's side of the protocol, message by message.
 #include "pipeline/lockstep_sequencer.hpp"
 
+#include <stdexcept>
+
 #include <gtest/gtest.h>
 
 namespace odonata::pipeline {
@@ -134,6 +136,41 @@ TEST(LockstepSequencer, ARestartBeforeTheFirstConfirmationIsSeen) {
   const SequencerAction a = s.OnState(0, -1, false);
   EXPECT_EQ(a.kind, Kind::kFailed);
   EXPECT_EQ(a.failure, SequencerAction::Failure::kRestarted);
+}
+
+// A hold stops the run with every state before it confirmed and nothing in flight; timeouts do
+// not resend or fail meanwhile, and the release sends what the hold kept back.
+TEST(LockstepSequencer, AHoldStandsStillUntilReleased) {
+  LockstepSequencer s(10, true, 1, 3, 4);
+  EXPECT_THROW(s.HoldAt(0), std::invalid_argument);
+  EXPECT_THROW(s.HoldAt(10), std::invalid_argument);
+  s.HoldAt(5);
+  s.AddConsumer("ident");
+  s.Start();
+  s.OnState(0, -1, false);
+  SequencerAction a = s.OnAck("ident", 0);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.count, 4);
+  s.OnState(4, 3, false);
+  a = s.OnAck("ident", 4);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);  // command 4 only: 5 is held back
+  EXPECT_EQ(a.seq, 4);
+  EXPECT_EQ(a.count, 1);
+  EXPECT_FALSE(s.holding());
+  s.OnState(5, 4, false);
+  EXPECT_FALSE(s.holding());  // the consumer has not acknowledged state 5 yet
+  a = s.OnAck("ident", 5);
+  EXPECT_EQ(a.kind, Kind::kNone);
+  EXPECT_TRUE(a.progressed);
+  EXPECT_TRUE(s.holding());
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(s.OnTimeout().kind, Kind::kNone);  // beyond max_resends
+  EXPECT_EQ(s.phase(), LockstepSequencer::Phase::kAwaitingAnswer);
+  a = s.ReleaseHold();
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(a.seq, 5);
+  EXPECT_EQ(a.count, 4);
+  EXPECT_FALSE(s.holding());
+  EXPECT_EQ(s.OnTimeout().seq, 5);  // from here on timeouts resend again
 }
 
 TEST(LockstepSequencer, TimeoutsResendThenFail) {
