@@ -51,6 +51,10 @@ class Consequent {
   virtual Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,
                                    const Eigen::Ref<const Eigen::ArrayXd>& phi,
                                    double error) const = 0;
+  /// Adds Σ_j φ_j ∂y_j/∂x to `dydx` (the rule outputs' own slope; the firing's part is the
+  /// model's): what a free run feeds back through its lagged predictions.
+  virtual void AddInputGradient(const Eigen::Ref<const Eigen::ArrayXd>& phi,
+                                Eigen::Ref<Eigen::VectorXd> dydx) const = 0;
   /// All trainable consequent parameters of the active rules, flattened (for checks and I/O).
   virtual Eigen::VectorXd Parameters() const = 0;
   virtual void SetParameters(const Eigen::Ref<const Eigen::VectorXd>& p) = 0;

@@ -289,6 +289,49 @@ void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorX
   }
 }
 
+double FuzzyModel::PredictWithInputGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                            Eigen::Ref<Eigen::VectorXd> dydx) const {
+  dydx.setZero();
+  const int r = rules_.rules();
+  if (r == 0) return 0.0;
+  rules_.Evaluate(x, &scratch_);
+  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const Eigen::ArrayXd& phi = scratch_.normalized;
+  const double yhat = (phi * rule_outputs_).sum();
+  // ∂ŷ/∂x_i = Σ_j φ_j ∂y_j/∂x_i − Σ_j ∂ŷ/∂c_ji: moving x is moving every centre the other way.
+  auto g = gradient_factor_.head(r);
+  g = (rule_outputs_ - yhat) * phi;
+  auto dc = grad_c_.head(r);
+  auto ds = grad_s_.head(r);
+  for (int i = 0; i < config_.inputs; ++i) {
+    PremiseGradientOfInput(i, x(i), g, dc, ds);
+    dydx(i) = -dc.sum();
+  }
+  consequent_->AddInputGradient(phi, dydx);
+  return yhat;
+}
+
+void FuzzyModel::AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight,
+                                          Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs,
+                                          Eigen::VectorXd* gq) const {
+  const int r = rules_.rules();
+  if (r == 0 || weight == 0.0) return;
+  rules_.Evaluate(x, &scratch_);
+  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const Eigen::ArrayXd& phi = scratch_.normalized;
+  const double yhat = (phi * rule_outputs_).sum();
+  auto g = gradient_factor_.head(r);
+  g = weight * (rule_outputs_ - yhat) * phi;
+  auto dc = grad_c_.head(r);
+  auto ds = grad_s_.head(r);
+  for (int i = 0; i < config_.inputs; ++i) {
+    PremiseGradientOfInput(i, x(i), g, dc, ds);
+    gc->col(i).head(r) += dc;
+    gs->col(i).head(r) += ds;
+  }
+  *gq += consequent_->Gradient(x, phi, weight);
+}
+
 void FuzzyModel::StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds) {
   const int r = rules_.rules();
   rules_.mutable_centres().topRows(r) += dc.topRows(r);
@@ -298,10 +341,12 @@ void FuzzyModel::StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& 
 }
 
 bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                                   const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge) {
+                                   const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
+                                   double deviation_ridge) {
   const int r = rules_.rules();
   if (r == 0 || X.rows() == 0) return false;
   const int w = consequent_->LeastSquaresWidth();
+  if (deviation_ridge > 0.0 && r > 1) return RefineAroundGlobal(X, Y, ridge, deviation_ridge);
   const Eigen::Index m = static_cast<Eigen::Index>(r) * w;
   // Row k of Φ is [φ_k1 z_k, …, φ_kR z_k]. Blocks several times taller than Φ is wide keep the
   // QR's extra work for the carried R factor small.
@@ -323,6 +368,46 @@ bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
   }
   const Eigen::VectorXd theta = ls.Solve(ridge);
   if (!theta.allFinite()) return false;  // keep the online solution rather than install NaN
+  consequent_->SetFromLeastSquares(theta);
+  return true;
+}
+
+bool FuzzyModel::RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
+                                    double deviation_ridge) {
+  // θ_j = g + δ_j. Σ_j φ_j = 1, so row k is [z_k, φ_k1 z_k, …, φ_kR z_k] over (g, δ_1 … δ_R);
+  // the deviations' ridge enters as extra rows √(λ s) I with zero targets, s the mean squared
+  // norm of the deviation columns (as BlockwiseLeastSquares scales its own ridge).
+  const int r = rules_.rules();
+  const int w = consequent_->LeastSquaresWidth();
+  const Eigen::Index m = static_cast<Eigen::Index>(r + 1) * w;
+  const Eigen::Index block = std::max<Eigen::Index>(2048, 4 * m);
+  BlockwiseLeastSquares ls(m);
+  Eigen::MatrixXd rows_buf(std::min<Eigen::Index>(block, X.rows()), m);
+  Eigen::VectorXd z(w);
+  Inference inf;
+  double deviation_squares = 0.0;
+  for (Eigen::Index start = 0; start < X.rows(); start += block) {
+    const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
+    for (Eigen::Index k = 0; k < rows; ++k) {
+      const Eigen::VectorXd xk = X.row(start + k).transpose();
+      rules_.Evaluate(xk, &inf);
+      consequent_->LeastSquaresRow(xk, z);
+      rows_buf.block(k, 0, 1, w) = z.transpose();
+      for (int j = 0; j < r; ++j)
+        rows_buf.block(k, (j + 1) * w, 1, w) = inf.normalized(j) * z.transpose();
+    }
+    deviation_squares += rows_buf.topRows(rows).rightCols(m - w).squaredNorm();
+    ls.AddRows(rows_buf.topRows(rows), Y.segment(start, rows));
+  }
+  const double scale = deviation_squares / static_cast<double>(m - w);
+  Eigen::MatrixXd penalty = Eigen::MatrixXd::Zero(m - w, m);
+  penalty.rightCols(m - w).diagonal().setConstant(std::sqrt(deviation_ridge * scale));
+  ls.AddRows(penalty, Eigen::VectorXd::Zero(m - w));
+  const Eigen::VectorXd sol = ls.Solve(ridge);
+  if (!sol.allFinite()) return false;
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(r) * w);
+  for (int j = 0; j < r; ++j) theta.segment(j * w, w) = sol.head(w) + sol.segment((j + 1) * w, w);
   consequent_->SetFromLeastSquares(theta);
   return true;
 }

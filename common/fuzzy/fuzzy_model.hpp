@@ -90,6 +90,15 @@ class FuzzyModel {
   /// Learn() steps with: the batch gradient of the offline premise step.
   void AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
                                  Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
+  /// ŷ at x, and ∂ŷ/∂x in `dydx` (sized inputs()): the sensitivity a free run passes back
+  /// through its own lagged predictions (simulation-error training, docs/identifier.md §12).
+  double PredictWithInputGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                  Eigen::Ref<Eigen::VectorXd> dydx) const;
+  /// Adds weight · ∂ŷ/∂θ at x to gc, gs (rules × inputs) and gq (Consequent::Parameters()
+  /// layout), through the premise-gradient kernel Learn() uses; weight = ŷ − y gives ∂J/∂θ.
+  void AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight,
+                                Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs,
+                                Eigen::VectorXd* gq) const;
   /// Moves centres by dc and widths by ds (rules × inputs), widths floored at σ_min.
   void StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds);
 
@@ -97,8 +106,13 @@ class FuzzyModel {
   /// ridge-regularised least-squares optimum over the rows of X (samples × inputs) and Y, solved
   /// on the weighted design matrix Φ by blockwise QR (BlockwiseLeastSquares). `ridge` is relative
   /// to the mean squared column norm of Φ. @return false (model unchanged) if the solve failed.
+  /// `deviation_ridge` > 0 writes each rule's consequent as one global part plus its own
+  /// deviation, and puts that ridge (relative, like `ridge`) on the deviations only: a rule the
+  /// data hardly supports stays near the global linear model instead of fitting noise, and the
+  /// model becomes that global model (ARX) as the ridge grows (docs/identifier.md §6.1).
   bool RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                         const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10);
+                         const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10,
+                         double deviation_ridge = 0.0);
 
   int rules() const { return rules_.rules(); }
   int inputs() const { return config_.inputs; }
@@ -144,6 +158,9 @@ class FuzzyModel {
   void PremiseGradientOfInput(int i, double xi, const Eigen::Ref<const Eigen::ArrayXd>& g,
                               Eigen::Ref<Eigen::ArrayXd> dc, Eigen::Ref<Eigen::ArrayXd> ds) const;
   void RemoveRule(int rule);
+  bool RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                          const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
+                          double deviation_ridge);
   /// Index of the least useful rule old enough to go, or −1.
   int LeastUsefulRule() const;
 

@@ -119,6 +119,11 @@ Eigen::VectorXd LinearConsequent::Gradient(const Eigen::Ref<const Eigen::VectorX
   return g;
 }
 
+void LinearConsequent::AddInputGradient(const Eigen::Ref<const Eigen::ArrayXd>& phi,
+                                        Eigen::Ref<Eigen::VectorXd> dydx) const {
+  for (int j = 0; j < rules_; ++j) dydx += phi(j) * theta_.col(j).tail(inputs_);
+}
+
 Eigen::VectorXd LinearConsequent::Parameters() const {
   Eigen::VectorXd p(rules_ * (inputs_ + 1));
   for (int j = 0; j < rules_; ++j) p.segment(j * (inputs_ + 1), inputs_ + 1) = theta_.col(j);

@@ -30,6 +30,8 @@ class LinearConsequent final : public Consequent {
   void SetForgetting(double lambda) override { forgetting_ = lambda; }
   void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) override;
+  void AddInputGradient(const Eigen::Ref<const Eigen::ArrayXd>& phi,
+                        Eigen::Ref<Eigen::VectorXd> dydx) const override;
   Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,
                            const Eigen::Ref<const Eigen::ArrayXd>& phi,
                            double error) const override;

@@ -20,6 +20,9 @@ class SingletonConsequent final : public Consequent {
   void RemoveRule(int rule) override;
   void Update(const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::ArrayXd>& phi, double error, double target) override;
+  /// Singletons do not depend on x.
+  void AddInputGradient(const Eigen::Ref<const Eigen::ArrayXd>& /*phi*/,
+                        Eigen::Ref<Eigen::VectorXd> /*dydx*/) const override {}
   Eigen::VectorXd Gradient(const Eigen::Ref<const Eigen::VectorXd>& x,
                            const Eigen::Ref<const Eigen::ArrayXd>& phi,
                            double error) const override;

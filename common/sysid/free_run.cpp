@@ -46,4 +46,40 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
   return out;
 }
 
+Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
+                             const Predictor& predict, int horizon, bool* diverged) {
+  if (horizon < 1) throw std::invalid_argument("the prediction horizon must be >= 1");
+  const auto targets = TargetRows(spec, series);
+  if (targets.empty()) throw std::invalid_argument("too few samples for the lags");
+  Eigen::MatrixXd simulated = series.outputs;
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(targets.size()), series.outputs.cols());
+  Eigen::VectorXd x(spec.size());
+  bool bad = false;
+  for (std::size_t r = 0; r < targets.size(); ++r) {
+    // The run of consecutive targets that ends at r, at most `horizon` long.
+    std::size_t first = r;
+    while (first > 0 && r - first + 1 < static_cast<std::size_t>(horizon) &&
+           targets[first - 1] == targets[first] - 1)
+      --first;
+    for (std::size_t q = first; q <= r; ++q) {
+      const Eigen::Index t = targets[q];
+      spec.Fill(t, simulated, series.inputs, x);
+      const Eigen::VectorXd y = predict(x);
+      for (Eigen::Index o = 0; o < y.size(); ++o) {
+        if (std::isfinite(y(o))) {
+          simulated(t, o) = y(o);
+        } else {
+          simulated(t, o) = simulated(t - 1 >= 0 ? t - 1 : 0, o);
+          bad = true;
+        }
+      }
+    }
+    out.row(static_cast<Eigen::Index>(r)) = simulated.row(targets[r]);
+    for (std::size_t q = first; q <= r; ++q)  // the next start reads measured outputs again
+      simulated.row(targets[q]) = series.outputs.row(targets[q]);
+  }
+  if (diverged) *diverged = bad;
+  return out;
+}
+
 }  // namespace odonata::sysid

@@ -23,4 +23,11 @@ Eigen::MatrixXd PredictOneStep(const RegressorSpec& spec, const Series& series,
 Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
                                 const Predictor& predict, bool* diverged = nullptr);
 
+/// K-step-ahead predictions ŷ(t | t − K): for each target t, a free run started from the measured
+/// outputs before t − K + 1 (or its segment's start), K steps long. K = 1 is PredictOneStep; a
+/// K beyond the segment is its free run. Same rows as PredictOneStep; `diverged` as there.
+/// @pre horizon ≥ 1.
+Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
+                             const Predictor& predict, int horizon, bool* diverged = nullptr);
+
 }  // namespace odonata::sysid

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "fuzzy/entropy_rule_generator.hpp"
+#include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
 
@@ -30,6 +32,100 @@ Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count) {
     if (b > begin && b < begin + count) out.breaks.push_back(b - begin);
   return out;
 }
+
+Series ConcatSeries(const Series& a, const Series& b) {
+  Series out;
+  out.outputs.resize(a.samples() + b.samples(), a.outputs.cols());
+  out.inputs.resize(a.samples() + b.samples(), a.inputs.cols());
+  out.outputs << a.outputs, b.outputs;
+  out.inputs << a.inputs, b.inputs;
+  out.breaks = a.breaks;
+  if (a.samples() > 0 && b.samples() > 0) out.breaks.push_back(a.samples());
+  for (const Eigen::Index k : b.breaks) out.breaks.push_back(a.samples() + k);
+  return out;
+}
+
+fuzzy::FuzzyModelConfig CandidateConfig(const fuzzy::FuzzyModelConfig& base, const Candidate& c) {
+  fuzzy::FuzzyModelConfig cfg = base;
+  cfg.consequent = c.consequent;
+  cfg.entropy.threshold = c.threshold;
+  cfg.entropy.kappa = c.kappa;
+  if (c.linear) cfg.entropy.max_rules = 1;
+  return cfg;
+}
+
+namespace {
+
+// Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
+// one) and returns the model.
+NarxModel TrainCandidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
+                         const TrainOptions& train_options, const SelectionOptions& options,
+                         const Candidate& c, const Series& fit, const Series* holdout, int horizon,
+                         int epochs, TrainReport* report = nullptr, bool with_simulation = false) {
+  NarxModel model(spec, CandidateConfig(base, c));
+  TrainOptions t = train_options;
+  if (options.scaling) {
+    model.SetScaling(*options.scaling);
+    t.fit_scaling = false;
+  }
+  t.progress = {};
+  t.epochs = epochs;
+  t.holdout = holdout;
+  t.holdout_free_run = horizon == 0;
+  t.holdout_horizon = horizon > 1 ? horizon : 0;
+  t.patience = holdout != nullptr ? options.patience : 0;
+  t.simulation.clear();
+  if (with_simulation) t.simulation = c.simulation;
+  const TrainReport r = model.Train(fit, t);
+  if (report) *report = r;
+  return model;
+}
+
+// The criterion's NDEI: free run (horizon 0), one step (1) or `horizon` steps ahead.
+double Score(const NarxModel& model, const Series& s, int horizon) {
+  const double v = model.NdeiAhead(s, horizon);
+  return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
+}
+
+// Blocked cross-validation of the chosen fuzzy setting against the linear model: fold k is
+// scored after training on the rest of `train`, the seam a break.
+LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
+                          const TrainOptions& train_options, const SelectionOptions& options,
+                          const Candidate& fuzzy_c, const Candidate& linear_c, const Series& train,
+                          int horizon) {
+  LinearCheck check;
+  const Eigen::Index n = train.samples();
+  const int k = options.linear_check_folds;
+  const Eigen::Index need = spec.first_target() + 2;
+  if (n / k < need || n - n / k < need) return check;
+  for (int f = 0; f < k; ++f) {
+    const Eigen::Index begin = n * f / k, end = n * (f + 1) / k;
+    const Series fold = SliceSeries(train, begin, end - begin);
+    const Series rest =
+        ConcatSeries(SliceSeries(train, 0, begin), SliceSeries(train, end, n - end));
+    if (TargetRows(spec, fold).size() < 2 || TargetRows(spec, rest).size() < 2) return check;
+    const NarxModel fm = TrainCandidate(spec, base, train_options, options, fuzzy_c, rest, nullptr,
+                                        horizon, std::max(1, fuzzy_c.epochs), nullptr, true);
+    const NarxModel lm = TrainCandidate(spec, base, train_options, options, linear_c, rest, nullptr,
+                                        horizon, 1, nullptr, true);
+    check.fuzzy_folds.push_back(Score(fm, fold, horizon));
+    check.linear_folds.push_back(Score(lm, fold, horizon));
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double sum = 0;
+    for (const double x : v) sum += x;
+    return sum / double(v.size());
+  };
+  check.done = true;
+  check.fuzzy_score = mean(check.fuzzy_folds);
+  check.linear_score = mean(check.linear_folds);
+  // As in the choice among candidates: a difference below the absolute tolerance (half a FIT
+  // point) does not pay for the rules.
+  check.linear_chosen = !(check.fuzzy_score + options.absolute_tolerance < check.linear_score);
+  return check;
+}
+
+}  // namespace
 
 SelectionResult SelectModel(
     const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
@@ -63,52 +159,106 @@ SelectionResult SelectModel(
   const Series holdout = selection != nullptr
                              ? *selection
                              : SliceSeries(train, result.fit_samples, result.holdout_samples);
-  result.free_run_criterion =
-      spec.output_lags > 0 && options.criterion != SelectionCriterion::kOneStep;
+  const bool ahead = options.horizon > 1 && (options.criterion == SelectionCriterion::kAhead ||
+                                             options.criterion == SelectionCriterion::kAuto);
+  if (options.criterion == SelectionCriterion::kAhead && options.horizon < 2)
+    throw std::invalid_argument("the k-step criterion needs a horizon of 2 or more");
+  result.criterion_horizon =
+      spec.output_lags == 0 || options.criterion == SelectionCriterion::kOneStep ? 1
+      : ahead                                                                    ? options.horizon
+                                                                                 : 0;
+  result.free_run_criterion = result.criterion_horizon == 0;
 
-  const std::size_t total = kinds.size() * thresholds.size() * kappas.size();
+  const bool with_linear =
+      thresholds.size() > 1 &&
+      std::find(kinds.begin(), kinds.end(), fuzzy::ConsequentKind::kLinear) != kinds.end();
+  const std::size_t total =
+      kinds.size() * thresholds.size() * kappas.size() + (with_linear ? 1 : 0);
   std::size_t done = 0;
+  auto score_candidate = [&](Candidate& c, const NarxModel& model) {
+    c.rules = model.total_rules();
+    c.holdout_one_step_ndei = model.Ndei(holdout, false);
+    c.holdout_free_run_ndei =
+        spec.output_lags > 0 ? model.Ndei(holdout, true) : std::numeric_limits<double>::quiet_NaN();
+    c.holdout_ahead_ndei = result.criterion_horizon > 1
+                               ? model.NdeiAhead(holdout, result.criterion_horizon)
+                               : std::numeric_limits<double>::quiet_NaN();
+    c.score = result.criterion_horizon == 0   ? c.holdout_free_run_ndei
+              : result.criterion_horizon == 1 ? c.holdout_one_step_ndei
+                                              : c.holdout_ahead_ndei;
+    if (!std::isfinite(c.score)) c.score = std::numeric_limits<double>::infinity();
+  };
+  std::optional<std::size_t> linear_index;
+  std::vector<NarxModel> models;  // each candidate's, for the simulation-error short list
+  if (with_linear) {
+    Candidate c;
+    c.consequent = fuzzy::ConsequentKind::kLinear;
+    c.linear = true;
+    c.threshold = 0.0;
+    c.kappa = kappas.front();
+    TrainReport report;
+    const NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
+                                           result.criterion_horizon, 1, &report);
+    c.epochs = report.kept_epoch;
+    score_candidate(c, model);
+    linear_index = result.candidates.size();
+    result.candidates.push_back(c);
+    models.push_back(model);
+    if (on_candidate) on_candidate(c, ++done, total);
+  }
   for (const auto kind : kinds) {
     for (const double kappa : kappas) {
       bool capped = false;
       for (const double h : thresholds) {
         ++done;
         if (capped) continue;
-        fuzzy::FuzzyModelConfig cfg = base;
-        cfg.consequent = kind;
-        cfg.entropy.threshold = h;
-        cfg.entropy.kappa = kappa;
-        NarxModel model(spec, cfg);
-        TrainOptions t = train_options;
-        if (options.scaling) {
-          model.SetScaling(*options.scaling);
-          t.fit_scaling = false;
-        }
-        t.progress = {};
-        t.epochs = options.max_epochs;
-        t.holdout = &holdout;
-        t.holdout_free_run = result.free_run_criterion;
-        t.patience = options.patience;
-        const TrainReport report = model.Train(fit, t);
         Candidate c;
         c.consequent = kind;
         c.threshold = h;
         c.kappa = kappa;
+        TrainReport report;
+        const NarxModel model =
+            TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
+                           result.criterion_horizon, options.max_epochs, &report);
         c.epochs = report.kept_epoch;
-        c.rules = model.total_rules();
-        c.at_cap = c.rules >= cfg.entropy.max_rules * model.outputs();
+        score_candidate(c, model);
+        c.at_cap = c.rules >= base.entropy.max_rules * model.outputs();
         capped = c.at_cap;
-        c.holdout_one_step_ndei = model.Ndei(holdout, false);
-        c.holdout_free_run_ndei = spec.output_lags > 0 ? model.Ndei(holdout, true)
-                                                       : std::numeric_limits<double>::quiet_NaN();
-        c.score = result.free_run_criterion ? c.holdout_free_run_ndei : c.holdout_one_step_ndei;
-        if (!std::isfinite(c.score)) c.score = std::numeric_limits<double>::infinity();
+        models.push_back(model);
         result.candidates.push_back(c);
         if (on_candidate) on_candidate(c, done, total);
       }
     }
   }
   auto& cs = result.candidates;
+  if (!options.simulation.empty() && result.criterion_horizon != 1) {
+    // Windows no longer than the horizon scored: the k-step error is what is trained for.
+    std::vector<SimulationStage> stages;
+    for (const auto& st : options.simulation) {
+      if (result.criterion_horizon > 1 && st.horizon >= result.criterion_horizon) {
+        stages.push_back({result.criterion_horizon, st.steps});
+        break;
+      }
+      stages.push_back(st);
+    }
+    // The short list: the linear model and the best fuzzy candidates one step ahead.
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < cs.size(); ++k)
+      if (!cs[k].linear && std::isfinite(cs[k].score)) order.push_back(k);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return cs[a].score < cs[b].score; });
+    if (order.size() > static_cast<std::size_t>(std::max(0, options.simulation_shortlist)))
+      order.resize(static_cast<std::size_t>(std::max(0, options.simulation_shortlist)));
+    if (linear_index) order.insert(order.begin(), *linear_index);
+    for (const std::size_t k : order) {
+      SimulationTrainOptions so;
+      so.stages = stages;
+      so.holdout = &holdout;
+      so.holdout_horizon = result.criterion_horizon;
+      cs[k].simulation = TrainOnSimulationError(models[k], fit, so).kept;
+      score_candidate(cs[k], models[k]);
+    }
+  }
   for (std::size_t k = 0; k < cs.size(); ++k)
     if (cs[k].score < cs[result.best].score) result.best = k;
   const double allowed = std::max(cs[result.best].score * (1.0 + options.relative_tolerance),
@@ -122,6 +272,21 @@ SelectionResult SelectModel(
       result.chosen = k;
   }
 
+  if (linear_index && result.chosen != *linear_index && selection == nullptr &&
+      options.linear_check_folds >= 2 && std::isfinite(cs[result.chosen].score)) {
+    result.linear_check = CrossValidate(spec, base, train_options, options, cs[result.chosen],
+                                        cs[*linear_index], train, result.criterion_horizon);
+    if (result.linear_check.done && result.linear_check.linear_chosen) {
+      std::ostringstream w;
+      w << "the fuzzy model (" << cs[result.chosen].rules
+        << " rules) did not beat the linear one in " << options.linear_check_folds
+        << "-fold blocked cross-validation (NDEI " << result.linear_check.fuzzy_score << " vs "
+        << result.linear_check.linear_score << "): the linear model (ARX) is chosen";
+      result.warnings.push_back(w.str());
+      result.chosen = *linear_index;
+    }
+  }
+
   const Candidate& c = cs[result.chosen];
   std::ostringstream w;
   auto at_edge = [](const std::vector<double>& grid, double v) {
@@ -131,13 +296,13 @@ SelectionResult SelectModel(
   };
   if (!std::isfinite(cs[result.best].score))
     result.warnings.push_back("every candidate diverged on the hold-out slice");
-  if (at_edge(thresholds, c.threshold)) {
+  if (!c.linear && at_edge(thresholds, c.threshold)) {
     w << "the H̄ search stopped at the edge of its grid (H̄ = " << c.threshold
       << "): a wider range may do better";
     result.warnings.push_back(w.str());
     w.str("");
   }
-  if (at_edge(kappas, c.kappa)) {
+  if (!c.linear && at_edge(kappas, c.kappa)) {
     w << "the κ search stopped at the edge of its grid (κ = " << c.kappa << ")";
     result.warnings.push_back(w.str());
     w.str("");

@@ -16,6 +16,7 @@ enum class SelectionCriterion {
   kAuto,     ///< free-run NDEI when the model has output lags, else one-step
   kFreeRun,  ///< free-run NDEI (simulation accuracy)
   kOneStep,  ///< one-step NDEI (static maps, integrating loops whose free run drifts)
+  kAhead,    ///< NDEI `horizon` steps ahead (integrating loops: a short horizon)
 };
 
 struct SelectionOptions {
@@ -26,10 +27,25 @@ struct SelectionOptions {
   int patience = 10;              ///< stop a candidate after this many epochs without improvement
   double holdout_fraction = 0.2;  ///< the last part of the training series
   SelectionCriterion criterion = SelectionCriterion::kAuto;
+  /// K > 1: every candidate is also scored K steps ahead, and kAuto chooses by it (what the user
+  /// reports for a loop whose free run drifts); 0: no k-step score.
+  int horizon = 0;
   /// The fewest rules whose score is within max(best × (1 + relative), best + absolute): NDEI
   /// differences below the absolute one (half a FIT point) do not pay for more rules.
   double relative_tolerance = 0.05;
   double absolute_tolerance = 0.005;
+  /// The one-rule linear model (ARX on the same regressor) is a candidate whenever linear
+  /// consequents are (and H̄ is searched). A fuzzy model chosen over it must then also beat it in
+  /// blocked cross-validation over this many contiguous folds of the training series, each scored
+  /// by the criterion after training on the others: one tail slice is too few samples to trust
+  /// on a short or drifting record (docs/identifier.md §9). < 2: no cross-validation.
+  int linear_check_folds = 4;
+  /// Simulation-error training (simulation_error_training.hpp) of the short list — the linear
+  /// model and the `simulation_shortlist` best fuzzy candidates — after their one-step training,
+  /// the hold-out keeping the best step; then they are scored again. Free-run criterion only;
+  /// empty: none.
+  std::vector<SimulationStage> simulation;
+  int simulation_shortlist = 3;
   /// Declared scaling (the online identifier's ranges): candidates learn with it, as the final
   /// model will. Empty: each candidate fits its scaling on the data it trains on.
   std::optional<Scaling> scaling;
@@ -37,14 +53,27 @@ struct SelectionOptions {
 
 struct Candidate {
   fuzzy::ConsequentKind consequent = fuzzy::ConsequentKind::kLinear;
+  /// The one-rule linear model: trained with max_rules = 1 (threshold 0), it is ARX.
+  bool linear = false;
   double threshold = 0.0;
   double kappa = 0.0;
   int epochs = 0;  ///< the epoch kept by the hold-out
+  /// The simulation-error schedule the kept parameters took (empty: none).
+  std::vector<SimulationStage> simulation;
   int rules = 0;
   bool at_cap = false;
   double holdout_one_step_ndei = 0.0;
   double holdout_free_run_ndei = 0.0;  ///< NaN without output lags
+  double holdout_ahead_ndei = 0.0;     ///< K steps ahead (SelectionOptions::horizon), else NaN
   double score = 0.0;                  ///< the criterion's NDEI (+∞ if diverged)
+};
+
+/// The blocked cross-validation between the chosen fuzzy setting and the linear model.
+struct LinearCheck {
+  bool done = false;
+  std::vector<double> fuzzy_folds, linear_folds;  ///< each fold's score (criterion NDEI)
+  double fuzzy_score = 0.0, linear_score = 0.0;   ///< their means (+∞ if one diverged)
+  bool linear_chosen = false;                     ///< the fuzzy model did not beat it
 };
 
 struct SelectionResult {
@@ -52,9 +81,11 @@ struct SelectionResult {
   std::size_t best = 0;    ///< lowest score
   std::size_t chosen = 0;  ///< fewest rules within the tolerance of the best
   bool free_run_criterion = false;
+  int criterion_horizon = 0;  ///< what the score is: 0 free run, 1 one step, K steps ahead
   Eigen::Index fit_samples = 0;
   Eigen::Index holdout_samples = 0;
   std::vector<std::string> warnings;  ///< the search's edge, the rule cap, the epoch limit
+  LinearCheck linear_check;
 };
 
 /// Novelty radius r (distance from the nearest rule, in its widths, per input) → H̄ with the
@@ -67,6 +98,11 @@ std::vector<double> DefaultKappas();
 
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);
+/// `a` then `b`, with a break between them (no regressor or free run crosses the seam).
+Series ConcatSeries(const Series& a, const Series& b);
+/// The model configuration a candidate stands for (`base` with its consequent, H̄, κ and, for
+/// the linear candidate, one rule).
+fuzzy::FuzzyModelConfig CandidateConfig(const fuzzy::FuzzyModelConfig& base, const Candidate& c);
 
 /// Trains every candidate on the first (1 − holdout_fraction) of `train` and scores it on the
 /// rest — or, when `selection` is given (a separate selection excitation), on all of `train`

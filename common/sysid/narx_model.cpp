@@ -15,47 +15,25 @@
 #include "io/json_integer.hpp"
 #include "metrics/accuracy.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/rprop.hpp"
+#include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
 namespace {
 constexpr int kFormatVersion = 1;
 
-/// iRprop− state for one output's centres and widths: a step size per parameter that grows while
-/// the gradient keeps its sign and shrinks when it flips.
+/// iRprop− for one output's centres and widths.
 struct RpropState {
   static constexpr double kInitialStep = 0.01;  // scaled units
-  static constexpr double kLargestStep = 0.2;
-  static constexpr double kSmallestStep = 1e-7;
-  Eigen::ArrayXXd step_c, step_s, last_c, last_s;
+  Rprop centres, sigmas;
 
   void Reset(int rules, int inputs) {
-    step_c = step_s = Eigen::ArrayXXd::Constant(rules, inputs, kInitialStep);
-    last_c = last_s = Eigen::ArrayXXd::Zero(rules, inputs);
+    centres.Reset(rules, inputs, kInitialStep);
+    sigmas.Reset(rules, inputs, kInitialStep);
   }
-  /// After a rejected pass: smaller steps, and no sign memory of the rejected gradient.
   void Backtrack() {
-    step_c *= 0.5;
-    step_s *= 0.5;
-    last_c.setZero();
-    last_s.setZero();
-  }
-  /// The move for gradient g; updates the step sizes and the remembered gradient.
-  static Eigen::ArrayXXd Step(const Eigen::ArrayXXd& g, Eigen::ArrayXXd* step,
-                              Eigen::ArrayXXd* last) {
-    Eigen::ArrayXXd move(g.rows(), g.cols());
-    for (Eigen::Index k = 0; k < g.size(); ++k) {
-      const double agree = g(k) * (*last)(k);
-      double gk = g(k);
-      if (agree > 0.0) {
-        (*step)(k) = std::min((*step)(k)*1.2, kLargestStep);
-      } else if (agree < 0.0) {
-        (*step)(k) = std::max((*step)(k)*0.5, kSmallestStep);
-        gk = 0.0;  // iRprop−: skip this parameter once after a sign change
-      }
-      move(k) = gk > 0.0 ? -(*step)(k) : (gk < 0.0 ? (*step)(k) : 0.0);
-      (*last)(k) = gk;
-    }
-    return move;
+    centres.Backtrack();
+    sigmas.Backtrack();
   }
 };
 }  // namespace
@@ -98,6 +76,20 @@ double NarxModel::Ndei(const Series& series, bool free_run) const {
   for (int o = 0; o < outputs(); ++o) {
     sum += metrics::Score(y_all.col(o), yhat.col(o)).ndei;
   }
+  const double ndei = sum / outputs();
+  return std::isfinite(ndei) ? ndei : std::numeric_limits<double>::infinity();
+}
+
+double NarxModel::NdeiAhead(const Series& series, int horizon) const {
+  if (horizon <= 0) return Ndei(series, true);
+  if (horizon == 1 || spec_.output_lags == 0) return Ndei(series, false);
+  const Predictor predict = [this](const Eigen::VectorXd& x) { return Predict(x); };
+  bool diverged = false;
+  const Eigen::MatrixXd y_all = Targets(spec_, series);
+  const Eigen::MatrixXd yhat = PredictAhead(spec_, series, predict, horizon, &diverged);
+  if (diverged) return std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (int o = 0; o < outputs(); ++o) sum += metrics::Score(y_all.col(o), yhat.col(o)).ndei;
   const double ndei = sum / outputs();
   return std::isfinite(ndei) ? ndei : std::numeric_limits<double>::infinity();
 }
@@ -148,7 +140,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
         auto& m = models_[static_cast<std::size_t>(o)];
         auto& st = rprop[static_cast<std::size_t>(o)];
         const int r = m.rules();
-        if (st.step_c.rows() != r) st.Reset(r, spec_.size());
+        if (!st.centres.Matches(r, spec_.size())) st.Reset(r, spec_.size());
         Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, spec_.size());
         Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, spec_.size());
         for (Eigen::Index k = 0; k < rows; ++k) {
@@ -156,7 +148,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
           if (options.progress && (k % 1024 == 0 || k + 1 == rows))
             options.progress(epoch, k + 1, rows);
         }
-        m.StepPremises(st.Step(gc, &st.step_c, &st.last_c), st.Step(gs, &st.step_s, &st.last_s));
+        m.StepPremises(st.centres.Step(gc), st.sigmas.Step(gs));
       }
     } else {
       for (Eigen::Index r = 0; r < rows; ++r) {
@@ -169,7 +161,8 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     }
     if (options.refine_least_squares) {
       for (int o = 0; o < outputs(); ++o)
-        models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge);
+        models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge,
+                                                               options.deviation_ridge);
     }
     EpochRecord rec;
     rec.epoch = epoch + 1;
@@ -190,7 +183,9 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     rec.rules = total_rules();
     if (rec.accepted) report.kept_epoch = rec.epoch;
     if (options.holdout != nullptr) {
-      rec.holdout_ndei = Ndei(*options.holdout, options.holdout_free_run);
+      rec.holdout_ndei = options.holdout_horizon > 0
+                             ? NdeiAhead(*options.holdout, options.holdout_horizon)
+                             : Ndei(*options.holdout, options.holdout_free_run);
       if (rec.accepted && rec.holdout_ndei < best_holdout) {
         best_holdout = rec.holdout_ndei;
         best_holdout_epoch = rec.epoch;
@@ -207,6 +202,15 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   if (options.holdout != nullptr && !kept_holdout.empty()) {
     models_ = std::move(kept_holdout);
     report.kept_epoch = best_holdout_epoch;
+  }
+  if (!options.simulation.empty() && spec_.output_lags > 0) {
+    SimulationTrainOptions so;
+    so.stages = options.simulation;
+    if (options.holdout != nullptr && (options.holdout_free_run || options.holdout_horizon > 1)) {
+      so.holdout = options.holdout;
+      so.holdout_horizon = options.holdout_horizon;
+    }
+    report.simulation = TrainOnSimulationError(*this, train, so).kept;
   }
   return report;
 }

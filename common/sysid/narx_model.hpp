@@ -15,6 +15,15 @@
 
 namespace odonata::sysid {
 
+/// One stage of simulation-error training (simulation_error_training.hpp).
+struct SimulationStage {
+  int horizon = 20;  ///< samples per shooting window
+  int steps = 30;    ///< iRprop− steps at most
+  bool operator==(const SimulationStage& o) const {
+    return horizon == o.horizon && steps == o.steps;
+  }
+};
+
 /// Reports (epoch, sample, samples per epoch) during training; may be empty.
 using ProgressCallback = std::function<void(int epoch, long sample, long total)>;
 
@@ -28,6 +37,9 @@ struct TrainOptions {
   bool refine_least_squares = true;
   /// Least-squares ridge, relative to the mean squared column norm of the design.
   double ridge = 1e-10;
+  /// Ridge on each rule's deviation from one global linear model (FuzzyModel::RefineConsequents);
+  /// 0: none.
+  double deviation_ridge = 0.0;
   /// Derive the scaling from the training data (offline default). False keeps the scaling set
   /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
   bool fit_scaling = true;
@@ -36,8 +48,15 @@ struct TrainOptions {
   /// one-step.
   const Series* holdout = nullptr;
   bool holdout_free_run = true;
+  /// > 0: the hold-out is scored this many steps ahead instead (integrating loops, whose free
+  /// run drifts for any model).
+  int holdout_horizon = 0;
   /// With a hold-out: stop after this many passes without a hold-out improvement (0: never).
   int patience = 0;
+  /// After the one-step passes: iRprop− steps on the multiple-shooting simulation error, stage
+  /// by stage (simulation_error_training.hpp; with a hold-out, the step it scores best in free run
+  /// is kept). Empty: none; ignored without output lags.
+  std::vector<SimulationStage> simulation;
   ProgressCallback progress;
 };
 
@@ -54,6 +73,8 @@ struct EpochRecord {
 struct TrainReport {
   std::vector<EpochRecord> epochs;
   int kept_epoch = 0;  ///< the epoch whose parameters the model holds (1-based)
+  /// The simulation-error schedule that reproduces the kept parameters without a hold-out.
+  std::vector<SimulationStage> simulation;
 };
 
 /// One or several outputs identified over one shared regressor.
@@ -76,6 +97,8 @@ class NarxModel {
   /// Mean over outputs of the NDEI on `series` (free run if asked and there are output lags,
   /// else one step); +∞ when the simulation diverges.
   double Ndei(const Series& series, bool free_run) const;
+  /// The same, `horizon` steps ahead (PredictAhead); 0 is free run, 1 one step.
+  double NdeiAhead(const Series& series, int horizon) const;
 
   /// One online step on a raw regressor and the raw targets (one per output).
   std::vector<fuzzy::LearnResult> Learn(const Eigen::VectorXd& regressor,

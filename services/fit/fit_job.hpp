@@ -11,6 +11,7 @@
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 #include "sysid/series_from_table.hpp"
+#include "sysid/simulation_error_training.hpp"
 
 namespace odonata::fit {
 
@@ -54,6 +55,15 @@ struct FitJobOptions {
   std::string time_column;
   double rate_hz = 0;
   int max_gap = 3;
+  /// Simulation-error training (simulation_error_training.hpp) after one-step training, with
+  /// output lags: while settings are chosen, the short list's candidates take it with the
+  /// hold-out keeping the best step; with every setting given, only when simulation_given.
+  /// Never with train.refine_least_squares off: the online learner has no such phase.
+  std::vector<sysid::SimulationStage> simulation = sysid::DefaultSimulationStages();
+  bool simulation_given = false;
+  /// K > 1: also score K steps ahead (k_step in the report), and choose by it unless the
+  /// selection criterion says otherwise.
+  int horizon = 0;
   std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
 };

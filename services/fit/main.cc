@@ -63,6 +63,21 @@ int main(int argc, char** argv) {
                                 "when not given")
                      ->capture_default_str()
                      ->check(CLI::Range(1, 100000));
+  int simulation_steps = 30;
+  std::vector<int> simulation_horizons{10, 40, 160, 640};
+  auto* sim_steps =
+      app.add_option("--simulation-steps", simulation_steps,
+                     "with output lags: after one-step training, up to this many steps per stage "
+                     "on the simulation (free-run) error, over windows each started from measured "
+                     "outputs (multiple shooting), the hold-out keeping the best; on by default "
+                     "while settings are chosen, 0 turns it off")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 100000));
+  app.add_option("--simulation-horizons", simulation_horizons,
+                 "window lengths in samples, one stage each, in order")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
   app.add_option("--learning-rate", learning_rate,
                  "online gradient rate for centres and widths (scaled units)")
       ->capture_default_str()
@@ -97,10 +112,26 @@ int main(int argc, char** argv) {
   app.add_flag("--no-select", no_select,
                "use the defaults for every setting not given instead of choosing them");
   app.add_option("--select-criterion", criterion,
-                 "what the choice minimises on the hold-out: auto (free-run NDEI when ny > 0, "
-                 "else one-step), free_run or one_step (integrating loops)")
+                 "what the choice minimises on the hold-out: auto (k-step NDEI with --horizon, "
+                 "else free-run when ny > 0, else one-step), free_run, one_step or k_step")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "free_run", "one_step"}));
+      ->check(CLI::IsMember({"auto", "free_run", "one_step", "k_step"}));
+  app.add_option("--deviation-ridge", o.train.deviation_ridge,
+                 "least-squares ridge on each rule's deviation from one global linear model, "
+                 "relative to the design's scale (0: none)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--cv-folds", o.selection.linear_check_folds,
+                 "a fuzzy model is kept over the linear one (ARX, always a candidate) only when "
+                 "it also wins this many-fold blocked cross-validation of the training file; 0 "
+                 "or 1: the hold-out alone decides")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 50));
+  app.add_option("--horizon", o.horizon,
+                 "K: also score K steps ahead (each prediction a free run from the measured "
+                 "outputs K samples before), and choose by it: for loops that integrate (rates, "
+                 "velocities), whose free run drifts for any model")
+      ->check(CLI::Range(2, 1000000));
   app.add_option("--select-tolerance", tolerance_percent,
                  "keep the fewest rules within this many percent of the best hold-out NDEI")
       ->capture_default_str()
@@ -169,15 +200,19 @@ int main(int argc, char** argv) {
     o.kappa_given = kappa->count() > 0;
     o.epochs_given = epochs->count() > 0;
     o.selection.relative_tolerance = tolerance_percent / 100.0;
-    o.selection.criterion = criterion == "auto" ? odonata::sysid::SelectionCriterion::kAuto
-                            : criterion == "free_run"
-                                ? odonata::sysid::SelectionCriterion::kFreeRun
-                                : odonata::sysid::SelectionCriterion::kOneStep;
+    o.selection.criterion = criterion == "auto"       ? odonata::sysid::SelectionCriterion::kAuto
+                            : criterion == "free_run" ? odonata::sysid::SelectionCriterion::kFreeRun
+                            : criterion == "k_step"   ? odonata::sysid::SelectionCriterion::kAhead
+                                                    : odonata::sysid::SelectionCriterion::kOneStep;
     // Without least squares (the online learner), only one pass means anything online.
     if (no_ls && !o.epochs_given) {
       o.train.epochs = 1;
       o.epochs_given = true;
     }
+    o.simulation.clear();
+    for (const int h : simulation_horizons) o.simulation.push_back({h, simulation_steps});
+    if (simulation_steps == 0) o.simulation.clear();
+    o.simulation_given = sim_steps->count() > 0;
     o.progress = odonata::fit::StderrIsTerminal();
     const auto report = odonata::fit::RunFitJob(o);
     if (json) {

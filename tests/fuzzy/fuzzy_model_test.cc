@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <Eigen/QR>
 #include <nlohmann/json.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
@@ -120,6 +121,39 @@ TEST(FuzzyModel, RefineConsequentsSolvesTheLeastSquaresProblem) {
   const double before = sse();
   m.RefineConsequents(x, y, 1e-12);
   EXPECT_LT(sse(), before);
+}
+
+// The deviation ridge pulls every rule toward one global linear model: none makes no difference
+// from plain least squares, a huge one leaves every rule with the same consequent — the global
+// least-squares line, ARX — and the training error grows with it.
+TEST(FuzzyModel, TheDeviationRidgeShrinksRulesTowardOneGlobalLinearModel) {
+  Eigen::MatrixXd x(400, 2);
+  Eigen::VectorXd y(400);
+  for (int k = 0; k < 400; ++k) {
+    x.row(k) << std::sin(0.021 * k), std::cos(0.011 * k);
+    y(k) = x(k, 0) * x(k, 1) + 0.5 * x(k, 0);
+  }
+  auto sse = [&](const FuzzyModel& m) {
+    double s = 0;
+    for (int k = 0; k < 400; ++k) s += std::pow(m.Predict(x.row(k).transpose()) - y(k), 2);
+    return s;
+  };
+  FuzzyModel plain = Trained(ConsequentKind::kLinear), tiny = plain, huge = plain;
+  ASSERT_GE(plain.rules(), 3);
+  ASSERT_TRUE(plain.RefineConsequents(x, y, 1e-12));
+  ASSERT_TRUE(tiny.RefineConsequents(x, y, 1e-12, 1e-12));
+  ASSERT_TRUE(huge.RefineConsequents(x, y, 1e-12, 1e8));
+  EXPECT_NEAR(sse(tiny), sse(plain), 1e-6 * (1 + sse(plain)));
+  EXPECT_GT(sse(huge), 2 * sse(plain));
+  const Eigen::VectorXd p = huge.consequent().Parameters();
+  const int w = 3;  // a_0 and one slope per input
+  for (int j = 1; j < huge.rules(); ++j)
+    EXPECT_LT((p.segment(j * w, w) - p.head(w)).norm(), 1e-4) << "rule " << j;
+  // The shared consequent is the least-squares line through all the data.
+  Eigen::MatrixXd a(400, 3);
+  a << Eigen::VectorXd::Ones(400), x;
+  const Eigen::VectorXd line = a.colPivHouseholderQr().solve(y);
+  EXPECT_LT((p.head(w) - line).norm(), 1e-3);
 }
 
 TEST(FuzzyModel, PruningKeepsALongRunBelowTheCapAndKeepsLearning) {

@@ -1,5 +1,8 @@
 // Model selection on a hold-out slice of the training data (docs/identifier.md §9).
 
+#include <cmath>
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "fuzzy/entropy_rule_generator.hpp"
@@ -33,7 +36,9 @@ TEST(ModelSelection, PicksTheFewestRulesWithinTheRelativeTolerance) {
   o.relative_tolerance = 0.10;
   const Series train = testing::NarendraTrain(1500);
   const SelectionResult r = SelectModel(testing::NarendraSpec(), cfg, TrainOptions{}, train, o);
-  ASSERT_EQ(r.candidates.size(), 6u);
+  ASSERT_EQ(r.candidates.size(), 7u);  // the linear model (one rule) and the 3 × 2 grid
+  EXPECT_TRUE(r.candidates[0].linear);
+  EXPECT_EQ(r.candidates[0].rules, 1);
   EXPECT_EQ(r.holdout_samples, 300);
   EXPECT_EQ(r.fit_samples, 1200);
   EXPECT_TRUE(r.free_run_criterion) << "a model with output lags is chosen by simulation";
@@ -110,6 +115,117 @@ TEST(ModelSelection, WarnsAtTheGridsEdgeAndTheRuleCap) {
   for (const auto& w : r.warnings) all += w + "\n";
   EXPECT_NE(all.find("edge of its grid"), std::string::npos) << all;
   EXPECT_NE(all.find("rule cap"), std::string::npos) << all;
+}
+
+// A linear plant with output noise: no rule beyond the first is worth its parameters, so the
+// linear model is chosen — by the hold-out or by the cross-validation that a fuzzy winner of one
+// tail slice must also pass.
+TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(1200, 1);
+  s.outputs.resize(1200, 1);
+  double y = 0, u = 0;
+  for (int k = 0; k < 1200; ++k) {
+    if (k % 8 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = y + noise(rng);
+    y = 0.8 * y + 0.3 * u;
+  }
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.kappas = {1.0};
+  o.max_epochs = 5;
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  const Candidate& c = r.candidates[r.chosen];
+  EXPECT_TRUE(c.linear);
+  EXPECT_EQ(c.rules, 1);
+  const fuzzy::FuzzyModelConfig cfg = CandidateConfig(fuzzy::FuzzyModelConfig{}, c);
+  EXPECT_EQ(cfg.entropy.max_rules, 1);
+}
+
+// Narendra's plant is far from linear: the fuzzy model wins the hold-out and the blocked
+// cross-validation alike, fold by fold.
+TEST(ModelSelection, ANonlinearPlantKeepsItsFuzzyModelThroughCrossValidation) {
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 10;
+  const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
+                                        TrainOptions{}, testing::NarendraTrain(1500), o);
+  EXPECT_FALSE(r.candidates[r.chosen].linear);
+  ASSERT_TRUE(r.linear_check.done);
+  ASSERT_EQ(r.linear_check.fuzzy_folds.size(), 4u);
+  EXPECT_FALSE(r.linear_check.linear_chosen);
+  for (std::size_t f = 0; f < 4; ++f)
+    EXPECT_LT(r.linear_check.fuzzy_folds[f], r.linear_check.linear_folds[f]) << "fold " << f;
+}
+
+// With a horizon the candidates are scored K steps ahead, and that is the criterion.
+TEST(ModelSelection, AHorizonScoresAndChoosesKStepsAhead) {
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  o.horizon = 5;
+  o.linear_check_folds = 0;
+  const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
+                                        TrainOptions{}, testing::NarendraTrain(800), o);
+  EXPECT_EQ(r.criterion_horizon, 5);
+  EXPECT_FALSE(r.free_run_criterion);
+  for (const auto& c : r.candidates) {
+    EXPECT_EQ(c.score, c.holdout_ahead_ndei);
+    EXPECT_TRUE(std::isfinite(c.holdout_ahead_ndei));
+  }
+  o.criterion = SelectionCriterion::kAhead;
+  o.horizon = 0;
+  EXPECT_THROW(SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{},
+                           testing::NarendraTrain(800), o),
+               std::invalid_argument);
+}
+
+// The short list takes simulation-error training; the schedule each kept is recorded, so the
+// final fit can repeat it, and a trained candidate's hold-out score is never worse than before.
+TEST(ModelSelection, TheShortListTrainsOnTheSimulationError) {
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 5;
+  o.linear_check_folds = 0;
+  const Series train = testing::NarendraTrain(1000);
+  const SelectionResult plain =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, train, o);
+  o.simulation = {{10, 10}, {40, 10}};
+  o.simulation_shortlist = 1;
+  const SelectionResult trained =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, train, o);
+  ASSERT_EQ(plain.candidates.size(), trained.candidates.size());
+  int shortlisted = 0;
+  for (std::size_t k = 0; k < plain.candidates.size(); ++k) {
+    EXPECT_LE(trained.candidates[k].score, plain.candidates[k].score);
+    if (!trained.candidates[k].simulation.empty()) ++shortlisted;
+    for (const auto& st : trained.candidates[k].simulation) EXPECT_LE(st.steps, 10);
+  }
+  EXPECT_LE(shortlisted, 2);  // the linear model and the best fuzzy one, when either improved
+}
+
+TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {
+  const Series a = testing::NarendraTrain(50), b = testing::NarendraTrain(40, 9);
+  const Series c = ConcatSeries(a, b);
+  EXPECT_EQ(c.samples(), 90);
+  ASSERT_EQ(c.breaks.size(), 1u);
+  EXPECT_EQ(c.breaks[0], 50);
+  EXPECT_EQ(c.outputs(50, 0), b.outputs(0, 0));
+  // No regressor reads across the seam: the second part's targets start after its own lags.
+  const auto t = TargetRows(testing::NarendraSpec(), c);
+  for (const auto row : t)
+    EXPECT_TRUE(row < 50 || row >= 50 + testing::NarendraSpec().first_target());
 }
 
 TEST(ModelSelection, RefusesATrainingSeriesTooShortToHoldOut) {

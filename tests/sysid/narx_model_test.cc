@@ -8,6 +8,7 @@
 
 #include "narendra_series.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -176,6 +177,30 @@ TEST(NarxModel, HoldoutKeepsTheBestEpoch) {
     }
   EXPECT_EQ(r.kept_epoch, best_epoch);
   EXPECT_NEAR(m.Ndei(hold, true), best, 1e-12);
+}
+
+// K steps ahead sits between one step (K = 1) and the free run (K beyond the record).
+TEST(NarxModel, PredictAheadSpansOneStepToFreeRun) {
+  NarxModel m(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
+  TrainOptions t;
+  t.epochs = 2;
+  m.Train(testing::NarendraTrain(1000), t);
+  const Series v = testing::NarendraValidate(300);
+  const Predictor p = [&m](const Eigen::VectorXd& x) { return m.Predict(x); };
+  const RegressorSpec& spec = m.spec();
+  EXPECT_EQ(PredictAhead(spec, v, p, 1), PredictOneStep(spec, v, p));
+  EXPECT_EQ(PredictAhead(spec, v, p, 1000), SimulateFreeRun(spec, v, p));
+  const double one = m.NdeiAhead(v, 1), five = m.NdeiAhead(v, 5), free = m.NdeiAhead(v, 0);
+  EXPECT_EQ(one, m.Ndei(v, false));
+  EXPECT_EQ(free, m.Ndei(v, true));
+  EXPECT_LE(one, five);
+  EXPECT_LE(five, free * 1.05);
+  // Row r of a 3-step prediction is a free run of 3 steps from the measured outputs before it.
+  const Eigen::MatrixXd three = PredictAhead(spec, v, p, 3);
+  const auto targets = TargetRows(spec, v);
+  const Series window =
+      SliceSeries(v, targets[10] - 2 - spec.first_target(), spec.first_target() + 3);
+  EXPECT_DOUBLE_EQ(three(10, 0), SimulateFreeRun(spec, window, p)(2, 0));
 }
 
 }  // namespace
