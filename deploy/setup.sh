@@ -8,7 +8,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libfuzzylite-dev
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre fonts-dejavu-core
   libjchart2d-java xvfb
-  python3 python3-matplotlib iproute2 util-linux iptables
+  python3 python3-matplotlib python3-numpy python3-sklearn iproute2 util-linux iptables
   octave octave-fuzzy-logic-toolkit file dpkg-dev
 )
 missing=()

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "fuzzy/entropy_rule_generator.hpp"
+#include "sysid/free_run.hpp"
 #include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
@@ -54,7 +55,35 @@ fuzzy::FuzzyModelConfig CandidateConfig(const fuzzy::FuzzyModelConfig& base, con
   return cfg;
 }
 
+double RestDeviation(const NarxModel& model, const Series& train) {
+  const RegressorSpec& spec = model.spec();
+  const Eigen::Index n = std::clamp<Eigen::Index>(train.samples(), 1000, 10000);
+  Series rest;
+  rest.inputs = train.inputs.colwise().mean().replicate(n, 1);
+  const Eigen::RowVectorXd mean = train.outputs.colwise().mean();
+  const Eigen::RowVectorXd sd =
+      ((train.outputs.rowwise() - mean).array().square().colwise().mean()).sqrt().matrix();
+  rest.outputs = (mean + 0.1 * sd).replicate(n, 1);
+  const Predictor predict = [&model](const Eigen::VectorXd& x) { return model.Predict(x); };
+  bool diverged = false;
+  const Eigen::MatrixXd run = SimulateFreeRun(spec, rest, predict, &diverged);
+  if (diverged || !run.allFinite()) return std::numeric_limits<double>::infinity();
+  const Eigen::Index tail = run.rows() / 4;
+  double sum = 0.0;
+  for (Eigen::Index o = 0; o < run.cols(); ++o) {
+    const Eigen::VectorXd last = run.col(o).tail(tail);
+    const double spread = std::sqrt((last.array() - last.mean()).square().mean());
+    sum += spread / std::max(sd(o), 1e-300);
+  }
+  const double d = sum / double(run.cols());
+  return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
+}
+
 namespace {
+
+// Held at rest, a run whose last quarter still moves by more than this share of the outputs'
+// deviation has not settled.
+constexpr double kRestTolerance = 0.01;
 
 // Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
 // one) and returns the model.
@@ -257,6 +286,21 @@ SelectionResult SelectModel(
       so.holdout_horizon = result.criterion_horizon;
       cs[k].simulation = TrainOnSimulationError(models[k], fit, so).kept;
       score_candidate(cs[k], models[k]);
+    }
+  }
+  if (result.free_run_criterion && linear_index) {
+    // A self-excited oscillation where the linear model comes to rest: the real system, whose
+    // linear approximation is at rest, does not oscillate by itself; a hold-out that never holds
+    // still may not show it (the Silverbox's small-amplitude start).
+    const double linear_rest = RestDeviation(models[*linear_index], fit);
+    cs[*linear_index].rest_deviation = linear_rest;
+    for (std::size_t k = 0; k < cs.size(); ++k) {
+      if (k == *linear_index || !std::isfinite(cs[k].score)) continue;
+      cs[k].rest_deviation = RestDeviation(models[k], fit);
+      if (cs[k].rest_deviation > std::max(kRestTolerance, 10.0 * linear_rest)) {
+        cs[k].restless = true;
+        cs[k].score = std::numeric_limits<double>::infinity();
+      }
     }
   }
   for (std::size_t k = 0; k < cs.size(); ++k)

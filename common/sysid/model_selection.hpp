@@ -4,6 +4,7 @@
 // takes part in a choice.
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,12 @@ struct Candidate {
   double holdout_free_run_ndei = 0.0;  ///< NaN without output lags
   double holdout_ahead_ndei = 0.0;     ///< K steps ahead (SelectionOptions::horizon), else NaN
   double score = 0.0;                  ///< the criterion's NDEI (+∞ if diverged)
+  /// Free-run criterion only: how far the model is from rest after being held at the training
+  /// file's mean input (RestDeviation); NaN when not tested.
+  double rest_deviation = std::numeric_limits<double>::quiet_NaN();
+  /// It does not come to rest where the linear model does: a self-excited oscillation the
+  /// hold-out may not show (score +∞).
+  bool restless = false;
 };
 
 /// The blocked cross-validation between the chosen fuzzy setting and the linear model.
@@ -95,6 +102,12 @@ double ThresholdForRadius(double radius);
 /// near its maximum).
 std::vector<double> DefaultThresholds();
 std::vector<double> DefaultKappas();
+
+/// Held at the mean input of `train`, started from its mean outputs nudged by a tenth of their
+/// deviation, the model runs free for as many samples as `train` has (1 000 … 10 000): the
+/// deviation of the last quarter of that run over the outputs' deviation (mean over outputs;
+/// +∞ if it diverged). A model of a system at rest that oscillates by itself scores high.
+double RestDeviation(const NarxModel& model, const Series& train);
 
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);

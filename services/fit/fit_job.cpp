@@ -135,7 +135,9 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
           {"at_cap", c.at_cap},
           {"holdout_one_step_ndei", num(c.holdout_one_step_ndei)},
           {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
-          {"score", num(c.score)}};
+          {"score", num(c.score)},
+          {"rest_deviation", num(c.rest_deviation)},
+          {"restless", c.restless}};
 }
 
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
@@ -513,7 +515,10 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
                     chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
                     c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
                     c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
-                    num(c["holdout_free_run_ndei"]), best ? "  (best)" : "");
+                    num(c["holdout_free_run_ndei"]),
+                    c.value("restless", false) ? "  (oscillates at rest)"
+                    : best                     ? "  (best)"
+                                               : "");
       out << line;
       ++k;
     }
