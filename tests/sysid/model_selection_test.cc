@@ -1,6 +1,7 @@
 // Model selection on a hold-out slice of the training data (docs/identifier.md §9).
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -226,6 +227,33 @@ TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {
   const auto t = TargetRows(testing::NarendraSpec(), c);
   for (const auto row : t)
     EXPECT_TRUE(row < 50 || row >= 50 + testing::NarendraSpec().first_target());
+}
+
+// The rest test: y(t) = 2r cos(ω) y(t−1) − r² y(t−2) held at zero input. Damped (r < 1) it comes
+// to rest; undamped (r = 1) it oscillates by itself for ever, which no hold-out need show.
+TEST(ModelSelection, RestDeviationTellsASelfExcitedModelFromOneThatSettles) {
+  RegressorSpec spec;
+  spec.outputs = {"y"};
+  spec.inputs = {"u"};
+  spec.output_lags = 2;
+  spec.input_lags = 1;
+  Series train;
+  train.outputs = Eigen::VectorXd::LinSpaced(500, -1.0, 1.0);
+  train.inputs = Eigen::VectorXd::Zero(500);
+  auto model = [&](double r) {
+    fuzzy::FuzzyModelConfig cfg;
+    cfg.entropy.max_rules = 1;
+    NarxModel m(spec, cfg);
+    m.Learn(Eigen::Vector3d(0, 0, 0), Eigen::VectorXd::Zero(1));  // the one rule
+    const double w = 0.3;
+    Eigen::VectorXd theta(4);
+    theta << 0.0, 2 * r * std::cos(w), -r * r, 0.0;  // a0, y(t−1), y(t−2), u(t−1)
+    m.mutable_model(0).mutable_consequent().SetParameters(theta);
+    return m;
+  };
+  EXPECT_LT(RestDeviation(model(0.9), train), 1e-6);
+  EXPECT_GT(RestDeviation(model(1.0), train), 0.01);
+  EXPECT_GT(RestDeviation(model(1.05), train), 1e3);  // unstable: it grows without bound
 }
 
 TEST(ModelSelection, RefusesATrainingSeriesTooShortToHoldOut) {
