@@ -12,6 +12,8 @@
 namespace odonata::bus {
 
 /// Calls `fn` for every event of every log, in order.
+/// A log whose last event is cut off (its writer killed while writing it) is read up to that
+/// event, with a note on stderr; anything else unreadable is an error.
 /// @throws std::runtime_error for a log that cannot be opened, or that holds an unreadable event
 ///   before its end (naming the file, the byte offset and how many events were read).
 void ForEachLogEvent(const std::vector<std::string>& log_paths,

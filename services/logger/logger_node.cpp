@@ -79,6 +79,12 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
     return;
   }
   const int64_t held = marks_.held();
+  // A receipt says the events are safe: they must have left this process's buffer first, or a
+  // kill -9 loses what the generator will never resend (the page cache survives the process).
+  if (held >= 0 && held != flushed_held_) {  // != : a new run starts its marks again
+    writer_.Flush();
+    flushed_held_ = held;
+  }
   acks_.Publish(held, state_seq);
 }
 

@@ -16,9 +16,11 @@ namespace odonata::logger {
 
 struct RecordOptions {
   std::string channels_regex = ".*";
-  std::string prefix;           ///< files are PREFIX.00000, PREFIX.00001, …
-  int64_t split_bytes = 0;      ///< rotate past this size (0: one file)
-  double flush_period_s = 0.5;  ///< at most this much is lost if the machine dies
+  std::string prefix;       ///< files are PREFIX.00000, PREFIX.00001, …
+  int64_t split_bytes = 0;  ///< rotate past this size (0: one file)
+  /// At most this much is lost if the machine dies; what the logger acknowledges in lockstep is
+  /// flushed before its receipt goes out, so a killed logger loses nothing acknowledged.
+  double flush_period_s = 0.5;
 };
 
 class LoggerNode {
@@ -36,6 +38,7 @@ class LoggerNode {
   RecordOptions options_;
   bus::EventLogWriter writer_;
   WrittenRunMarks marks_;
+  int64_t flushed_held_ = -1;  // the newest held state whose events were flushed
   bus::AckPublisher acks_;
 };
 

@@ -102,14 +102,13 @@ TEST_F(EventLogTest, ADamagedLogIsAnErrorNotAShortRead) {
   const auto files = Record(dir_ + "/log", 20);
   const std::string whole = Slurp(files[0]);
   ASSERT_EQ(Events(files).size(), 20u);
-  // Cut off mid-event (a crash while writing), garbage appended, and garbage in the middle
-  // (which LogFile would silently skip to the next sync word).
-  const std::string cut = dir_ + "/cut", tail = dir_ + "/tail", middle = dir_ + "/middle";
-  std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() - 7);
+  // Garbage appended, and garbage in the middle (which LogFile would silently skip to the next
+  // sync word).
+  const std::string tail = dir_ + "/tail", middle = dir_ + "/middle";
   std::ofstream(tail, std::ios::binary) << whole << "garbage";
   std::ofstream(middle, std::ios::binary)
       << whole.substr(0, 100) << "\x01\x02\x03garbage" << whole.substr(100);
-  for (const std::string& bad : {cut, tail, middle}) {
+  for (const std::string& bad : {tail, middle}) {
     try {
       Events({bad});
       ADD_FAILURE() << bad << " was read as if whole";
@@ -119,6 +118,21 @@ TEST_F(EventLogTest, ADamagedLogIsAnErrorNotAShortRead) {
     }
   }
   EXPECT_THROW(Events({dir_ + "/missing"}), std::runtime_error);
+}
+
+// A logger killed while writing leaves its last event cut off: every whole event before it is
+// read, whether the cut falls in the last event's data or in its header.
+TEST_F(EventLogTest, ACutOffLastEventLeavesTheEventsBeforeIt) {
+  const auto files = Record(dir_ + "/log", 20);
+  const std::string whole = Slurp(files[0]);
+  const std::size_t last = 28 + 1 + 20;  // header, channel "A", 20 bytes of data
+  for (const std::size_t keep : {last - 7, std::size_t{10}, std::size_t{2}}) {
+    const std::string cut = dir_ + "/cut" + std::to_string(keep);
+    std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() - last + keep);
+    const auto events = Events({cut});
+    ASSERT_EQ(events.size(), 19u) << keep << " bytes of the last event kept";
+    EXPECT_EQ(events.back(), std::string(19, static_cast<char>('a' + 19 % 26)));
+  }
 }
 
 }  // namespace
