@@ -23,9 +23,13 @@
 // (sequence_window.hpp), one older than the newest by more than kResendReach, and a second
 // command with a used seq from another source are bad input (std::invalid_argument, nothing
 // changes); an older state or beat state already held or used is a resend (ignored). A fresh
-// state 0 (command_seq < 0) after others is a plant restart: every message of the old run is
-// forgotten. A fresh beat state 0 likewise starts the beat states afresh, and survives the state
-// restart that follows it.
+// state 0 (command_seq < 0) after others is only a *candidate* plant restart — one stale or
+// forged packet must not cut a run in two — until the plant confirms it: with its state 1, or
+// with a second fresh state 0 (a restarted plant repeats it while nothing commands it). Then
+// every message of the old run is forgotten, and the commands that came since the candidate are
+// the new run's. A state newer than the old run's newest drops the candidate (the old run goes
+// on; the commands kept aside are its own). A fresh beat state 0 starts the beat states afresh,
+// and survives the state restart that follows it.
 //
 // State, Command and Beat are the message types (or stand-ins in tests): State and Beat need
 // `seq` and `command_seq`, Command `seq` and `source`.
@@ -97,23 +101,38 @@ class SamplePairer {
     std::vector<Event> events;
     const int64_t newest = NewestState();
     Guard(&state_leaps_, "state", msg.seq, newest);
+    const bool fresh = msg.seq == 0 && msg.command_seq < 0;
+    if (fresh && newest > 1 && !candidate_) {
+      candidate_ = msg;  // only a suspicion so far
+      candidate_commands_.clear();
+      return events;
+    }
+    if (candidate_ && !fresh && msg.seq > newest) {
+      // The old run goes on: the state 0 was stale or forged, and the commands kept aside
+      // meanwhile belong to the old run.
+      for (const auto& [seq, c] : candidate_commands_) commands_.emplace(seq, c);
+      candidate_.reset();
+      candidate_commands_.clear();
+    }
+    if (candidate_ && (fresh || (msg.seq == 1 && newest > 1))) {  // the plant confirms it
+      const State zero = *candidate_;
+      candidate_.reset();
+      Restart(&events);
+      pending_.push_back(zero);
+      if (!fresh) pending_.push_back(msg);
+      Process(&events);
+      return events;
+    }
+    if (fresh && newest > 0) {
+      // Right after a run's start there is hardly an old run to protect, and its state 1 could
+      // not tell the new run from the old: restart at once.
+      Restart(&events);
+      pending_.push_back(msg);
+      Process(&events);
+      return events;
+    }
     if (newest >= 0 && msg.seq <= newest) {
-      if (msg.seq == 0 && msg.command_seq < 0 && newest > 0) {  // the plant restarted its run
-        previous_.reset();
-        pending_.clear();
-        commands_.clear();
-        // A fresh beat state 0 may have come first: it belongs to the new run.
-        const auto fresh = beats_.find(0);
-        const bool keep = fresh != beats_.end() && fresh->second.command_seq < 0 &&
-                          beats_.size() == 1 && newest_beat_ == 0;
-        if (!keep) {
-          beats_.clear();
-          newest_beat_ = -1;
-        }
-        Event e;
-        e.kind = Event::Kind::kRestart;
-        events.push_back(std::move(e));
-      } else if (msg.seq < newest - kResendReach) {
+      if (msg.seq < newest - kResendReach) {
         throw std::invalid_argument("stale state seq " + std::to_string(msg.seq) + " (newest " +
                                     std::to_string(newest) + ")");
       } else {
@@ -136,6 +155,11 @@ class SamplePairer {
   /// @throws std::invalid_argument for a bad seq or a conflicting second command.
   std::vector<Event> OnCommand(const Command& msg) {
     std::vector<Event> events;
+    if (candidate_) {
+      // Whose it is shows when the restart is confirmed or dropped; the first of a seq wins.
+      if (candidate_commands_.size() < kMaxCommands) candidate_commands_.emplace(msg.seq, msg);
+      return events;
+    }
     const int64_t newest = commands_.empty() ? -1 : commands_.rbegin()->first;
     Guard(&command_leaps_, "command", msg.seq, newest);
     // A generator that restarted counts from 0 again: forget the old run's commands.
@@ -209,6 +233,25 @@ class SamplePairer {
   static void Guard(LeapGuard* guard, const std::string& what, int64_t seq, int64_t newest) {
     const std::string problem = guard->Problem(what, seq, newest);
     if (!problem.empty()) throw std::invalid_argument(problem);
+  }
+
+  // Forgets the old run: the new one starts from the candidate's
+  // commands, and from a fresh beat state 0 if one came first.
+  void Restart(std::vector<Event>* events) {
+    previous_.reset();
+    pending_.clear();
+    commands_ = std::move(candidate_commands_);
+    candidate_commands_.clear();
+    const auto fresh = beats_.find(0);
+    const bool keep = fresh != beats_.end() && fresh->second.command_seq < 0 &&
+                      beats_.size() == 1 && newest_beat_ == 0;
+    if (!keep) {
+      beats_.clear();
+      newest_beat_ = -1;
+    }
+    Event e;
+    e.kind = Event::Kind::kRestart;
+    events->push_back(std::move(e));
   }
 
   int64_t NewestState() const {
@@ -297,7 +340,9 @@ class SamplePairer {
   PairingNeeds needs_;
   LeapGuard state_leaps_, command_leaps_, beat_leaps_;
   std::map<int64_t, Command> commands_;  // by seq, bounded
-  std::map<int64_t, Beat> beats_;        // by seq, from the oldest still usable on
+  std::optional<State> candidate_;       // a fresh state 0 mid-run, until confirmed or dropped
+  std::map<int64_t, Command> candidate_commands_;  // commands since the candidate
+  std::map<int64_t, Beat> beats_;                  // by seq, from the oldest still usable on
   int64_t newest_beat_ = -1;
   std::optional<State> previous_;
   std::deque<State> pending_;  // waiting for the next state or a message their sample needs

@@ -97,7 +97,10 @@ TEST(SampleStream, BadMessagesAreRejectedAndARestartIsReported) {
     stream.OnState(State(k));
     stream.OnCommand(Command(k));
   }
-  const auto events = stream.OnState(State(0));
+  // A fresh state 0 is a restart once the plant confirms it with its state 1.
+  EXPECT_TRUE(stream.OnState(State(0)).empty());
+  stream.OnCommand(Command(0));
+  const auto events = stream.OnState(State(1));
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events.front().kind, SampleStream::Event::Kind::kRestart);
 }

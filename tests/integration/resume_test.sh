@@ -29,6 +29,10 @@ grep -q "waits for receipts from: identifier logger" "$OUT/signal.log" ||
   fail "the generator did not find both consumers: $(cat "$OUT/signal.log")"
 kill -KILL "$PID_ident1"
 start ident2 "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 3 --save-model "$OUT/model.json"
+# The run goes on once the new identifier has resumed and learns: a consumer that starts in the
+# middle of a burst of states would take the first it hears for the start of its history, and
+# the generator cannot tell it missed the ones before (the receipt names only the newest held).
+wait_up "$URL" identifier -- --state running --fresh
 kill -USR1 "$PID_signal"
 wait "$PID_signal" || fail "the run failed: $(cat "$OUT/signal.log")"
 stop_clean "$PID_ident2" "restarted identifier"

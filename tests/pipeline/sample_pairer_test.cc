@@ -276,17 +276,59 @@ TEST(SamplePairer, APlantRestartForgetsTheOldRunWhicheverStreamRestartsFirst) {
     if (beat_first) log.Add(p.OnBeat(B(0)));
     log.Add(p.OnState(S(0)));
     if (!beat_first) log.Add(p.OnBeat(B(0)));
-    const auto restarts = std::count_if(log.events.begin(), log.events.end(),
-                                        [](const auto& e) { return e.kind == Kind::kRestart; });
-    EXPECT_EQ(restarts, 1);
+    auto restarts = [&] {
+      return std::count_if(log.events.begin(), log.events.end(),
+                           [](const auto& e) { return e.kind == Kind::kRestart; });
+    };
+    EXPECT_EQ(restarts(), 0) << "a fresh state 0 alone is only a candidate";
     const std::size_t before = log.Samples().size();
-    log.Add(p.OnCommand(C(0)));
-    log.Add(p.OnState(S(1)));
+    log.Add(p.OnCommand(C(0)));  // the new run's command 0: kept aside until the plant answers
+    log.Add(p.OnState(S(1)));    // its answer confirms the restart
+    EXPECT_EQ(restarts(), 1);
     log.Add(p.OnBeat(B(1)));
     ASSERT_EQ(log.Samples().size(), before + 1) << "beat first: " << beat_first;
     EXPECT_EQ(log.events.back().index, 0);
     EXPECT_EQ(log.Lost(), 0);
   }
+}
+
+// One forged (or stale) fresh state 0 mid-run must not cut the run in two: the old run goes on,
+// nothing is lost, and the commands that came meanwhile pair as they should.
+TEST(SamplePairer, ALoneFreshStateZeroMidRunChangesNothing) {
+  Pairer clean(PairingNeeds{true, true}), forged(PairingNeeds{true, true});
+  Log a, b;
+  for (int64_t k = 0; k < 40; ++k) {
+    Step(clean, a, k, true);
+    if (k == 20) {
+      b.Add(forged.OnState(S(k)));
+      b.Add(forged.OnBeat(B(k)));
+      b.Add(forged.OnState(State{0, -1}));  // forged between state 20 and command 20
+      b.Add(forged.OnCommand(C(k)));
+    } else {
+      Step(forged, b, k, true);
+    }
+  }
+  EXPECT_EQ(b.Samples(), a.Samples());
+  EXPECT_EQ(b.Lost(), 0);
+  for (const auto& e : b.events) EXPECT_NE(e.kind, Kind::kRestart);
+  EXPECT_EQ(forged.newest_held_state(), clean.newest_held_state());
+}
+
+// A restarted plant left uncommanded repeats its state 0: the second one confirms the restart.
+TEST(SamplePairer, ARepeatedFreshStateZeroConfirmsTheRestart) {
+  Pairer p(PairingNeeds{false, false});
+  Log log;
+  for (int64_t k = 0; k < 10; ++k) Step(p, log, k, false);
+  log.Add(p.OnState(State{0, -1}));
+  log.Add(p.OnState(State{0, -1}));
+  EXPECT_EQ(std::count_if(log.events.begin(), log.events.end(),
+                          [](const auto& e) { return e.kind == Kind::kRestart; }),
+            1);
+  const std::size_t before = log.Samples().size();
+  log.Add(p.OnCommand(C(0)));
+  log.Add(p.OnState(S(1)));
+  ASSERT_EQ(log.Samples().size(), before + 1);
+  EXPECT_EQ(log.events.back().index, 0);
 }
 
 }  // namespace
