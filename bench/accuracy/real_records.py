@@ -253,9 +253,13 @@ def main():
     print("|---|---|---|---|---|---|---|")
     for row in results:
         for model, r in row["models"].items():
-            k = f"{r['k_step']['fit']:.1f} ({row['horizon']} steps)" if "k_step" in r else "–"
-            print(f"| {row['record']} ({row['ny']}, {row['nu']}) | {model} | {r['one_step']['fit']:.1f} | {k} | "
-                  f"{r['free_run']['fit']:.1f} ({r['free_run']['rmse']:.4g}) | {r['size']} | {r['seconds']:.1f} s |")
+            def fit(b):  # a free run far off the data says only that it diverged
+                return "diverges" if b["fit"] < -1000 else f"{b['fit']:.1f}"
+            k = f"{fit(r['k_step'])} ({row['horizon']} steps)" if "k_step" in r else "–"
+            free = "diverges" if r["free_run"]["fit"] < -1000 else \
+                f"{r['free_run']['fit']:.1f} ({r['free_run']['rmse']:.4g})"
+            print(f"| {row['record']} ({row['ny']}, {row['nu']}) | {model} | {fit(r['one_step'])} | {k} | "
+                  f"{free} | {r['size']} | {r['seconds']:.1f} s |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)
