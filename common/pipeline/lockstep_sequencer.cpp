@@ -111,6 +111,13 @@ SequencerAction LockstepSequencer::RemoveConsumer(const std::string& instance) {
 SequencerAction LockstepSequencer::OnAck(const std::string& instance, int64_t state_seq) {
   const auto it = consumers_.find(instance);
   if (it == consumers_.end()) return SequencerAction{};
+  // No state beyond the answer to the newest command sent exists yet: a receipt for one is
+  // forged (or from another run), and believing it would slide the window past a consumer that
+  // holds nothing.
+  if (state_seq > sent_) {
+    ++impossible_acks_;
+    return SequencerAction{};
+  }
   // A consumer that restarted acknowledges from scratch: its newest receipt is the truth.
   it->second = state_seq;
   return TryAdvance();

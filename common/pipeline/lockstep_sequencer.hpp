@@ -80,7 +80,8 @@ class LockstepSequencer {
   SequencerAction AddConsumer(const std::string& instance);
   /// Stops waiting for `instance` (it stopped cleanly); may release the next command.
   SequencerAction RemoveConsumer(const std::string& instance);
-  /// `instance` holds state `state_seq` and all it needs (ack_t). Unknown instances are ignored.
+  /// `instance` holds state `state_seq` and all it needs (ack_t). Unknown instances are ignored,
+  /// and so is a receipt for a state beyond the answer to the newest command sent.
   SequencerAction OnAck(const std::string& instance, int64_t state_seq);
   /// Holds command 0 until ReleaseStart() (while the generator discovers its consumers).
   void HoldStart() { start_held_ = true; }
@@ -106,6 +107,8 @@ class LockstepSequencer {
   int64_t total_resends() const { return total_resends_; }
   /// Of those, resends because a consumer had not acknowledged a state the plant had answered.
   int64_t ack_resends() const { return ack_resends_; }
+  /// Receipts ignored because they acknowledged a state no command sent could have produced.
+  int64_t impossible_acks() const { return impossible_acks_; }
   /// The consumers waited for, with the newest state each acknowledged.
   const std::map<std::string, int64_t>& consumers() const { return consumers_; }
 
@@ -135,6 +138,7 @@ class LockstepSequencer {
   int resends_ = 0;        // consecutive, for the message awaited now
   int64_t total_resends_ = 0;
   int64_t ack_resends_ = 0;
+  int64_t impossible_acks_ = 0;
   bool received_ = false;  // state 0 arrived (acknowledgements may still be missing)
   bool start_held_ = false;
   int64_t hold_at_ = -1;  // no command from here on until ReleaseHold() (-1: no hold)

@@ -300,6 +300,13 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
                  bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
                  rate.c_str(), static_cast<long long>(sequencer_.total_resends()),
                  static_cast<long long>(sequencer_.ack_resends()));
+    if (sequencer_.impossible_acks() > 0) {
+      std::fprintf(stderr,
+                   "[%s] WARNING: %lld receipt(s) for states no command had produced yet were "
+                   "ignored (forged, or from another run)\n",
+                   bus_.options().instance.c_str(),
+                   static_cast<long long>(sequencer_.impossible_acks()));
+    }
     if (first_command_) {
       // The messages each sample cost the protocol: its hops, and what loss or a slow
       // consumer added (docs/lcm.md §10).

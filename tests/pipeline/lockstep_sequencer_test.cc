@@ -173,6 +173,25 @@ TEST(LockstepSequencer, AHoldStandsStillUntilReleased) {
   EXPECT_EQ(s.OnTimeout().seq, 5);  // from here on timeouts resend again
 }
 
+// A receipt for a state that no command sent so far could have produced is forged: it must not
+// slide the window for a consumer that holds nothing (issue: forged ODONATA_ACK).
+TEST(LockstepSequencer, AReceiptForAStateNotYetPossibleIsIgnored) {
+  LockstepSequencer s(100, true, 2, 3, 4);
+  s.AddConsumer("ident");
+  s.Start();
+  s.OnState(0, -1, false);
+  SequencerAction a = s.OnAck("ident", 0);
+  ASSERT_EQ(a.kind, Kind::kSendCommand);  // commands 0 … 3
+  EXPECT_EQ(s.OnAck("ident", 5000).kind, Kind::kNone);
+  EXPECT_EQ(s.impossible_acks(), 1);
+  EXPECT_EQ(s.consumers().at("ident"), 0);
+  for (int64_t k = 1; k <= 4; ++k) EXPECT_EQ(s.OnState(k, k - 1, false).kind, Kind::kNone);
+  EXPECT_EQ(s.current(), 0) << "the plant answered, but the consumer acknowledged nothing";
+  a = s.OnAck("ident", 4);  // the genuine receipt
+  ASSERT_EQ(a.kind, Kind::kSendCommand);
+  EXPECT_EQ(s.current(), 4);
+}
+
 TEST(LockstepSequencer, TimeoutsResendThenFail) {
   LockstepSequencer s(5, true, 2);
   s.Start();
