@@ -274,10 +274,8 @@ void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorX
                                            Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const {
   const int r = rules_.rules();
   if (r == 0) return;
-  rules_.Evaluate(x, &scratch_);
-  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const double yhat = EvaluateInScratch(x);
   const Eigen::ArrayXd& phi = scratch_.normalized;
-  const double yhat = (phi * rule_outputs_).sum();
   auto g = gradient_factor_.head(r);
   g = (yhat - y) * (rule_outputs_ - yhat) * phi;
   auto dc = grad_c_.head(r);
@@ -289,15 +287,19 @@ void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorX
   }
 }
 
+double FuzzyModel::EvaluateInScratch(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  rules_.Evaluate(x, &scratch_);
+  consequent_->RuleOutputs(x, rules_.rules(), &rule_outputs_);
+  return (scratch_.normalized * rule_outputs_).sum();
+}
+
 double FuzzyModel::PredictWithInputGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
                                             Eigen::Ref<Eigen::VectorXd> dydx) const {
   dydx.setZero();
   const int r = rules_.rules();
   if (r == 0) return 0.0;
-  rules_.Evaluate(x, &scratch_);
-  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const double yhat = EvaluateInScratch(x);
   const Eigen::ArrayXd& phi = scratch_.normalized;
-  const double yhat = (phi * rule_outputs_).sum();
   // ∂ŷ/∂x_i = Σ_j φ_j ∂y_j/∂x_i − Σ_j ∂ŷ/∂c_ji: moving x is moving every centre the other way.
   auto g = gradient_factor_.head(r);
   g = (rule_outputs_ - yhat) * phi;
@@ -316,10 +318,8 @@ void FuzzyModel::AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd
                                           Eigen::VectorXd* gq) const {
   const int r = rules_.rules();
   if (r == 0 || weight == 0.0) return;
-  rules_.Evaluate(x, &scratch_);
-  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const double yhat = EvaluateInScratch(x);
   const Eigen::ArrayXd& phi = scratch_.normalized;
-  const double yhat = (phi * rule_outputs_).sum();
   auto g = gradient_factor_.head(r);
   g = weight * (rule_outputs_ - yhat) * phi;
   auto dc = grad_c_.head(r);

@@ -158,6 +158,9 @@ class FuzzyModel {
   void PremiseGradientOfInput(int i, double xi, const Eigen::Ref<const Eigen::ArrayXd>& g,
                               Eigen::Ref<Eigen::ArrayXd> dc, Eigen::Ref<Eigen::ArrayXd> ds) const;
   void RemoveRule(int rule);
+  /// ŷ at x, leaving the weights in scratch_.normalized and y_j(x) in rule_outputs_ for the
+  /// gradient kernels. @pre rules() ≥ 1.
+  double EvaluateInScratch(const Eigen::Ref<const Eigen::VectorXd>& x) const;
   bool RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
                           const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
                           double deviation_ridge);

@@ -111,10 +111,15 @@ SequencerAction LockstepSequencer::RemoveConsumer(const std::string& instance) {
 SequencerAction LockstepSequencer::OnAck(const std::string& instance, int64_t state_seq) {
   const auto it = consumers_.find(instance);
   if (it == consumers_.end()) return SequencerAction{};
-  // No state beyond the answer to the newest command sent exists yet: a receipt for one is
-  // forged (or from another run), and believing it would slide the window past a consumer that
-  // holds nothing.
-  if (state_seq > sent_) {
+  if (phase_ == Phase::kAwaitingInitial) {
+    // Before command 0 a consumer still acknowledges its previous run (the logger takes a fresh
+    // state 0 for a new run only once the plant answers a command of it): any receipt says it
+    // is there, and holds no more than state 0 of this run.
+    state_seq = std::min<int64_t>(state_seq, 0);
+  } else if (state_seq > sent_) {
+    // No state beyond the answer to the newest command sent exists yet: a receipt for one is
+    // forged, or a consumer's previous run, and believing it would slide the window past a
+    // consumer that holds nothing.
     ++impossible_acks_;
     return SequencerAction{};
   }

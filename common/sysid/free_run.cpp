@@ -18,6 +18,28 @@ Eigen::MatrixXd PredictOneStep(const RegressorSpec& spec, const Series& series,
   return out;
 }
 
+namespace {
+
+// One step of a free run: predicts target row t from `simulated` (measured before the run, the
+// run's own predictions within it) and writes the prediction there; a non-finite one is held at
+// the last value, and `bad` says so.
+void SimulateStep(const RegressorSpec& spec, Eigen::Index t, Eigen::MatrixXd& simulated,
+                  const Eigen::MatrixXd& inputs, const Predictor& predict, Eigen::VectorXd& x,
+                  bool& bad) {
+  spec.Fill(t, simulated, inputs, x);
+  const Eigen::VectorXd y = predict(x);
+  for (Eigen::Index o = 0; o < y.size(); ++o) {
+    if (std::isfinite(y(o))) {
+      simulated(t, o) = y(o);
+    } else {
+      simulated(t, o) = simulated(t - 1 >= 0 ? t - 1 : 0, o);
+      bad = true;
+    }
+  }
+}
+
+}  // namespace
+
 Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
                                 const Predictor& predict, bool* diverged) {
   const auto targets = TargetRows(spec, series);
@@ -30,16 +52,7 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
   bool bad = false;
   for (std::size_t r = 0; r < targets.size(); ++r) {
     const Eigen::Index t = targets[r];
-    spec.Fill(t, simulated, series.inputs, x);
-    const Eigen::VectorXd y = predict(x);
-    for (Eigen::Index o = 0; o < y.size(); ++o) {
-      if (std::isfinite(y(o))) {
-        simulated(t, o) = y(o);
-      } else {
-        simulated(t, o) = simulated(t - 1 >= 0 ? t - 1 : 0, o);
-        bad = true;
-      }
-    }
+    SimulateStep(spec, t, simulated, series.inputs, predict, x, bad);
     out.row(static_cast<Eigen::Index>(r)) = simulated.row(t);
   }
   if (diverged) *diverged = bad;
@@ -61,19 +74,8 @@ Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
     while (first > 0 && r - first + 1 < static_cast<std::size_t>(horizon) &&
            targets[first - 1] == targets[first] - 1)
       --first;
-    for (std::size_t q = first; q <= r; ++q) {
-      const Eigen::Index t = targets[q];
-      spec.Fill(t, simulated, series.inputs, x);
-      const Eigen::VectorXd y = predict(x);
-      for (Eigen::Index o = 0; o < y.size(); ++o) {
-        if (std::isfinite(y(o))) {
-          simulated(t, o) = y(o);
-        } else {
-          simulated(t, o) = simulated(t - 1 >= 0 ? t - 1 : 0, o);
-          bad = true;
-        }
-      }
-    }
+    for (std::size_t q = first; q <= r; ++q)
+      SimulateStep(spec, targets[q], simulated, series.inputs, predict, x, bad);
     out.row(static_cast<Eigen::Index>(r)) = simulated.row(targets[r]);
     for (std::size_t q = first; q <= r; ++q)  // the next start reads measured outputs again
       simulated.row(targets[q]) = series.outputs.row(targets[q]);

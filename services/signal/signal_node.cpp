@@ -302,8 +302,8 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
                  static_cast<long long>(sequencer_.ack_resends()));
     if (sequencer_.impossible_acks() > 0) {
       std::fprintf(stderr,
-                   "[%s] WARNING: %lld receipt(s) for states no command had produced yet were "
-                   "ignored (forged, or from another run)\n",
+                   "[%s] %lld receipt(s) for states beyond the newest command were ignored (a "
+                   "consumer's previous run, or forged)\n",
                    bus_.options().instance.c_str(),
                    static_cast<long long>(sequencer_.impossible_acks()));
     }
