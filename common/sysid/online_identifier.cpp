@@ -5,7 +5,8 @@
 
 namespace odonata::sysid {
 
-OnlineIdentifier::OnlineIdentifier(NarxModel model) : model_(std::move(model)) {}
+OnlineIdentifier::OnlineIdentifier(NarxModel model, RefitSchedule refit)
+    : model_(std::move(model)), refitter_(refit) {}
 
 void OnlineIdentifier::RestartHistory() {
   history_.clear();
@@ -16,6 +17,7 @@ void OnlineIdentifier::RestartHistory() {
 void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
   model_ = std::move(model);
   samples_learned_ = samples_learned;
+  refitter_.Clear();  // rows learned by the model that is gone
   RestartHistory();
 }
 
@@ -97,7 +99,11 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
     rep.rules(o) = model_.model(static_cast<int>(o)).rules();
   }
   rep.learned = learning_;
-  if (learning_) ++samples_learned_;
+  if (learning_) {
+    ++samples_learned_;
+    // After the per-sample step, as odonata-fit's online pass does (NarxModel::Train).
+    refitter_.AfterLearn(model_, x, s.outputs, samples_learned_);
+  }
 
   rep.next = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
   if (spec.delay == 1) {

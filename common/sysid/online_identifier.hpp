@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "sysid/narx_model.hpp"
+#include "sysid/replay_refitter.hpp"
 
 namespace odonata::sysid {
 
@@ -36,7 +37,8 @@ enum class PushResult { kAccepted, kGap, kDuplicate, kRejected };
 
 class OnlineIdentifier {
  public:
-  explicit OnlineIdentifier(NarxModel model);
+  /// `refit`: when to refit the model on the samples kept (ReplayRefitter); none by default.
+  explicit OnlineIdentifier(NarxModel model, RefitSchedule refit = {});
 
   /// Feeds sample k. A sample that does not follow the previous one (a gap) restarts the
   /// history — regressors are never built across a gap; earlier or repeated samples and
@@ -60,6 +62,8 @@ class OnlineIdentifier {
   const NarxModel& model() const { return model_; }
   int64_t samples_learned() const { return samples_learned_; }
   int64_t gaps() const { return gaps_; }
+  /// Scheduled refits so far (ReplayRefitter).
+  int64_t refits() const { return refitter_.refits(); }
   int64_t last_index() const { return last_index_; }
 
  private:
@@ -71,6 +75,7 @@ class OnlineIdentifier {
   bool have_last_ = false;
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
+  ReplayRefitter refitter_;
 };
 
 }  // namespace odonata::sysid

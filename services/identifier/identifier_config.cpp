@@ -69,6 +69,10 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "snapshot_every_samples",
                                           "resume_wait_s",
                                           "decimate",
+                                          "refit_first",
+                                          "refit_every",
+                                          "refit_buffer",
+                                          "refit_epochs",
                                           "source",
                                           "ranges",
                                           "channels"};
@@ -141,6 +145,11 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
                               std::numeric_limits<int64_t>::max(), problem);
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
     c.decimate = IntegerField<int>(j, "decimate", c.decimate, 1, 100000, problem);
+    const int64_t most = 100000000;  // 10⁸ samples: beyond any buffer a board can hold
+    c.refit.first = IntegerField<int64_t>(j, "refit_first", c.refit.first, 0, most, problem);
+    c.refit.every = IntegerField<int64_t>(j, "refit_every", c.refit.every, 0, most, problem);
+    c.refit.buffer = IntegerField<int64_t>(j, "refit_buffer", c.refit.buffer, 1, most, problem);
+    c.refit.epochs = IntegerField<int>(j, "refit_epochs", c.refit.epochs, 0, 1000, problem);
     const std::string source = j.value("source", std::string("dimav"));
     if (source == "signals")
       c.source = SampleSource::kSignals;
@@ -193,6 +202,13 @@ std::string ExampleIdentifierConfig() {
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
   j["decimate"] = 1;
+  // Refit on the most recent samples at 2×, 4×, … refit_first learned, then every refit_every
+  // (0: none; docs/identifier.md §6.3). odonata-fit --refit-* replays the same schedule.
+  const sysid::RefitSchedule refit;
+  j["refit_first"] = refit.first;
+  j["refit_every"] = refit.every;
+  j["refit_buffer"] = refit.buffer;
+  j["refit_epochs"] = refit.epochs;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
   j["source"] = "dimav";
   j["channels"] = {

@@ -5,6 +5,7 @@
 
 #include "bus/channel_config.hpp"
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/narx_model.hpp"
 #include "sysid/regressor_spec.hpp"
 #include "sysid/signal_ranges.hpp"
 
@@ -26,6 +27,9 @@ struct IdentifierConfig {
   /// Learn from one sample per block of this many (io::RowDecimator, as odonata-sim --decimate
   /// and odonata-logger export --decimate cut them): 5 identifies at 20 Hz from a 100 Hz plant.
   int decimate = 1;
+  /// Refits of the model on the most recent samples at fixed counts (docs/identifier.md §6.3):
+  /// "refit_first" (0: none), "refit_every", "refit_buffer", "refit_epochs".
+  sysid::RefitSchedule refit;
   bus::ChannelConfig channels;
 };
 

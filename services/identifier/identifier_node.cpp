@@ -19,7 +19,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       save_model_path_(std::move(save_model_path)),
       models_dir_(std::move(models_dir)),
       acks_(bus, config_.channels.ack),
-      core_(initial ? *initial : EmptyModel()),
+      core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
   const auto& ch = config_.channels;
   if (config_.source == SampleSource::kSignals) {

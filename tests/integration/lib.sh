@@ -128,6 +128,8 @@ cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "
        "--consequent", c["consequent"], "--kappa", str(c["kappa"]), "--sigma-min", str(c["sigma_min"]),
        "--max-rules", str(c["max_rules"]), "--entropy-threshold", str(c["entropy_threshold"]),
        "--forgetting", str(c.get("forgetting", 1.0)), "--prune-utility", str(c.get("prune_utility", 0.0)),
+       "--refit-first", str(c.get("refit_first", 0)), "--refit-every", str(c.get("refit_every", 0)),
+       "--refit-buffer", str(c.get("refit_buffer", 6000)), "--refit-epochs", str(c.get("refit_epochs", 0)),
        "--save-model", model]
 for i in c["inputs"]:
     cmd += ["--input", i]

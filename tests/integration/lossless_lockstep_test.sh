@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Lossless lockstep on a loaded machine: a CPU hog on every core, and the identifier paused
 # (SIGSTOP) for a second at sample 500 of 1000 (the generator holds there until it is paused).
-# The generator waits for the identifier's and the logger's receipts, so neither loses a sample: the log holds every one, the identifier learned every one
-# (its model equals odonata-fit's on the exported samples, bit for bit), and a consumer killed
+# The generator waits for the identifier's and the logger's receipts, so neither loses a sample:
+# the log holds every one, the identifier learned every one (its model, refitted at fixed sample
+# counts, equals odonata-fit's on the exported samples, bit for bit), and a consumer killed
 # mid-run fails the run instead of passing it with samples missing.
 source "$(dirname "$0")/lib.sh"
 enter_netns "$@"
@@ -11,6 +12,14 @@ HOGS=()
 trap 'for h in "${HOGS[@]}"; do kill "$h" 2>/dev/null || true; done; stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7687?ttl=0'
 "$SRC/deploy/make-identifier-config" --preset roll --duration 10 --build "$BUILD" --output "$OUT/id.json"
+# With scheduled refits (at 200, 400 and 800 samples): the online model still equals
+# odonata-fit's replay of the same schedule on the exported samples.
+"$PY" - "$OUT/id.json" <<'PYEOF'
+import json, sys
+c = json.load(open(sys.argv[1]))
+c.update(refit_first=200, refit_every=400, refit_buffer=600, refit_epochs=3)
+json.dump(c, open(sys.argv[1], "w"), indent=1)
+PYEOF
 for _ in $(seq "$(nproc)"); do
   (while :; do :; done) &
   HOGS+=($!)
