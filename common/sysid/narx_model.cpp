@@ -16,7 +16,6 @@
 #include "metrics/accuracy.hpp"
 #include "sysid/free_run.hpp"
 #include "sysid/rprop.hpp"
-#include "sysid/replay_refitter.hpp"
 #include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
@@ -37,47 +36,6 @@ struct RpropState {
     sigmas.Backtrack();
   }
 };
-
-// Training loss (scaled units, summed over outputs) and, in `fit`, the one-step FIT in %, mean
-// over outputs.
-double Loss(const std::vector<fuzzy::FuzzyModel>& models, const Eigen::MatrixXd& xs,
-            const Eigen::MatrixXd& ys, double* fit) {
-  const Eigen::Index rows = xs.rows();
-  double loss = 0.0, fit_sum = 0.0;
-  for (std::size_t o = 0; o < models.size(); ++o) {
-    Eigen::VectorXd yhat(rows);
-    for (Eigen::Index r = 0; r < rows; ++r) yhat(r) = models[o].Predict(xs.row(r).transpose());
-    const auto col = static_cast<Eigen::Index>(o);
-    loss += (yhat - ys.col(col)).squaredNorm();
-    fit_sum += metrics::Score(ys.col(col), yhat).fit_percent;
-  }
-  if (fit) *fit = fit_sum / static_cast<double>(models.size());
-  return std::isfinite(loss) ? loss : std::numeric_limits<double>::infinity();
-}
-
-// The hybrid rule's premise half: one batch-gradient step per output with a per-parameter step
-// size (iRprop−, Igel & Hüsken 2000). `progress` (may be empty) sees (row, rows).
-void PremiseStep(std::vector<fuzzy::FuzzyModel>& models, const Eigen::MatrixXd& xs,
-                 const Eigen::MatrixXd& ys, std::vector<RpropState>& rprop,
-                 const std::function<void(Eigen::Index, Eigen::Index)>& progress) {
-  const Eigen::Index rows = xs.rows();
-  const auto n = static_cast<int>(xs.cols());
-  for (std::size_t o = 0; o < models.size(); ++o) {
-    auto& m = models[o];
-    auto& st = rprop[o];
-    const int r = m.rules();
-    if (!st.centres.Matches(r, n)) st.Reset(r, n);
-    Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, n);
-    Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, n);
-    for (Eigen::Index k = 0; k < rows; ++k) {
-      m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k, static_cast<Eigen::Index>(o)), &gc,
-                                  &gs);
-      if (progress && (k % 1024 == 0 || k + 1 == rows)) progress(k + 1, rows);
-    }
-    m.StepPremises(st.centres.Step(gc), st.sigmas.Step(gs));
-  }
-}
-
 }  // namespace
 
 NarxModel::NarxModel(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base) : spec_(spec) {
@@ -146,6 +104,19 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     xs.row(r) = scaling_.ScaleRegressor(d.x.row(r).transpose()).transpose();
     for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, d.y(r, o));
   }
+  // Training loss (scaled units, summed over outputs) and one-step FIT, mean over outputs.
+  auto evaluate = [&](double* fit) {
+    double loss = 0.0, fit_sum = 0.0;
+    for (int o = 0; o < outputs(); ++o) {
+      const auto& m = models_[static_cast<std::size_t>(o)];
+      Eigen::VectorXd yhat(rows);
+      for (Eigen::Index r = 0; r < rows; ++r) yhat(r) = m.Predict(xs.row(r).transpose());
+      loss += (yhat - ys.col(o)).squaredNorm();
+      fit_sum += metrics::Score(ys.col(o), yhat).fit_percent;
+    }
+    *fit = fit_sum / outputs();
+    return std::isfinite(loss) ? loss : std::numeric_limits<double>::infinity();
+  };
   TrainReport report;
   double rate_scale = 1.0;
   double best_loss = std::numeric_limits<double>::infinity();
@@ -156,6 +127,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   int since_improvement = 0;
   std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
   for (int epoch = 0; epoch < options.epochs; ++epoch) {
+    if (options.cancel && options.cancel->load()) throw TrainingCancelled();
     fuzzy::LearnMode mode = epoch == 0 ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kTune;
     // Once least squares owns the consequents, later passes only move the antecedents: an online
     // consequent update would only pull them away from the optimum just solved.
@@ -163,19 +135,27 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     std::vector<fuzzy::FuzzyModel> before;
     if (epoch > 0) before = models_;
     if (epoch > 0 && options.refine_least_squares) {
-      // The hybrid rule's premise half, then (below) the least-squares solve.
-      PremiseStep(models_, xs, ys, rprop, [&](Eigen::Index k, Eigen::Index n) {
-        if (options.progress) options.progress(epoch, static_cast<long>(k), static_cast<long>(n));
-      });
+      // The hybrid rule's premise half, offline: one batch-gradient step per pass with a
+      // per-parameter step size (iRprop−, Igel & Hüsken 2000), then the least-squares solve.
+      for (int o = 0; o < outputs(); ++o) {
+        auto& m = models_[static_cast<std::size_t>(o)];
+        auto& st = rprop[static_cast<std::size_t>(o)];
+        const int r = m.rules();
+        if (!st.centres.Matches(r, spec_.size())) st.Reset(r, spec_.size());
+        Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, spec_.size());
+        Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, spec_.size());
+        for (Eigen::Index k = 0; k < rows; ++k) {
+          m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k, o), &gc, &gs);
+          if (options.progress && (k % 1024 == 0 || k + 1 == rows))
+            options.progress(epoch, k + 1, rows);
+        }
+        m.StepPremises(st.centres.Step(gc), st.sigmas.Step(gs));
+      }
     } else {
-      // The online pass refits as the online identifier does, when asked: the same rows, at the
-      // same counts, through the same code.
-      ReplayRefitter refitter(epoch == 0 ? options.refit : RefitSchedule{});
       for (Eigen::Index r = 0; r < rows; ++r) {
         const Eigen::VectorXd x = xs.row(r).transpose();
         for (int o = 0; o < outputs(); ++o)
           models_[static_cast<std::size_t>(o)].Learn(x, ys(r, o), mode, rate_scale);
-        refitter.AfterLearn(*this, d.x.row(r).transpose(), d.y.row(r).transpose(), r + 1);
         if (options.progress && (r % 1024 == 0 || r + 1 == rows))
           options.progress(epoch, r + 1, rows);
       }
@@ -188,7 +168,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     EpochRecord rec;
     rec.epoch = epoch + 1;
     rec.rate_scale = rate_scale;
-    const double loss = Loss(models_, xs, ys, &rec.train_fit);
+    const double loss = evaluate(&rec.train_fit);
     if (epoch > 0 && !(loss <= best_loss)) {
       // Backtracking: undo the pass and retry with half the premise step.
       models_ = std::move(before);
@@ -227,6 +207,10 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   if (!options.simulation.empty() && spec_.output_lags > 0) {
     SimulationTrainOptions so;
     so.stages = options.simulation;
+    if (options.cancel)
+      so.progress = [cancel = options.cancel](int, long, long) {
+        if (cancel->load()) throw TrainingCancelled();
+      };
     if (options.holdout != nullptr && (options.holdout_free_run || options.holdout_horizon > 1)) {
       so.holdout = options.holdout;
       so.holdout_horizon = options.holdout_horizon;
@@ -234,34 +218,6 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     report.simulation = TrainOnSimulationError(*this, train, so).kept;
   }
   return report;
-}
-
-void NarxModel::Refit(const Eigen::Ref<const Eigen::MatrixXd>& x,
-                      const Eigen::Ref<const Eigen::MatrixXd>& y, int epochs, double ridge) {
-  const Eigen::Index rows = x.rows();
-  if (rows == 0) return;
-  Eigen::MatrixXd xs(rows, x.cols()), ys(rows, y.cols());
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    xs.row(r) = scaling_.ScaleRegressor(x.row(r).transpose()).transpose();
-    for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, y(r, o));
-  }
-  for (int o = 0; o < outputs(); ++o)
-    models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), ridge);
-  double best = Loss(models_, xs, ys, nullptr);
-  std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
-  for (int epoch = 0; epoch < epochs; ++epoch) {
-    std::vector<fuzzy::FuzzyModel> before = models_;
-    PremiseStep(models_, xs, ys, rprop, {});
-    for (int o = 0; o < outputs(); ++o)
-      models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), ridge);
-    const double loss = Loss(models_, xs, ys, nullptr);
-    if (loss <= best) {
-      best = loss;
-    } else {
-      models_ = std::move(before);  // undone, as an offline pass that raises the loss
-      for (auto& st : rprop) st.Backtrack();
-    }
-  }
 }
 
 std::vector<fuzzy::LearnResult> NarxModel::Learn(const Eigen::VectorXd& regressor,

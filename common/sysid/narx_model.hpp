@@ -1,8 +1,10 @@
 #pragma once
 // A NARX entropy fuzzy model in raw units: regressor spec + scaling + one fuzzy model per output.
 
+#include <atomic>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,22 +24,6 @@ struct SimulationStage {
   bool operator==(const SimulationStage& o) const {
     return horizon == o.horizon && steps == o.steps;
   }
-};
-
-/// When the online learner refits on the samples it keeps (sysid/replay_refitter.hpp,
-/// docs/identifier.md §6.3): at fixed counts of samples learned, so any replay of the same rows
-/// refits at the same samples.
-struct RefitSchedule {
-  int64_t first = 0;      ///< the first refit after this many samples, then 2×, 4×, …; 0: never
-  int64_t every = 0;      ///< past this many samples, one every this many (0: doubling for ever)
-  int64_t buffer = 6000;  ///< the most recent samples kept for a refit (60 s at 100 Hz)
-  /// Premise epochs per refit, each followed by least squares. 0 (least squares alone) by
-  /// default: premise steps between growth steps can widen rules until none is novel again.
-  int epochs = 0;
-  double ridge = 1e-10;   ///< the least-squares ridge, as TrainOptions::ridge
-  bool enabled() const { return first > 0 && buffer > 0 && epochs >= 0; }
-  /// True when sample number `learned` (1-based) ends with a refit.
-  bool Due(int64_t learned) const;
 };
 
 /// Reports (epoch, sample, samples per epoch) during training; may be empty.
@@ -73,10 +59,15 @@ struct TrainOptions {
   /// by stage (simulation_error_training.hpp; with a hold-out, the step it scores best in free run
   /// is kept). Empty: none; ignored without output lags.
   std::vector<SimulationStage> simulation;
-  /// The first pass (the online one) refits on the rows learned so far at the online
-  /// identifier's schedule, exactly as it does (ReplayRefitter); disabled by default.
-  RefitSchedule refit;
   ProgressCallback progress;
+  /// When set and true, training stops by throwing TrainingCancelled at the next pass or
+  /// simulation step (a refit the identifier no longer needs, at shutdown).
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+/// Thrown by NarxModel::Train when TrainOptions::cancel is raised.
+struct TrainingCancelled : std::runtime_error {
+  TrainingCancelled() : std::runtime_error("training cancelled") {}
 };
 
 /// What one training pass did.
@@ -113,12 +104,6 @@ class NarxModel {
   /// Offline training: FitScaling (unless options.fit_scaling is false), then up to `epochs`
   /// passes (+ least squares if asked), each accepted only if it lowers the training loss.
   TrainReport Train(const Series& train, const TrainOptions& options);
-  /// The hybrid rule on the given raw rows (regressors rows × N, targets rows × outputs), rules
-  /// kept as they are: every consequent by global least squares, then up to `epochs` premise
-  /// steps (iRprop−), each followed by least squares and kept only if the loss falls — the
-  /// offline trainer's passes, for the online identifier's scheduled refits.
-  void Refit(const Eigen::Ref<const Eigen::MatrixXd>& x, const Eigen::Ref<const Eigen::MatrixXd>& y,
-             int epochs, double ridge);
   /// Mean over outputs of the NDEI on `series` (free run if asked and there are output lags,
   /// else one step); +∞ when the simulation diverges.
   double Ndei(const Series& series, bool free_run) const;

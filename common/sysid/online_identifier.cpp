@@ -21,6 +21,11 @@ void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
   RestartHistory();
 }
 
+void OnlineIdentifier::Freeze() {
+  if (learning_) refitter_.BeginClosing(model_);
+  learning_ = false;
+}
+
 void OnlineIdentifier::SetForgetting(double lambda) {
   for (int o = 0; o < model_.outputs(); ++o) model_.mutable_model(o).set_forgetting(lambda);
 }
@@ -31,6 +36,7 @@ void OnlineIdentifier::SetEntropyThreshold(double h) {
 
 std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* result) {
   const RegressorSpec& spec = model_.spec();
+  refitter_.Settle(model_);  // a closing refit takes over before the next prediction
   auto set = [result](PushResult r) {
     if (result) *result = r;
   };
@@ -56,6 +62,7 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
 
   const auto t0 = static_cast<std::size_t>(spec.first_target());
   history_.push_back(s);
+  if (learning_) refitter_.Keep(s);
   // The free run starts from measured outputs; once running, each entry is replaced by the
   // model's own simulation of that sample.
   free_history_.push_back(s.outputs);
@@ -92,8 +99,10 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   rep.predicted = model_.Predict(x);
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
+  // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).
+  const bool per_sample = learning_ && refitter_.refits() == 0;
   const auto results = model_.Learn(
-      x, s.outputs, learning_ ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kFrozen);
+      x, s.outputs, per_sample ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kFrozen);
   for (Eigen::Index o = 0; o < no; ++o) {
     rep.max_entropy(o) = results[static_cast<std::size_t>(o)].max_entropy;
     rep.rules(o) = model_.model(static_cast<int>(o)).rules();
@@ -101,8 +110,7 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   rep.learned = learning_;
   if (learning_) {
     ++samples_learned_;
-    // After the per-sample step, as odonata-fit's online pass does (NarxModel::Train).
-    refitter_.AfterLearn(model_, x, s.outputs, samples_learned_);
+    refitter_.AfterLearn(model_, samples_learned_);
   }
 
   rep.next = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
@@ -117,6 +125,34 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
     rep.next = model_.Predict(x);
   }
   return rep;
+}
+
+}  // namespace odonata::sysid
+
+namespace odonata::sysid {
+
+OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Series& series,
+                         const std::optional<Scaling>& scaling, bool frozen) {
+  if (scaling)
+    model.SetScaling(*scaling);
+  else
+    model.FitScaling(series);
+  OnlineIdentifier id(std::move(model), refit);
+  std::size_t next_break = 0;
+  int64_t index = 0;
+  for (Eigen::Index r = 0; r < series.samples(); ++r) {
+    if (next_break < series.breaks.size() && series.breaks[next_break] == r) {
+      ++index;  // a skipped index: the identifier's history restarts, as at a gap
+      ++next_break;
+    }
+    Sample s;
+    s.index = index++;
+    s.outputs = series.outputs.row(r).transpose();
+    s.inputs = series.inputs.row(r).transpose();
+    id.Push(s);
+  }
+  if (frozen) id.Freeze();
+  return OnlineReplay{id.model(), id.refits(), id.failed_refits(), id.samples_learned()};
 }
 
 }  // namespace odonata::sysid

@@ -10,16 +10,9 @@
 #include <Eigen/Core>
 
 #include "sysid/narx_model.hpp"
-#include "sysid/replay_refitter.hpp"
+#include "sysid/scheduled_refitter.hpp"
 
 namespace odonata::sysid {
-
-/// One complete sample: outputs y(k) and the inputs u(k) applied from t_k on, raw units.
-struct Sample {
-  int64_t index = 0;  ///< k
-  Eigen::VectorXd outputs;
-  Eigen::VectorXd inputs;
-};
 
 /// What the identifier says about sample k.
 struct SampleReport {
@@ -37,7 +30,7 @@ enum class PushResult { kAccepted, kGap, kDuplicate, kRejected };
 
 class OnlineIdentifier {
  public:
-  /// `refit`: when to refit the model on the samples kept (ReplayRefitter); none by default.
+  /// `refit`: when to refit the model on the samples kept (ScheduledRefitter); none by default.
   explicit OnlineIdentifier(NarxModel model, RefitSchedule refit = {});
 
   /// Feeds sample k. A sample that does not follow the previous one (a gap) restarts the
@@ -46,8 +39,14 @@ class OnlineIdentifier {
   /// @return the report once the history holds a full regressor.
   std::optional<SampleReport> Push(const Sample& sample, PushResult* result = nullptr);
 
-  void Freeze() { learning_ = false; }
-  void Resume() { learning_ = true; }
+  /// Stops learning. With scheduled refits a closing refit begins (ScheduledRefitter::
+  /// BeginClosing) without waiting; the model takes it before its next use (the next sample,
+  /// model()), which then waits for it.
+  void Freeze();
+  void Resume() {
+    refitter_.Settle(model_);
+    learning_ = true;
+  }
   bool learning() const { return learning_; }
   /// Forgets the history (e.g. the plant was reset); the model is kept.
   void RestartHistory();
@@ -59,15 +58,20 @@ class OnlineIdentifier {
   /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].
   void SetForgetting(double lambda);
 
-  const NarxModel& model() const { return model_; }
+  /// The model, with any closing refit landed first (which may wait for it).
+  const NarxModel& model() const {
+    refitter_.Settle(model_);
+    return model_;
+  }
   int64_t samples_learned() const { return samples_learned_; }
   int64_t gaps() const { return gaps_; }
-  /// Scheduled refits so far (ReplayRefitter).
+  /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
   int64_t refits() const { return refitter_.refits(); }
+  int64_t failed_refits() const { return refitter_.failed(); }
   int64_t last_index() const { return last_index_; }
 
  private:
-  NarxModel model_;
+  mutable NarxModel model_;  // mutable: model() lands a closing refit first
   bool learning_ = true;
   std::deque<Sample> history_;                // consecutive samples, newest last
   std::deque<Eigen::VectorXd> free_history_;  // free-run outputs aligned with history_
@@ -75,7 +79,22 @@ class OnlineIdentifier {
   bool have_last_ = false;
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
-  ReplayRefitter refitter_;
+  mutable ScheduledRefitter refitter_;
 };
+
+/// odonata-fit's replay of the online identifier (docs/identifier.md §6.3): every row of `series`
+/// pushed in order through an OnlineIdentifier with this schedule (a break skips an index), then
+/// frozen, which closes learning as a freeze does. The model's scaling is fitted on the series
+/// unless `scaling` is given (the identifier's declared ranges).
+struct OnlineReplay {
+  NarxModel model;
+  int64_t refits = 0;
+  int64_t failed_refits = 0;
+  int64_t samples_learned = 0;
+};
+/// `frozen` false replays an identifier stopped without a freeze: no closing refit, and the
+/// refit in flight never lands.
+OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Series& series,
+                         const std::optional<Scaling>& scaling, bool frozen = true);
 
 }  // namespace odonata::sysid

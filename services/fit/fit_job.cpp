@@ -15,6 +15,8 @@
 #include "progress_bar.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/offline_fit.hpp"
+#include "sysid/online_identifier.hpp"
 #include "sysid/quadratic_arx_model.hpp"
 #include "sysid/rule_listing.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -287,25 +289,52 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     }
     topt.fit_scaling = false;
   }
-  const bool search = !model && o.select &&
+  const bool search = !model && !o.refit.enabled() && o.select &&
                       !(o.consequent_given && o.threshold_given && o.kappa_given && o.epochs_given);
-  if (search) {
-    sysid::SelectionOptions so = o.selection;
-    if (o.consequent_given) so.consequents = {cfg.consequent};
-    if (o.threshold_given) so.thresholds = {cfg.entropy.threshold};
-    if (o.kappa_given) so.kappas = {cfg.entropy.kappa};
-    if (o.epochs_given) {
-      so.max_epochs = o.train.epochs;
-      so.patience = 0;
+  if (!o.save_ranges.empty() && train) {
+    std::ofstream out(o.save_ranges);
+    out << sysid::RangesToJson(sysid::RangesFromSeries(spec, *train)).dump(1) << "\n";
+    if (!out) throw std::runtime_error(o.save_ranges + ": cannot write");
+  }
+  if (!search && o.simulation_given && o.train.refine_least_squares) topt.simulation = o.simulation;
+  if (!model && o.refit.enabled()) {
+    // The online identifier's learner, replayed: every row in order through the same class, with
+    // its scheduled refits and the refit that closes learning (docs/identifier.md §6.3).
+    sysid::OnlineReplay replay = sysid::LearnOnline(sysid::NarxModel(spec, cfg), o.refit, *train,
+                                                    declared, !o.replay_unfrozen);
+    report["refits"] = {{"landed", replay.refits},
+                        {"failed", replay.failed_refits},
+                        {"samples_learned", replay.samples_learned}};
+    model.emplace(std::move(replay.model));
+  } else if (!model) {
+    sysid::OfflineFitOptions fo;
+    fo.search = search;
+    fo.epochs_given = o.epochs_given;
+    fo.scaling = declared;
+    if (search) {
+      sysid::SelectionOptions& so = fo.selection;
+      so = o.selection;
+      if (o.consequent_given) so.consequents = {cfg.consequent};
+      if (o.threshold_given) so.thresholds = {cfg.entropy.threshold};
+      if (o.kappa_given) so.kappas = {cfg.entropy.kappa};
+      if (o.epochs_given) {
+        so.max_epochs = o.train.epochs;
+        so.patience = 0;
+      }
+      if (o.train.refine_least_squares) so.simulation = o.simulation;
+      so.horizon = o.horizon;
     }
-    // Candidates learn with the declared scaling when there is one, as the final model will.
-    so.scaling = declared;
-    if (o.train.refine_least_squares) so.simulation = o.simulation;
-    so.horizon = o.horizon;
     std::optional<sysid::Series> select_series;
-    if (!o.select_csv.empty()) select_series = LoadSeries(o.select_csv, o, spec, &data, &warnings);
-    const auto sel = sysid::SelectModel(
-        spec, cfg, topt, *train, so,
+    if (search && !o.select_csv.empty())
+      select_series = LoadSeries(o.select_csv, o, spec, &data, &warnings);
+    int total_epochs = 1;
+    fo.on_training = [&total_epochs](int epochs) { total_epochs = epochs; };
+    topt.progress = [&bar, &total_epochs](int epoch, long sample, long total) {
+      bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(total_epochs),
+                 (epoch + double(sample) / double(total)) / total_epochs);
+    };
+    sysid::OfflineFit fit = sysid::FitOffline(
+        spec, cfg, topt, *train, fo,
         [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
           char label[96];
           std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",
@@ -313,65 +342,54 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           bar.Update(label, double(k) / double(n));
         },
         select_series ? &*select_series : nullptr);
-    nlohmann::json cands = nlohmann::json::array();
-    for (const auto& c : sel.candidates) cands.push_back(CandidateToJson(c));
-    report["selection"] = {{"criterion", sel.criterion_horizon == 0   ? "free_run"
-                                         : sel.criterion_horizon == 1 ? "one_step"
-                                                                      : "k_step"},
-                           {"criterion_horizon", sel.criterion_horizon},
-                           {"scored_on", o.select_csv.empty() ? "training hold-out" : o.select_csv},
-                           {"relative_tolerance", so.relative_tolerance},
-                           {"absolute_tolerance", so.absolute_tolerance},
-                           {"fit_samples", sel.fit_samples},
-                           {"holdout_samples", sel.holdout_samples},
-                           {"candidates", cands},
-                           {"best_index", sel.best},
-                           {"chosen_index", sel.chosen}};
-    if (sel.linear_check.done) {
-      const auto& lc = sel.linear_check;
-      auto nums = [](const std::vector<double>& v) {
-        nlohmann::json a = nlohmann::json::array();
-        for (const double x : v) a.push_back(std::isfinite(x) ? nlohmann::json(x) : nullptr);
-        return a;
-      };
-      report["selection"]["linear_check"] = {
-          {"folds", lc.fuzzy_folds.size()},
-          {"fuzzy_ndei", std::isfinite(lc.fuzzy_score) ? nlohmann::json(lc.fuzzy_score) : nullptr},
-          {"linear_ndei",
-           std::isfinite(lc.linear_score) ? nlohmann::json(lc.linear_score) : nullptr},
-          {"fuzzy_folds", nums(lc.fuzzy_folds)},
-          {"linear_folds", nums(lc.linear_folds)},
-          {"linear_chosen", lc.linear_chosen}};
+    if (fit.selection) {
+      const auto& sel = *fit.selection;
+      const auto& so = fo.selection;
+      nlohmann::json cands = nlohmann::json::array();
+      for (const auto& c : sel.candidates) cands.push_back(CandidateToJson(c));
+      report["selection"] = {
+          {"criterion", sel.criterion_horizon == 0   ? "free_run"
+                        : sel.criterion_horizon == 1 ? "one_step"
+                                                     : "k_step"},
+          {"criterion_horizon", sel.criterion_horizon},
+          {"scored_on", o.select_csv.empty() ? "training hold-out" : o.select_csv},
+          {"relative_tolerance", so.relative_tolerance},
+          {"absolute_tolerance", so.absolute_tolerance},
+          {"fit_samples", sel.fit_samples},
+          {"holdout_samples", sel.holdout_samples},
+          {"candidates", cands},
+          {"best_index", sel.best},
+          {"chosen_index", sel.chosen}};
+      if (sel.linear_check.done) {
+        const auto& lc = sel.linear_check;
+        auto nums = [](const std::vector<double>& v) {
+          nlohmann::json a = nlohmann::json::array();
+          for (const double x : v) a.push_back(std::isfinite(x) ? nlohmann::json(x) : nullptr);
+          return a;
+        };
+        report["selection"]["linear_check"] = {
+            {"folds", lc.fuzzy_folds.size()},
+            {"fuzzy_ndei",
+             std::isfinite(lc.fuzzy_score) ? nlohmann::json(lc.fuzzy_score) : nullptr},
+            {"linear_ndei",
+             std::isfinite(lc.linear_score) ? nlohmann::json(lc.linear_score) : nullptr},
+            {"fuzzy_folds", nums(lc.fuzzy_folds)},
+            {"linear_folds", nums(lc.linear_folds)},
+            {"linear_chosen", lc.linear_chosen}};
+      }
+      for (const auto& w : sel.warnings) warnings.push_back(w);
     }
-    for (const auto& w : sel.warnings) warnings.push_back(w);
-    const auto& c = sel.candidates[sel.chosen];
-    cfg = sysid::CandidateConfig(cfg, c);
-    topt.simulation = c.simulation;
-    if (!o.epochs_given) topt.epochs = std::max(1, c.epochs);
-  }
-  if (!o.save_ranges.empty() && train) {
-    std::ofstream out(o.save_ranges);
-    out << sysid::RangesToJson(sysid::RangesFromSeries(spec, *train)).dump(1) << "\n";
-    if (!out) throw std::runtime_error(o.save_ranges + ": cannot write");
-  }
-  if (!search && o.simulation_given && o.train.refine_least_squares) topt.simulation = o.simulation;
-  if (!model) {
-    // The chosen settings, refitted on the whole training file (the hold-out included).
-    model.emplace(spec, cfg);
-    if (declared) model->SetScaling(*declared);
-    topt.progress = [&bar, &topt](int epoch, long sample, long total) {
-      bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(topt.epochs),
-                 (epoch + double(sample) / double(total)) / topt.epochs);
-    };
-    const sysid::TrainReport tr = model->Train(*train, topt);
+    cfg = fit.config;
+    topt.epochs = fit.train.epochs;
     nlohmann::json hist = nlohmann::json::array();
-    for (const auto& e : tr.epochs)
+    for (const auto& e : fit.report.epochs)
       hist.push_back({{"epoch", e.epoch},
                       {"accepted", e.accepted},
                       {"train_fit", e.train_fit},
                       {"rules", e.rules}});
     report["epoch_history"] = hist;
-    report["simulation"] = StagesToJson(tr.simulation);
+    report["simulation"] = StagesToJson(fit.report.simulation);
+    model.emplace(std::move(fit.model));
   }
   bar.Finish();
   const sysid::Predictor predict = [&model](const Eigen::VectorXd& x) { return model->Predict(x); };

@@ -10,6 +10,7 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
+#include "sysid/scheduled_refitter.hpp"
 #include "sysid/series_from_table.hpp"
 #include "sysid/simulation_error_training.hpp"
 
@@ -23,9 +24,13 @@ struct FitJobOptions {
   sysid::RegressorSpec spec;         ///< lags and delay (names filled from output/inputs)
   fuzzy::FuzzyModelConfig model;     ///< entropy, cap, rates, consequent
   sysid::TrainOptions train;
-  unsigned long seed = 0;  ///< shuffles nothing today; recorded for reproducibility
-  std::string save_model;  ///< optional path
-  std::string load_model;  ///< optional: evaluate this model instead of training
+  /// Enabled: replay the online identifier's learner with this schedule over the training file
+  /// (sysid::LearnOnline) instead of selecting and training; the given settings are its config.
+  sysid::RefitSchedule refit;
+  bool replay_unfrozen = false;  ///< the replayed identifier was never frozen
+  unsigned long seed = 0;        ///< shuffles nothing today; recorded for reproducibility
+  std::string save_model;        ///< optional path
+  std::string load_model;        ///< optional: evaluate this model instead of training
   /// Settings the user fixed; the others are chosen on a hold-out slice of the training data
   /// (unless select is false, which keeps the defaults).
   bool select = true;

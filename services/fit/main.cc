@@ -103,23 +103,27 @@ int main(int argc, char** argv) {
   app.add_option("--prune-utility", o.model.entropy.prune_utility,
                  "remove a rule whose mean normalised firing falls below this (0: never)")
       ->capture_default_str();
-  app.add_option("--refit-first", o.train.refit.first,
-                 "the online pass (--no-least-squares --epochs 1, the identifier's learner) "
-                 "refits on the most recent --refit-buffer samples after this many learned, then "
-                 "2×, 4×, … and every --refit-every, as the identifier's refit_* keys do (0: none)")
+  app.add_option("--refit-first", o.refit.first,
+                 "replay the online identifier instead (its refit_* keys): every row through its "
+                 "learner, which refits with this program's defaults on the last --refit-buffer "
+                 "samples after this many are learned, then 2x, 4x, ... up to --refit-every, then "
+                 "every --refit-every, and once more at the end (a freeze); 0: no refits")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{0}, int64_t{100000000}));
-  app.add_option("--refit-every", o.train.refit.every,
+  app.add_option("--refit-every", o.refit.every,
                  "past this many samples, a refit every this many (0: doubling for ever)")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{0}, int64_t{100000000}));
-  app.add_option("--refit-buffer", o.train.refit.buffer, "samples kept for a refit")
+  app.add_option("--refit-at-freeze", o.refit.at_freeze,
+                 "with --refit-first: a closing refit at the end, as the identifier's "
+                 "refit_at_freeze")
+      ->capture_default_str();
+  app.add_flag("--replay-unfrozen", o.replay_unfrozen,
+               "with --refit-first: replay an identifier stopped without a freeze (no closing "
+               "refit; the refit in flight never lands)");
+  app.add_option("--refit-buffer", o.refit.buffer, "samples kept for a refit")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{1}, int64_t{100000000}));
-  app.add_option("--refit-epochs", o.train.refit.epochs,
-                 "premise epochs per refit (least squares after each)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000));
   app.add_option("--ridge", o.train.ridge, "least-squares ridge, relative to the design's scale")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -72,7 +72,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "refit_first",
                                           "refit_every",
                                           "refit_buffer",
-                                          "refit_epochs",
+                                          "refit_at_freeze",
                                           "source",
                                           "ranges",
                                           "channels"};
@@ -149,7 +149,7 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
     c.refit.first = IntegerField<int64_t>(j, "refit_first", c.refit.first, 0, most, problem);
     c.refit.every = IntegerField<int64_t>(j, "refit_every", c.refit.every, 0, most, problem);
     c.refit.buffer = IntegerField<int64_t>(j, "refit_buffer", c.refit.buffer, 1, most, problem);
-    c.refit.epochs = IntegerField<int>(j, "refit_epochs", c.refit.epochs, 0, 1000, problem);
+    c.refit.at_freeze = j.value("refit_at_freeze", c.refit.at_freeze);
     const std::string source = j.value("source", std::string("dimav"));
     if (source == "signals")
       c.source = SampleSource::kSignals;
@@ -202,13 +202,14 @@ std::string ExampleIdentifierConfig() {
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
   j["decimate"] = 1;
-  // Refit on the most recent samples at 2×, 4×, … refit_first learned, then every refit_every
+  // Refit with odonata-fit's learner on the most recent refit_buffer samples after refit_first
+  // learned, then 2×, 4×, … up to refit_every, then every refit_every, and once more at a freeze
   // (0: none; docs/identifier.md §6.3). odonata-fit --refit-* replays the same schedule.
   const sysid::RefitSchedule refit;
   j["refit_first"] = refit.first;
   j["refit_every"] = refit.every;
   j["refit_buffer"] = refit.buffer;
-  j["refit_epochs"] = refit.epochs;
+  j["refit_at_freeze"] = refit.at_freeze;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
   j["source"] = "dimav";
   j["channels"] = {

@@ -5,8 +5,8 @@
 
 #include "bus/channel_config.hpp"
 #include "fuzzy/fuzzy_model.hpp"
-#include "sysid/narx_model.hpp"
 #include "sysid/regressor_spec.hpp"
+#include "sysid/scheduled_refitter.hpp"
 #include "sysid/signal_ranges.hpp"
 
 namespace odonata::identifier {
@@ -27,8 +27,9 @@ struct IdentifierConfig {
   /// Learn from one sample per block of this many (io::RowDecimator, as odonata-sim --decimate
   /// and odonata-logger export --decimate cut them): 5 identifies at 20 Hz from a 100 Hz plant.
   int decimate = 1;
-  /// Refits of the model on the most recent samples at fixed counts (docs/identifier.md §6.3):
-  /// "refit_first" (0: none), "refit_every", "refit_buffer", "refit_epochs".
+  /// Refits of the model with odonata-fit's learner on the most recent samples, at fixed counts
+  /// (docs/identifier.md §6.3): "refit_first" (0: none), "refit_every", "refit_buffer",
+  /// "refit_at_freeze".
   sysid::RefitSchedule refit;
   bus::ChannelConfig channels;
 };

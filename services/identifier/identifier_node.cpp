@@ -149,6 +149,14 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
     return;
   }
   if (!report) return;
+  if (core_.refits() + core_.failed_refits() != refits_reported_) {
+    // A scheduled refit landed (docs/identifier.md §6.3): say so, it replaced the model.
+    refits_reported_ = core_.refits() + core_.failed_refits();
+    std::fprintf(stderr, "%s: refit %lld landed at sample %lld: %d rules (%lld failed)\n",
+                 config_.instance.c_str(), static_cast<long long>(core_.refits()),
+                 static_cast<long long>(sample.index), core_.model().total_rules(),
+                 static_cast<long long>(core_.failed_refits()));
+  }
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,
                                                    prediction_seq_++, bus::NowUtime()));

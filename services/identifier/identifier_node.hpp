@@ -65,6 +65,7 @@ class IdentifierNode {
   bool started_ = false;  // false while waiting for a snapshot to resume from
   SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)
   int64_t prediction_seq_ = 0;
+  int64_t refits_reported_ = 0;  ///< refits landed or failed, as last said on stderr
   int64_t snapshot_seq_ = 0;
 };
 

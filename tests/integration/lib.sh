@@ -114,13 +114,16 @@ same_model() {
   "$PY" -c "import json,sys; a=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); sys.exit(0 if a==b else 1)" "$1" "$2"
 }
 
-# offline_fit CONFIG TRAIN_CSV OUT_MODEL: odonata-fit with exactly the online learner's settings.
+# offline_fit CONFIG TRAIN_CSV OUT_MODEL [unfrozen]: odonata-fit with exactly the online learner's
+# settings (keys the config leaves out take the identifier's defaults); "unfrozen" replays an
+# identifier stopped without a freeze (no closing refit).
 offline_fit() {
-  local cfg=$1 csv=$2 model=$3
-  "$PY" - "$cfg" "$csv" "$model" "$FIT" <<'PYEOF'
+  local cfg=$1 csv=$2 model=$3 frozen=${4:-frozen}
+  "$PY" - "$cfg" "$csv" "$model" "$FIT" "$IDENT" "$frozen" <<'PYEOF'
 import json, subprocess, sys, tempfile, os
-cfg, csv, model, fit = sys.argv[1:5]
-c = json.load(open(cfg))
+cfg, csv, model, fit, ident, frozen = sys.argv[1:7]
+c = json.loads(subprocess.run([ident, "--print-config"], check=True, capture_output=True, text=True).stdout)
+c.update(json.load(open(cfg)))
 ranges = tempfile.NamedTemporaryFile("w", suffix=".json", delete=False)
 json.dump(c["ranges"], ranges); ranges.close()
 cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "--nu", str(c["nu"]),
@@ -128,11 +131,13 @@ cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "
        "--consequent", c["consequent"], "--kappa", str(c["kappa"]), "--sigma-min", str(c["sigma_min"]),
        "--max-rules", str(c["max_rules"]), "--entropy-threshold", str(c["entropy_threshold"]),
        "--forgetting", str(c.get("forgetting", 1.0)), "--prune-utility", str(c.get("prune_utility", 0.0)),
-       "--refit-first", str(c.get("refit_first", 0)), "--refit-every", str(c.get("refit_every", 0)),
-       "--refit-buffer", str(c.get("refit_buffer", 6000)), "--refit-epochs", str(c.get("refit_epochs", 0)),
+       "--refit-first", str(c["refit_first"]), "--refit-every", str(c["refit_every"]),
+       "--refit-buffer", str(c["refit_buffer"]), "--refit-at-freeze", str(c["refit_at_freeze"]).lower(),
        "--save-model", model]
 for i in c["inputs"]:
     cmd += ["--input", i]
+if frozen == "unfrozen":
+    cmd += ["--replay-unfrozen"]
 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 os.unlink(ranges.name)
 PYEOF

@@ -5,8 +5,10 @@
 #include <nlohmann/json.hpp>
 
 #include "narendra_series.hpp"
+#include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/signal_ranges.hpp"
+#include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -45,40 +47,89 @@ TEST(RefitSchedule, DoublesThenKeepsItsPace) {
   for (int64_t n : {1, 99, 101, 300, 1000}) EXPECT_FALSE(doubling.Due(n)) << n;
   RefitSchedule paced = doubling;
   paced.every = 500;
-  for (int64_t n : {100, 200, 400, 1000, 1500}) EXPECT_TRUE(paced.Due(n)) << n;
-  for (int64_t n : {500, 800, 1200, 1600}) EXPECT_FALSE(paced.Due(n)) << n;
+  for (int64_t n : {100, 200, 400, 500, 1000, 1500}) EXPECT_TRUE(paced.Due(n)) << n;
+  for (int64_t n : {300, 800, 1200, 1600}) EXPECT_FALSE(paced.Due(n)) << n;
   EXPECT_FALSE(RefitSchedule{}.Due(100)) << "off by default";
 }
 
-// One learner, two schedules: with refits at fixed counts the online identifier still equals
-// odonata-fit's online pass bit for bit; with linear consequents it also predicts better.
-TEST(OnlineIdentifier, ScheduledRefitsReproduceTheOfflinePassAndLearnBetter) {
+// One learner, two schedules (docs/identifier.md §6.3): refits run odonata-fit's learner in a
+// worker thread and land at fixed counts, so the result is the same whatever the threads do.
+TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsModel) {
+  const Series train = testing::NarendraTrain(1200);
+  RefitSchedule refit;
+  refit.first = 300;
+  refit.every = 600;
+  refit.buffer = 5000;  // holds the whole record: the closing refit sees every sample
+  const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, train);
+  OnlineIdentifier online(empty, refit);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
+  // 300 lands at 600, where the next begins; the freeze at 1199 replaces that one with the
+  // closing refit on all 1200 samples, which lands when the model is next used.
+  EXPECT_EQ(online.refits(), 1);
+  online.Freeze();
+  EXPECT_EQ(online.refits(), 1) << "a freeze does not wait for the closing refit";
+  online.model();
+  EXPECT_EQ(online.refits(), 2);
+  EXPECT_EQ(online.failed_refits(), 0);
+  // The closing refit saw the whole record: the model is odonata-fit's on it, bit for bit.
+  OfflineFitOptions fo;
+  fo.selection.simulation = DefaultSimulationStages();
+  fo.scaling = empty.scaling();
+  const OfflineFit offline =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
+  EXPECT_EQ(online.model().ToJson().dump(), offline.model.ToJson().dump());
+  // odonata-fit's replay of the identifier is the same class, the same counts.
+  const OnlineReplay replay =
+      LearnOnline(Empty(fuzzy::ConsequentKind::kLinear, train), refit, train, empty.scaling());
+  EXPECT_EQ(replay.model.ToJson().dump(), online.model().ToJson().dump());
+  EXPECT_EQ(replay.refits, 2);
+}
+
+TEST(OnlineIdentifier, RefitsLearnFarBetterThanThePerSampleLearnerAlone) {
   const Series train = testing::NarendraTrain(1500);
   const Series validate = testing::NarendraValidate(500);
   RefitSchedule refit;
-  refit.first = 100;
-  refit.every = 400;
-  refit.buffer = 600;
-  refit.epochs = 0;  // least squares only: premise epochs between growth steps can stall it (§6.3)
-  for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
-    NarxModel offline = Empty(kind, train), plain = Empty(kind, train);
-    TrainOptions o;
-    o.refine_least_squares = false;
-    o.fit_scaling = false;
-    plain.Train(train, o);
-    o.refit = refit;
-    offline.Train(train, o);
-    OnlineIdentifier online(Empty(kind, train), refit);
-    for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
-    EXPECT_EQ(online.model().ToJson().dump(), offline.ToJson().dump()) << ToString(kind);
-    // 100, 200, 400, 800, 1200 of the 1499 samples learned.
-    EXPECT_EQ(online.refits(), 5) << ToString(kind);
-    std::printf("%s: validation one-step NDEI %.4f with refits, %.4f without\n", ToString(kind),
-                offline.Ndei(validate, false), plain.Ndei(validate, false));
-    // Linear consequents: the global least squares over the kept rows beats the per-rule RLS.
-    if (kind == fuzzy::ConsequentKind::kLinear)
-      EXPECT_LT(offline.Ndei(validate, false), plain.Ndei(validate, false));
+  refit.first = 250;
+  refit.every = 500;
+  refit.buffer = 1000;  // the last 1000 samples only
+  refit.at_freeze = false;
+  OnlineIdentifier plain(Empty(fuzzy::ConsequentKind::kLinear, train));
+  OnlineIdentifier refitted(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) {
+    plain.Push(Row(train, k));
+    refitted.Push(Row(train, k));
   }
+  refitted.Freeze();  // the refit in flight (begun at 1000) closes; no closing refit of its own
+  const double with = refitted.model().Ndei(validate, true);
+  EXPECT_EQ(refitted.refits(), 3);  // begun at 250, 500 and 1000
+  const double without = plain.model().Ndei(validate, true);
+  std::printf("validation free-run NDEI %.4f with refits, %.4f without\n", with, without);
+  EXPECT_LT(with, 0.5 * without);
+}
+
+TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
+  const Series train = testing::NarendraTrain(40);
+  RefitSchedule refit;
+  refit.first = 8;  // far too few rows for a hold-out and cross-validation folds
+  refit.buffer = 8;
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) id.Push(Row(train, k));
+  id.Freeze();
+  id.model();
+  EXPECT_EQ(id.refits(), 0);
+  EXPECT_GE(id.failed_refits(), 1);
+  EXPECT_TRUE(id.model().Predict(Eigen::VectorXd::Zero(id.model().spec().size())).allFinite());
+}
+
+TEST(RefitSchedule, SeriesFromSamplesBreaksWhereAnIndexIsSkipped) {
+  std::deque<Sample> kept;
+  for (int64_t k : {4, 5, 6, 9, 10})
+    kept.push_back({k, Eigen::VectorXd::Constant(1, double(k)), Eigen::VectorXd::Zero(2)});
+  const Series s = SeriesFromSamples(kept);
+  EXPECT_EQ(s.samples(), 5);
+  ASSERT_EQ(s.breaks.size(), 1u);
+  EXPECT_EQ(s.breaks[0], 3);
+  EXPECT_EQ(s.outputs(3, 0), 9.0);
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {

@@ -1,0 +1,124 @@
+#include "sysid/scheduled_refitter.hpp"
+
+#include <exception>
+
+#include "sysid/offline_fit.hpp"
+#include "sysid/simulation_error_training.hpp"
+
+namespace odonata::sysid {
+
+bool RefitSchedule::Due(int64_t learned) const {
+  if (!enabled() || learned < first) return false;
+  if (every > 0 && learned >= every) return learned % every == 0;
+  // first, 2·first, 4·first, … (below `every`, when there is one)
+  int64_t at = first;
+  while (at < learned) at *= 2;
+  return at == learned;
+}
+
+Series SeriesFromSamples(const std::deque<Sample>& samples) {
+  Series s;
+  if (samples.empty()) return s;
+  const auto n = static_cast<Eigen::Index>(samples.size());
+  s.outputs.resize(n, samples.front().outputs.size());
+  s.inputs.resize(n, samples.front().inputs.size());
+  for (Eigen::Index r = 0; r < n; ++r) {
+    const Sample& x = samples[static_cast<std::size_t>(r)];
+    s.outputs.row(r) = x.outputs.transpose();
+    s.inputs.row(r) = x.inputs.transpose();
+    if (r > 0 && x.index != samples[static_cast<std::size_t>(r - 1)].index + 1)
+      s.breaks.push_back(r);
+  }
+  return s;
+}
+
+ScheduledRefitter::~ScheduledRefitter() { Clear(); }
+
+void ScheduledRefitter::Keep(const Sample& s) {
+  if (!schedule_.enabled()) return;
+  kept_.push_back(s);
+  while (kept_.size() > static_cast<std::size_t>(schedule_.buffer)) kept_.pop_front();
+}
+
+Series ScheduledRefitter::KeptSeries() const { return SeriesFromSamples(kept_); }
+
+void ScheduledRefitter::Start(const NarxModel& model) {
+  if (!base_) base_ = model.model(0).config();
+  cancel_ = std::make_shared<std::atomic<bool>>(false);
+  // Everything the worker reads is its own copy (the cancel flag is shared, atomic).
+  pending_ = std::async(
+      std::launch::async,
+      [spec = model.spec(), base = *base_, scaling = model.scaling(), series = KeptSeries(),
+       cancel = cancel_]() -> std::optional<NarxModel> {
+        try {
+          OfflineFitOptions o;  // odonata-fit's defaults, with the identifier's fixed scaling
+          o.selection.simulation = DefaultSimulationStages();
+          o.scaling = scaling;
+          TrainOptions t;
+          t.cancel = cancel.get();
+          return FitOffline(spec, base, t, series, o).model;
+        } catch (const std::exception&) {
+          // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
+          return std::nullopt;
+        }
+      });
+}
+
+bool ScheduledRefitter::Land(NarxModel& model) {
+  if (!pending_.valid()) return false;
+  std::optional<NarxModel> refitted = pending_.get();
+  if (!refitted) {
+    ++failed_;
+    return false;
+  }
+  model = std::move(*refitted);
+  ++refits_;
+  return true;
+}
+
+bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
+  if (!schedule_.enabled()) return false;
+  if (!base_) base_ = model.model(0).config();
+  learned_ = learned;
+  if (!schedule_.Due(learned)) return false;
+  const bool landed = Land(model);
+  Start(model);
+  last_started_ = learned;
+  return landed;
+}
+
+void ScheduledRefitter::BeginClosing(const NarxModel& model) {
+  if (!schedule_.enabled()) return;
+  if (schedule_.at_freeze && learned_ > last_started_ && !kept_.empty()) {
+    // The closing refit learns from every sample kept, from the refits' own settings: whatever
+    // the refit in flight would have given, it replaces.
+    Cancel();
+    Start(model);
+    last_started_ = learned_;
+  }
+  closing_ = pending_.valid();
+}
+
+bool ScheduledRefitter::Settle(NarxModel& model) {
+  if (!closing_) return false;
+  closing_ = false;
+  return Land(model);
+}
+
+void ScheduledRefitter::Cancel() {
+  if (cancel_) cancel_->store(true);
+  if (pending_.valid()) pending_.wait();
+  pending_ = {};
+  cancel_.reset();
+}
+
+void ScheduledRefitter::Clear() {
+  Cancel();
+  closing_ = false;
+  kept_.clear();
+  base_.reset();
+  last_started_ = -1;
+  learned_ = 0;
+}
+
+}  // namespace odonata::sysid
