@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "fuzzy/entropy_rule_generator.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/parallel_for.hpp"
 #include "sysid/simulation_error_training.hpp"
 
 namespace odonata::sysid {
@@ -127,18 +129,27 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
   const int k = options.linear_check_folds;
   const Eigen::Index need = spec.first_target() + 2;
   if (n / k < need || n - n / k < need) return check;
+  // Each fold and each setting trains alone: 2k independent trainings, in parallel.
+  std::vector<Series> folds, rests;
   for (int f = 0; f < k; ++f) {
     const Eigen::Index begin = n * f / k, end = n * (f + 1) / k;
-    const Series fold = SliceSeries(train, begin, end - begin);
-    const Series rest =
-        ConcatSeries(SliceSeries(train, 0, begin), SliceSeries(train, end, n - end));
-    if (TargetRows(spec, fold).size() < 2 || TargetRows(spec, rest).size() < 2) return check;
-    const NarxModel fm = TrainCandidate(spec, base, train_options, options, fuzzy_c, rest, nullptr,
-                                        horizon, std::max(1, fuzzy_c.epochs), nullptr, true);
-    const NarxModel lm = TrainCandidate(spec, base, train_options, options, linear_c, rest, nullptr,
-                                        horizon, 1, nullptr, true);
-    check.fuzzy_folds.push_back(Score(fm, fold, horizon));
-    check.linear_folds.push_back(Score(lm, fold, horizon));
+    folds.push_back(SliceSeries(train, begin, end - begin));
+    rests.push_back(ConcatSeries(SliceSeries(train, 0, begin), SliceSeries(train, end, n - end)));
+    if (TargetRows(spec, folds.back()).size() < 2 || TargetRows(spec, rests.back()).size() < 2)
+      return check;
+  }
+  std::vector<double> scores(2 * static_cast<std::size_t>(k));
+  ParallelFor(scores.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+    const std::size_t f = i / 2;
+    const bool fuzzy = i % 2 == 0;
+    const Candidate& c = fuzzy ? fuzzy_c : linear_c;
+    const NarxModel m = TrainCandidate(spec, base, train_options, options, c, rests[f], nullptr,
+                                       horizon, fuzzy ? std::max(1, c.epochs) : 1, nullptr, true);
+    scores[i] = Score(m, folds[f], horizon);
+  });
+  for (int f = 0; f < k; ++f) {
+    check.fuzzy_folds.push_back(scores[2 * static_cast<std::size_t>(f)]);
+    check.linear_folds.push_back(scores[2 * static_cast<std::size_t>(f) + 1]);
   }
   auto mean = [](const std::vector<double>& v) {
     double sum = 0;
@@ -235,29 +246,48 @@ SelectionResult SelectModel(
     models.push_back(model);
     if (on_candidate) on_candidate(c, ++done, total);
   }
-  for (const auto kind : kinds) {
-    for (const double kappa : kappas) {
-      bool capped = false;
-      for (const double h : thresholds) {
+  // Each (consequent, κ) sweep is independent of the others (H̄ within one is sequential: a
+  // capped candidate ends it): the sweeps run in parallel, their results kept in sweep order.
+  struct Sweep {
+    fuzzy::ConsequentKind kind;
+    double kappa;
+    std::vector<Candidate> candidates;
+    std::vector<NarxModel> models;
+  };
+  std::vector<Sweep> sweeps;
+  for (const auto kind : kinds)
+    for (const double kappa : kappas) sweeps.push_back({kind, kappa, {}, {}});
+  std::mutex report_mutex;  // on_candidate is called from one thread at a time
+  ParallelFor(sweeps.size(), ResolveThreads(options.threads), [&](std::size_t s) {
+    Sweep& sw = sweeps[s];
+    bool capped = false;
+    for (const double h : thresholds) {
+      if (capped) {
+        const std::lock_guard<std::mutex> lock(report_mutex);
         ++done;
-        if (capped) continue;
-        Candidate c;
-        c.consequent = kind;
-        c.threshold = h;
-        c.kappa = kappa;
-        TrainReport report;
-        const NarxModel model =
-            TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
-                           result.criterion_horizon, options.max_epochs, &report);
-        c.epochs = report.kept_epoch;
-        score_candidate(c, model);
-        c.at_cap = c.rules >= base.entropy.max_rules * model.outputs();
-        capped = c.at_cap;
-        models.push_back(model);
-        result.candidates.push_back(c);
-        if (on_candidate) on_candidate(c, done, total);
+        continue;
       }
+      Candidate c;
+      c.consequent = sw.kind;
+      c.threshold = h;
+      c.kappa = sw.kappa;
+      TrainReport report;
+      NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
+                                       result.criterion_horizon, options.max_epochs, &report);
+      c.epochs = report.kept_epoch;
+      score_candidate(c, model);
+      c.at_cap = c.rules >= base.entropy.max_rules * model.outputs();
+      capped = c.at_cap;
+      sw.models.push_back(std::move(model));
+      sw.candidates.push_back(c);
+      const std::lock_guard<std::mutex> lock(report_mutex);
+      ++done;
+      if (on_candidate) on_candidate(c, done, total);
     }
+  });
+  for (auto& sw : sweeps) {
+    for (auto& c : sw.candidates) result.candidates.push_back(c);
+    for (auto& m : sw.models) models.push_back(std::move(m));
   }
   auto& cs = result.candidates;
   if (!options.simulation.empty() && result.criterion_horizon != 1) {
@@ -279,14 +309,19 @@ SelectionResult SelectModel(
     if (order.size() > static_cast<std::size_t>(std::max(0, options.simulation_shortlist)))
       order.resize(static_cast<std::size_t>(std::max(0, options.simulation_shortlist)));
     if (linear_index) order.insert(order.begin(), *linear_index);
-    for (const std::size_t k : order) {
+    ParallelFor(order.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+      const std::size_t k = order[i];
       SimulationTrainOptions so;
       so.stages = stages;
       so.holdout = &holdout;
       so.holdout_horizon = result.criterion_horizon;
+      if (train_options.cancel)
+        so.progress = [cancel = train_options.cancel](int, long, long) {
+          if (cancel->load()) throw TrainingCancelled();
+        };
       cs[k].simulation = TrainOnSimulationError(models[k], fit, so).kept;
       score_candidate(cs[k], models[k]);
-    }
+    });
   }
   if (result.free_run_criterion && linear_index) {
     // A self-excited oscillation where the linear model comes to rest: the real system, whose
@@ -294,14 +329,14 @@ SelectionResult SelectModel(
     // still may not show it (the Silverbox's small-amplitude start).
     const double linear_rest = RestDeviation(models[*linear_index], fit);
     cs[*linear_index].rest_deviation = linear_rest;
-    for (std::size_t k = 0; k < cs.size(); ++k) {
-      if (k == *linear_index || !std::isfinite(cs[k].score)) continue;
+    ParallelFor(cs.size(), ResolveThreads(options.threads), [&](std::size_t k) {
+      if (k == *linear_index || !std::isfinite(cs[k].score)) return;
       cs[k].rest_deviation = RestDeviation(models[k], fit);
       if (cs[k].rest_deviation > std::max(kRestTolerance, 10.0 * linear_rest)) {
         cs[k].restless = true;
         cs[k].score = std::numeric_limits<double>::infinity();
       }
-    }
+    });
   }
   for (std::size_t k = 0; k < cs.size(); ++k)
     if (cs[k].score < cs[result.best].score) result.best = k;

@@ -47,6 +47,9 @@ struct SelectionOptions {
   /// empty: none.
   std::vector<SimulationStage> simulation;
   int simulation_shortlist = 3;
+  /// Threads for the independent trainings (the (consequent, κ) sweeps, the short list, the
+  /// folds); 0: every core. The result does not depend on it, bit for bit.
+  unsigned threads = 0;
   /// Declared scaling (the online identifier's ranges): candidates learn with it, as the final
   /// model will. Empty: each candidate fits its scaling on the data it trains on.
   std::optional<Scaling> scaling;

@@ -35,6 +35,9 @@ struct RefitSchedule {
   /// When learning stops (a freeze, the end of a replayed file), the refit in flight lands and
   /// one more refit on the samples kept closes learning.
   bool at_freeze = true;
+  /// Threads a refit trains its candidates on (SelectionOptions::threads): one leaves the other
+  /// cores to the services beside it; the model is the same whatever the count.
+  unsigned threads = 1;
   bool enabled() const { return first > 0 && buffer > 0; }
   /// True when a refit starts after sample number `learned`.
   bool Due(int64_t learned) const;

@@ -167,6 +167,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--select-thresholds", o.selection.thresholds, "H̄ values to try")->delimiter(',');
   app.add_option("--select-kappas", o.selection.kappas, "kappa values to try")->delimiter(',');
+  app.add_option("--threads", o.selection.threads,
+                 "threads for the candidates' independent trainings (0: every core); the model "
+                 "is the same whatever the count")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 1024u));
   app.add_option("--max-epochs", o.selection.max_epochs,
                  "most epochs a candidate trains (the best hold-out epoch is kept)")
       ->capture_default_str()

@@ -73,6 +73,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "refit_every",
                                           "refit_buffer",
                                           "refit_at_freeze",
+                                          "refit_threads",
                                           "source",
                                           "ranges",
                                           "channels"};
@@ -150,6 +151,7 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
     c.refit.every = IntegerField<int64_t>(j, "refit_every", c.refit.every, 0, most, problem);
     c.refit.buffer = IntegerField<int64_t>(j, "refit_buffer", c.refit.buffer, 1, most, problem);
     c.refit.at_freeze = j.value("refit_at_freeze", c.refit.at_freeze);
+    c.refit.threads = IntegerField<unsigned>(j, "refit_threads", c.refit.threads, 0, 1024, problem);
     const std::string source = j.value("source", std::string("dimav"));
     if (source == "signals")
       c.source = SampleSource::kSignals;
@@ -210,6 +212,7 @@ std::string ExampleIdentifierConfig() {
   j["refit_every"] = refit.every;
   j["refit_buffer"] = refit.buffer;
   j["refit_at_freeze"] = refit.at_freeze;
+  j["refit_threads"] = refit.threads;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
   j["source"] = "dimav";
   j["channels"] = {
