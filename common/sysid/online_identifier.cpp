@@ -151,7 +151,10 @@ OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Seri
     s.inputs = series.inputs.row(r).transpose();
     id.Push(s);
   }
-  if (frozen) id.Freeze();
+  if (frozen) {
+    id.Freeze();
+    id.Settle();
+  }
   return OnlineReplay{id.model(), id.refits(), id.failed_refits(), id.samples_learned()};
 }
 

@@ -40,9 +40,11 @@ class OnlineIdentifier {
   std::optional<SampleReport> Push(const Sample& sample, PushResult* result = nullptr);
 
   /// Stops learning. With scheduled refits a closing refit begins (ScheduledRefitter::
-  /// BeginClosing) without waiting; the model takes it before its next use (the next sample,
-  /// model()), which then waits for it.
+  /// BeginClosing) without waiting; the model takes it at the next sample or Settle(), which
+  /// wait for it. Until then model() is the model in force before the freeze.
   void Freeze();
+  /// Lands a closing refit now (waits for it): before a model is saved or published.
+  void Settle() { refitter_.Settle(model_); }
   void Resume() {
     refitter_.Settle(model_);
     learning_ = true;
@@ -58,11 +60,7 @@ class OnlineIdentifier {
   /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].
   void SetForgetting(double lambda);
 
-  /// The model, with any closing refit landed first (which may wait for it).
-  const NarxModel& model() const {
-    refitter_.Settle(model_);
-    return model_;
-  }
+  const NarxModel& model() const { return model_; }
   int64_t samples_learned() const { return samples_learned_; }
   int64_t gaps() const { return gaps_; }
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
@@ -71,7 +69,7 @@ class OnlineIdentifier {
   int64_t last_index() const { return last_index_; }
 
  private:
-  mutable NarxModel model_;  // mutable: model() lands a closing refit first
+  NarxModel model_;
   bool learning_ = true;
   std::deque<Sample> history_;                // consecutive samples, newest last
   std::deque<Eigen::VectorXd> free_history_;  // free-run outputs aligned with history_
@@ -79,7 +77,7 @@ class OnlineIdentifier {
   bool have_last_ = false;
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
-  mutable ScheduledRefitter refitter_;
+  ScheduledRefitter refitter_;
 };
 
 /// odonata-fit's replay of the online identifier (docs/identifier.md §6.3): every row of `series`

@@ -49,10 +49,14 @@ void ScheduledRefitter::Start(const NarxModel& model) {
   pending_ = std::async(
       std::launch::async,
       [spec = model.spec(), base = *base_, scaling = model.scaling(), series = KeptSeries(),
-       cancel = cancel_]() -> std::optional<NarxModel> {
+       threads = schedule_.threads, cancel = cancel_]() -> std::optional<NarxModel> {
         try {
           OfflineFitOptions o;  // odonata-fit's defaults, with the identifier's fixed scaling
           o.selection.simulation = DefaultSimulationStages();
+          o.selection.threads = threads;
+          // The consequent kind is the configuration's (readable singletons stay singletons, and
+          // a snapshot still fits the identifier that resumes it); H̄, κ and epochs are chosen.
+          o.selection.consequents = {base.consequent};
           o.scaling = scaling;
           TrainOptions t;
           t.cancel = cancel.get();

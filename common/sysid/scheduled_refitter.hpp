@@ -29,8 +29,16 @@ namespace odonata::sysid {
 
 /// When the online learner refits (counts of samples learned, 1-based).
 struct RefitSchedule {
-  int64_t first = 0;      ///< the first refit starts after this many samples; 0: never refit
-  int64_t every = 0;      ///< then at 2×, 4×, … first below this, then at every multiple of it
+  int64_t first = 0;  ///< the first refit starts after this many samples; 0: never refit
+  int64_t every = 0;  ///< then at 2×, 4×, … first below this, then at every multiple of it
+  /// The identifier's default: 10 s, 20 s, 40 s, then every 60 s at 100 Hz (docs/identifier.md
+  /// §6.3; a struct left as it is never refits, as odonata-fit's own default).
+  static RefitSchedule IdentifierDefault() {
+    RefitSchedule s;
+    s.first = 1000;
+    s.every = 6000;
+    return s;
+  }
   int64_t buffer = 6000;  ///< the most recent samples kept for a refit (60 s at 100 Hz)
   /// When learning stops (a freeze, the end of a replayed file), the refit in flight lands and
   /// one more refit on the samples kept closes learning.

@@ -207,7 +207,7 @@ std::string ExampleIdentifierConfig() {
   // Refit with odonata-fit's learner on the most recent refit_buffer samples after refit_first
   // learned, then 2×, 4×, … up to refit_every, then every refit_every, and once more at a freeze
   // (0: none; docs/identifier.md §6.3). odonata-fit --refit-* replays the same schedule.
-  const sysid::RefitSchedule refit;
+  const sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
   j["refit_first"] = refit.first;
   j["refit_every"] = refit.every;
   j["refit_buffer"] = refit.buffer;

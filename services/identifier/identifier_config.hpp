@@ -30,7 +30,7 @@ struct IdentifierConfig {
   /// Refits of the model with odonata-fit's learner on the most recent samples, at fixed counts
   /// (docs/identifier.md §6.3): "refit_first" (0: none), "refit_every", "refit_buffer",
   /// "refit_at_freeze".
-  sysid::RefitSchedule refit;
+  sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
   bus::ChannelConfig channels;
 };
 

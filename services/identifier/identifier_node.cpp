@@ -242,6 +242,7 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
 }
 
 void IdentifierNode::PublishSnapshot() {
+  core_.Settle();  // a closing refit after a freeze is the model to publish (waits for it)
   odonata::model_snapshot_t s = model_messages::EncodeSnapshot(core_.model());
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;
@@ -253,6 +254,7 @@ void IdentifierNode::PublishSnapshot() {
 
 void IdentifierNode::SaveModel(const std::string& path) {
   if (path.empty()) throw std::invalid_argument("SAVE_MODEL without a path (and no --save-model)");
+  core_.Settle();  // a closing refit after a freeze is the model to save (waits for it)
   core_.model().Save(path);
   std::fprintf(stderr, "[%s] model saved to %s (%d rules, %lld samples learned)\n",
                config_.instance.c_str(), path.c_str(), core_.model().total_rules(),

@@ -39,7 +39,7 @@ head -1 "$OUT/samples.csv" | grep -q "^seq,t_s,vz_mps,throttle,battery_v$" || fa
 # Offline equals online when both saw the same samples: the logger and the identifier follow one
 # sequence rule, so with nothing lost on the way to either the two models are bit-identical.
 if ((gaps == 0 && rows == N)); then
-  offline_fit "$CFG" "$OUT/samples.csv" "$OUT/offline.json"
+  offline_fit "$CFG" "$OUT/samples.csv" "$OUT/offline.json" unfrozen
   same_model "$OUT/model.json" "$OUT/offline.json" || fail "the online model differs from odonata-fit on the exported log"
   same="offline model identical"
 else

@@ -68,12 +68,13 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   EXPECT_EQ(online.refits(), 1);
   online.Freeze();
   EXPECT_EQ(online.refits(), 1) << "a freeze does not wait for the closing refit";
-  online.model();
+  online.Settle();
   EXPECT_EQ(online.refits(), 2);
   EXPECT_EQ(online.failed_refits(), 0);
   // The closing refit saw the whole record: the model is odonata-fit's on it, bit for bit.
-  OfflineFitOptions fo;
+  OfflineFitOptions fo;  // odonata-fit --consequent linear: the kind stays the configuration's
   fo.selection.simulation = DefaultSimulationStages();
+  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
   fo.scaling = empty.scaling();
   const OfflineFit offline =
       FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
@@ -100,6 +101,7 @@ TEST(OnlineIdentifier, RefitsLearnFarBetterThanThePerSampleLearnerAlone) {
     refitted.Push(Row(train, k));
   }
   refitted.Freeze();  // the refit in flight (begun at 1000) closes; no closing refit of its own
+  refitted.Settle();
   const double with = refitted.model().Ndei(validate, true);
   EXPECT_EQ(refitted.refits(), 3);  // begun at 250, 500 and 1000
   const double without = plain.model().Ndei(validate, true);
@@ -115,7 +117,7 @@ TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
   OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
   for (Eigen::Index k = 0; k < train.samples(); ++k) id.Push(Row(train, k));
   id.Freeze();
-  id.model();
+  id.Settle();
   EXPECT_EQ(id.refits(), 0);
   EXPECT_GE(id.failed_refits(), 1);
   EXPECT_TRUE(id.model().Predict(Eigen::VectorXd::Zero(id.model().spec().size())).allFinite());
