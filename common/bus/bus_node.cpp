@@ -248,6 +248,14 @@ bool BusNode::AcceptControl(const odonata::control_t& msg) {
       return false;
     }
   }
+  if (msg.utime != 0 && msg.utime < started_utime_ - kStaleControl) {
+    ++stats_.dropped;
+    stats_.last_error = "ignored " + ControlCommandName(msg.command) + " from '" + msg.sender +
+                        "' published " + std::to_string((started_utime_ - msg.utime) / 1'000'000) +
+                        " s before this service started (a replayed log?)";
+    std::fprintf(stderr, "[%s] %s\n", options_.instance.c_str(), stats_.last_error.c_str());
+    return false;
+  }
   const std::string refusal = ControlRefusal(msg, options_.control_senders);
   if (refusal.empty()) return true;
   ++stats_.dropped;

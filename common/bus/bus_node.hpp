@@ -93,8 +93,13 @@ class BusNode {
   /// from an allowed sender. A refusal is counted as dropped and logged, every time, and
   /// answered (ReplyControl, rejected, with the reason). A command this process has already
   /// answered, resent because the answer was lost (same sender, seq and non-zero utime), is not
-  /// obeyed again: its answer is published again instead.
+  /// obeyed again: its answer is published again instead. A command published well before this
+  /// process started (utime more than kStaleControl earlier) is a replayed log's — lcm-logplayer
+  /// keeps the recorded utime —, not an operator's: it is counted as dropped, logged, and not
+  /// answered (a replay must not steer a live system by surprise; docs/lcm.md §13).
   bool AcceptControl(const odonata::control_t& msg);
+  /// Clocks of two boards may disagree by a few seconds; a replayed log is older than this.
+  static constexpr int64_t kStaleControl = 30'000'000;  // µs
   /// Answers `request` on the control_reply channel: accepted or rejected with `reason`, and the
   /// parameters in force afterwards. Every service answers each command addressed to it by name,
   /// and each it acts on when addressed to all (docs/lcm.md §13).
@@ -150,6 +155,7 @@ class BusNode {
   std::string state_ = "starting";
   std::string host_;
   int64_t heartbeat_seq_ = 0;
+  int64_t started_utime_ = NowUtime();
   int64_t reply_seq_ = 0;
   // The newest answers, by their request's sender, seq and utime, to answer a resend again.
   struct AnsweredControl {

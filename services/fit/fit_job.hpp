@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "progress_bar.hpp"
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 #include "sysid/scheduled_refitter.hpp"
@@ -54,7 +55,7 @@ struct FitJobOptions {
   /// RLS forgetting factor of the model that keeps learning over --track (0: keep the trained
   /// model's), as `odonata-control set-forgetting` sets it on a running identifier.
   double track_forgetting = 0.0;
-  bool progress = false;  ///< draw a progress bar on stderr
+  ProgressStyle progress = ProgressStyle::kOff;  ///< progress on stderr
   /// Real logs (docs/identifier.md §7.1): a time column resampled to `rate_hz` (0: the file's
   /// median rate), and gaps of at most `max_gap` samples bridged, longer ones cut into segments.
   std::string time_column;

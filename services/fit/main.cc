@@ -239,7 +239,10 @@ int main(int argc, char** argv) {
     for (const int h : simulation_horizons) o.simulation.push_back({h, simulation_steps});
     if (simulation_steps == 0) o.simulation.clear();
     o.simulation_given = sim_steps->count() > 0;
-    o.progress = odonata::fit::StderrIsTerminal();
+    // A bar on a terminal; into a log, a line every 10 s, unless the output is JSON for a pipe.
+    o.progress = odonata::fit::StderrIsTerminal() ? odonata::fit::ProgressStyle::kBar
+                 : json                           ? odonata::fit::ProgressStyle::kOff
+                                                  : odonata::fit::ProgressStyle::kLines;
     const auto report = odonata::fit::RunFitJob(o);
     if (json) {
       std::cout << report.dump(1) << std::endl;

@@ -1,21 +1,41 @@
 #pragma once
-// A one-line progress bar on stderr, drawn only when stderr is a terminal so logs stay clean.
+// Progress of a long fit on stderr, with the time left: a redrawn bar on a terminal, or a line
+// every 10 s into a log (docs/identifier.md §9). A fit shorter than 2 s shows nothing (the
+// environment variable ODONATA_PROGRESS_AFTER_S sets another quiet time).
 
+#include <chrono>
 #include <string>
 
 namespace odonata::fit {
 
+enum class ProgressStyle {
+  kOff,    ///< nothing (--json into a pipe)
+  kBar,    ///< "label [#####.....] 42%  ~12 s left", redrawn in place (a terminal)
+  kLines,  ///< the same as a line of its own every 10 s (a log file)
+};
+
 class ProgressBar {
  public:
-  /// @param enabled false makes every call a no-op.
-  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  explicit ProgressBar(ProgressStyle style);
+  /// Off unless `enabled` (a terminal bar).
+  explicit ProgressBar(bool enabled)
+      : ProgressBar(enabled ? ProgressStyle::kBar : ProgressStyle::kOff) {}
   ~ProgressBar() { Finish(); }
-  /// Redraws "label [#####.....] 42%" when the percentage changes.
+  /// `fraction` of the current phase is done; a fraction below the last one starts a new phase
+  /// (the selection, then the epochs), whose time left is estimated from its own pace.
   void Update(const std::string& label, double fraction);
   void Finish();
+  /// "~12 s left", "~3 min left", or "" before the pace is known.
+  static std::string TimeLeft(double elapsed_s, double fraction);
 
  private:
-  bool enabled_;
+  using Clock = std::chrono::steady_clock;
+  ProgressStyle style_;
+  Clock::time_point start_, phase_start_;
+  Clock::duration quiet_;
+  bool lined_ = false;
+  Clock::time_point last_line_;
+  double last_fraction_ = -1.0;
   bool drawn_ = false;
   int last_percent_ = -1;
   std::string last_label_;

@@ -19,9 +19,11 @@ struct ProcessResult {
   std::string out;  // stdout and stderr together
 };
 
-ProcessResult Exec(const std::string& args, bool merge_stderr = true) {
+ProcessResult Exec(const std::string& args, bool merge_stderr = true, bool raw = false) {
+  // raw: `args` is the whole shell command (its own program and redirections).
   const std::string cmd =
-      std::string(ODONATA_FIT_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+      raw ? args
+          : std::string(ODONATA_FIT_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
   ProcessResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -157,6 +159,27 @@ TEST(FitCli, SelectionAndRulesAreReadable) {
   EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
 }
 
+// Into a log (stderr not a terminal), a long fit says where it is, with the time left once its
+// pace is known; with --json into a pipe it says nothing. The quiet time is 0 here, so any fit
+// is "long".
+TEST(FitCli, ProgressLinesInALogAndSilenceWithJson) {
+  const std::string args = "--train " + Example("train.csv") +
+                           " --output y --input u --consequent linear --select-kappas 1 "
+                           "--select-thresholds 0.3,0.45 --max-epochs 3";
+  const ProcessResult text = Exec("env ODONATA_PROGRESS_AFTER_S=0 " + std::string(ODONATA_FIT_EXE) +
+                                      " " + args + " 2>&1 >/dev/null",
+                                  false, true);
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("odonata-fit: selecting linear"), std::string::npos) << text.out;
+  EXPECT_EQ(text.out.find("\r"), std::string::npos) << "no bar redrawn into a log";
+  const ProcessResult json = Exec("env ODONATA_PROGRESS_AFTER_S=0 " + std::string(ODONATA_FIT_EXE) +
+                                      " " + args + " --json 2>&1 >/dev/null",
+                                  false, true);
+  ASSERT_EQ(json.status, 0) << json.out;
+  EXPECT_EQ(json.out.find("odonata-fit: selecting"), std::string::npos)
+      << "progress with --json into a pipe: " << json.out;
+}
+
 TEST(FitCli, SelectionNeverReadsTheValidationFile) {
   // The same training file with two different validation files: the same choice, same model.
   const std::string base = "--train " + Example("train.csv") +
@@ -241,8 +264,10 @@ TEST(FitCli, TrackLearnsOnlineBesideAFrozenCopyAndArx) {
 }
 
 TEST(FitCli, ProgressBarOnlyOnATerminal) {
-  // script(1) gives the program a pseudo-terminal, as a user's shell would.
-  const std::string fit = std::string(ODONATA_FIT_EXE) + " --train " + Example("train.csv") +
+  // script(1) gives the program a pseudo-terminal, as a user's shell would; a quiet time of 0
+  // makes this short fit "long" (a fit under 2 s shows no bar).
+  const std::string fit = "env ODONATA_PROGRESS_AFTER_S=0 " + std::string(ODONATA_FIT_EXE) +
+                          " --train " + Example("train.csv") +
                           " --output y --input u --epochs 3 --no-select";
   const std::string cmd = "script -qec '" + fit + "' /dev/null 2>&1";
   FILE* p = popen(cmd.c_str(), "r");

@@ -121,8 +121,9 @@ class IdentifierNodeTest : public ::testing::Test {
     return samples;
   }
   void Control(int8_t command, double value = 0, const std::string& path = "",
-               const std::string& sender = "odonata-control") {
+               const std::string& sender = "odonata-control", int64_t utime = 0) {
     odonata::control_t c{};
+    c.utime = utime;
     c.sender = sender;
     c.target = "id-test";
     c.command = command;
@@ -378,6 +379,20 @@ TEST_F(IdentifierNodeTest, StartsFromASavedModelAndLearnsOnFromIt) {
 
 // A restarted identifier resumes only a snapshot of its own signals and within its own bounds,
 // with the snapshot's learned-sample count and its frozen state; any other starts it fresh.
+// Replaying a recorded flight (lcm-logplayer keeps each message's utime) must not freeze a live
+// identifier with the flight's own freeze (issue 23 point 6).
+TEST_F(IdentifierNodeTest, IgnoresAControlMessagePublishedLongBeforeItStarted) {
+  Start();
+  const int64_t an_hour_ago = bus::NowUtime() - 3'600'000'000;
+  Control(odonata::control_t::FREEZE, 0, "", "odonata-control", an_hour_ago);
+  EXPECT_TRUE(node_->core().learning()) << "a replayed freeze was obeyed";
+  EXPECT_EQ(bus_->stats().dropped, 1);
+  EXPECT_NE(bus_->stats().last_error.find("before this service started"), std::string::npos)
+      << bus_->stats().last_error;
+  Control(odonata::control_t::FREEZE, 0, "", "odonata-control", bus::NowUtime());
+  EXPECT_FALSE(node_->core().learning()) << "a live freeze was not obeyed";
+}
+
 TEST_F(IdentifierNodeTest, ResumesOnlyAFittingSnapshotWithItsCountAndFrozenState) {
   Start();
   Run(0, 120);
