@@ -497,6 +497,46 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   }
   report["warnings"] = warnings;
   report["data"] = data;
+  if (!o.save_config.empty() && train) {
+    // The choices carried over to the online identifier: odonata-identifier --config takes this
+    // as it is (identifier_config.cpp's keys).
+    const auto& fm0 = model->model(0).config();
+    nlohmann::json c;
+    c["instance"] = "identifier";
+    c["outputs"] = spec.outputs;
+    c["inputs"] = spec.inputs;
+    c["ny"] = spec.output_lags;
+    c["nu"] = spec.input_lags;
+    c["delay"] = spec.delay;
+    c["consequent"] = fuzzy::ToString(fm0.consequent);
+    c["entropy_threshold"] = fm0.entropy.threshold;
+    c["kappa"] = fm0.entropy.kappa;
+    c["max_rules"] = fm0.entropy.max_rules;
+    c["sigma_init"] = fm0.entropy.sigma_init;
+    c["sigma_min"] = fm0.entropy.sigma_min;
+    c["sigma_max"] = fm0.entropy.sigma_max;
+    c["forgetting"] = fm0.forgetting;
+    c["prune_utility"] = fm0.entropy.prune_utility;
+    c["prune_min_age"] = fm0.entropy.prune_min_age;
+    nlohmann::json ranges;
+    if (!o.ranges.empty()) {
+      std::ifstream in(o.ranges);
+      in >> ranges;
+    } else {
+      ranges = sysid::RangesToJson(sysid::RangesFromSeries(spec, *train));
+    }
+    c["ranges"] = ranges;
+    const sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
+    c["refit_first"] = refit.first;
+    c["refit_every"] = refit.every;
+    c["refit_buffer"] = refit.buffer;
+    c["refit_at_freeze"] = refit.at_freeze;
+    c["source"] = "signals";
+    std::ofstream out(o.save_config);
+    out << c.dump(2) << "\n";
+    if (!out) throw std::runtime_error(o.save_config + ": cannot write");
+    report["config_file"] = o.save_config;
+  }
   if (!o.save_model.empty()) {
     model->Save(o.save_model);
     report["model_file"] = o.save_model;

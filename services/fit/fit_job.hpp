@@ -72,6 +72,8 @@ struct FitJobOptions {
   int horizon = 0;
   std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
+  /// Optional: write an odonata-identifier configuration with the chosen settings (JSON).
+  std::string save_config;
 };
 
 /// Runs the job and returns the report (the --json document).

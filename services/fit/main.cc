@@ -205,6 +205,10 @@ int main(int argc, char** argv) {
                  "training data (what the online identifier uses)")
       ->check(CLI::ExistingFile);
   app.add_option("--save-ranges", o.save_ranges, "write the training data's signal ranges as JSON");
+  app.add_option("--save-config", o.save_config,
+                 "write an odonata-identifier configuration: these signals and lags, the chosen "
+                 "settings, the training data's ranges (or --ranges), \"source\": \"signals\" "
+                 "(any vehicle's signals_t; set \"dimav\" for the DI-MAV's own messages)");
   app.add_flag("--rules", rules, "list the rules as sentences");
   app.add_flag("--json", json, "print one JSON object on stdout");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;

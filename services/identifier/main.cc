@@ -16,7 +16,7 @@
 
 int main(int argc, char** argv) {
   std::string config_path, model_path, save_path, lcm_url, instance;
-  bool print_config = false;
+  bool print_config = false, check_config = false;
   double resume_wait_s = -1;
   CLI::App app{
       "Online entropy fuzzy identifier. Pairs DIMAV_COMMAND, DIMAV_STATE and (for beat averages "
@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   odonata::cli::AddChannelOptions(&app, &channels);
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
+  app.add_flag("--check-config", check_config,
+               "read --config (and --model), say what it identifies, and exit: 0 when it can be "
+               "used as it is");
   // The same settings file as the other services (a board's launch, deploy/board/); the model
   // itself stays in the JSON of --config.
   app.set_config("--settings", "", "read options from this TOML/INI file");
@@ -59,6 +62,20 @@ int main(int argc, char** argv) {
     channels.ApplyTo(&config.channels);
     std::optional<odonata::sysid::NarxModel> initial;
     if (!model_path.empty()) initial = odonata::sysid::NarxModel::Load(model_path);
+    if (check_config) {
+      const auto& sp = config.spec;
+      std::printf("%s: %s identifies", config.instance.c_str(),
+                  config_path.empty() ? "the default configuration" : config_path.c_str());
+      for (const auto& o : sp.outputs) std::printf(" %s", o.c_str());
+      std::printf(" from");
+      for (const auto& i : sp.inputs) std::printf(" %s", i.c_str());
+      std::printf(" (ny %d, nu %d, delay %d), %s consequents, H %.4g, kappa %.3g, refits %s%s\n",
+                  sp.output_lags, sp.input_lags, sp.delay,
+                  odonata::fuzzy::ToString(config.model.consequent), config.model.entropy.threshold,
+                  config.model.entropy.kappa, config.refit.enabled() ? "on" : "off",
+                  initial ? ", starting from the model given" : "");
+      return 0;
+    }
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
     opts.service = "odonata-identifier";

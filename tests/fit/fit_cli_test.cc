@@ -180,6 +180,41 @@ TEST(FitCli, ProgressLinesInALogAndSilenceWithJson) {
       << "progress with --json into a pipe: " << json.out;
 }
 
+// Choices carried across (issue 21 point 4): the configuration odonata-fit writes is one
+// odonata-identifier accepts as it is, with the settings the selection chose.
+TEST(FitCli, SavedConfigurationIsOneTheIdentifierTakesAsItIs) {
+  const std::string cfg = Dir() + "/saved_identifier.json";
+  const ProcessResult fit =
+      Exec("--train " + Example("train.csv") +
+               " --output y --input u --consequent linear --select-kappas 0.5 "
+               "--select-thresholds 0.3,0.45 --max-epochs 3 --json --save-config " +
+               cfg,
+           false);
+  ASSERT_EQ(fit.status, 0) << fit.out;
+  const auto report = nlohmann::json::parse(fit.out);
+  std::ifstream in(cfg);
+  const auto c = nlohmann::json::parse(in);
+  EXPECT_EQ(c["outputs"], nlohmann::json::array({"y"}));
+  EXPECT_EQ(c["inputs"], nlohmann::json::array({"u"}));
+  EXPECT_EQ(c["kappa"].get<double>(), 0.5);
+  EXPECT_EQ(c["entropy_threshold"].get<double>(), report["entropy_threshold"].get<double>());
+  EXPECT_TRUE(c["ranges"].contains("y") && c["ranges"].contains("u")) << c.dump();
+  const ProcessResult check =
+      Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1", false,
+           true);
+  ASSERT_EQ(check.status, 0) << check.out;
+  EXPECT_NE(check.out.find("identifies y from u (ny 1, nu 1, delay 1), linear consequents"),
+            std::string::npos)
+      << check.out;
+  // A broken one is refused, naming the key.
+  std::ofstream(cfg) << R"({"outputs": ["y"], "inputs": ["u"], "kapa": 1})";
+  const ProcessResult bad =
+      Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1", false,
+           true);
+  EXPECT_NE(bad.status, 0) << bad.out;
+  EXPECT_NE(bad.out.find("kapa"), std::string::npos) << bad.out;
+}
+
 TEST(FitCli, SelectionNeverReadsTheValidationFile) {
   // The same training file with two different validation files: the same choice, same model.
   const std::string base = "--train " + Example("train.csv") +

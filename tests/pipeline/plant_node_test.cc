@@ -330,7 +330,7 @@ TEST_F(PlantNodeTest, AResentCommandIsAnsweredAgainNotObeyedAgain) {
   bus_->Subscribe<odonata::control_reply_t>(bus_->channels().control_reply,
                                             [&](const auto& r) { replies.push_back(r); });
   odonata::control_t c{};
-  c.utime = 1700000000000000;
+  c.utime = bus::NowUtime();  // a live command (one from before the start is a replay's)
   c.seq = 4242;
   c.sender = "odonata-control";
   c.target = kServiceName;
