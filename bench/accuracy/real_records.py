@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""odonata-fit's defaults beside ARX, polynomial NARX (FROLS) and an MLP NARX on measured records.
+"""odonata-fit's defaults, and the online identifier's, beside ARX, polynomial NARX (FROLS) and an
+MLP NARX on measured records.
 
 Every model uses the same regressor (ny output lags, nu input lags, delay 1) and chooses its own
 settings on the training file only (its last 20 % held out, then refitted on all of it); the test
@@ -178,9 +179,16 @@ def fit_arx(y, u, ny, nu):
     return (lambda X: np.column_stack([np.ones(len(X)), X]) @ theta), f"{len(theta)} terms"
 
 
-def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon):
+# The online identifier's learner with its default configuration, replayed over the training file
+# in order (odonata-fit --refit-*: the same OnlineIdentifier class, its default refits, frozen at
+# the end as a run is): what odonata-identifier learns live from the same samples.
+ONLINE = ["--epochs", "1", "--no-least-squares", "--no-select", "--consequent", "linear",
+          "--refit-first", "1000", "--refit-every", "6000", "--refit-buffer", "6000"]
+
+
+def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
     cmd = [fit_exe, "--train", train, "--validate", test, "--output", output, "--ny", str(ny),
-           "--nu", str(nu), "--json"]
+           "--nu", str(nu), "--json", *extra]
     for i in inputs:
         cmd += ["--input", i]
     if horizon:
@@ -240,6 +248,8 @@ def main():
         yt, ut = load(test, out, ins)
         row = {"record": name, "ny": ny, "nu": nu, "horizon": horizon, "models": {}}
         row["models"]["odonata defaults"] = odonata(args.fit, train, test, out, ins, ny, nu, horizon)
+        row["models"]["odonata online (identifier defaults)"] = odonata(
+            args.fit, train, test, out, ins, ny, nu, horizon, ONLINE)
         row["models"]["ARX"] = peer(lambda: fit_arx(y, u, ny, nu), y, u, yt, ut, ny, nu, horizon)
         if not args.no_peers:
             for d in (2, 3):
