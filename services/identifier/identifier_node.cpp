@@ -1,6 +1,8 @@
 #include "identifier_node.hpp"
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "io/atomic_file.hpp"
@@ -10,6 +12,20 @@
 #include "snapshot_admission.hpp"
 
 namespace odonata::identifier {
+
+namespace {
+
+// A saved model names its format near its start (NarxModel::ToJson); a log or a configuration
+// does not.
+bool LooksLikeSavedModel(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find("\"odonata-narx-fuzzy\"") != std::string::npos;
+}
+
+}  // namespace
 
 IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                                std::optional<sysid::NarxModel> initial, std::string save_model_path,
@@ -212,6 +228,13 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       // A name from the bus: only a plain file name, written inside --models-dir.
       const std::string path =
           msg.path.empty() ? save_model_path_ : io::ConfinedPath(models_dir_, msg.path);
+      // The models directory may be a run's folder: a name from the bus never replaces a file
+      // that is not a saved model (the live event log, the configuration a restart reads).
+      if (!msg.path.empty() &&
+          std::filesystem::is_regular_file(std::filesystem::symlink_status(path)) &&
+          !LooksLikeSavedModel(path))
+        throw std::invalid_argument("save-model would replace " + path +
+                                    ", which is not a saved model");
       SaveModel(path);
       return "model saved to " + path;
     }

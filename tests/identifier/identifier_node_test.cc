@@ -263,6 +263,18 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
   victim_in >> victim_text;
   EXPECT_EQ(victim_text, "precious");
   std::filesystem::remove(victim);
+  // A name that is already a file other than a saved model (the run's live event log, its
+  // configuration) is refused: the models directory may be the run's folder (issue 24 point 4).
+  std::ofstream(models_dir_ + "/odonata.lcmlog.00000") << "LCM events";
+  const int64_t before_log = bus_->stats().dropped;
+  Control(odonata::control_t::SAVE_MODEL, 0, "odonata.lcmlog.00000");
+  EXPECT_EQ(bus_->stats().dropped, before_log + 1);
+  std::ifstream log_in(models_dir_ + "/odonata.lcmlog.00000");
+  std::string log_text;
+  std::getline(log_in, log_text);
+  EXPECT_EQ(log_text, "LCM events");
+  Control(odonata::control_t::SAVE_MODEL, 0, "saved.json");  // a saved model may be replaced
+  EXPECT_EQ(bus_->stats().dropped, before_log + 1);
 
   // Reset and shutdown only from allowed senders.
   const int rules = node_->core().model().total_rules();
