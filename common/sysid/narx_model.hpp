@@ -45,6 +45,9 @@ struct TrainOptions {
   /// Derive the scaling from the training data (offline default). False keeps the scaling set
   /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
   bool fit_scaling = true;
+  /// False: the first pass only tunes, no rule is created — the rule base was grown already
+  /// (on blocks spread over a long record, offline_fit.cpp).
+  bool grow_rules = true;
   /// Optional hold-out slice of the training data: the epoch with the lowest hold-out NDEI is the
   /// one kept. Free-run NDEI when the model has output lags and holdout_free_run is set, else
   /// one-step.

@@ -13,11 +13,19 @@ OfflineFit FitOffline(
   TrainOptions topt = train;
   if (options.scaling) topt.fit_scaling = false;
   std::optional<SelectionResult> sel;
+  Eigen::Index searched_rows = 0, searched_selection_rows = 0;
   if (options.search) {
     SelectionOptions so = options.selection;
     so.scaling = options.scaling;
     if (!topt.refine_least_squares) so.simulation.clear();  // the online pass has no such phase
-    sel = SelectModel(spec, cfg, topt, series, so, on_candidate, selection_series);
+    const Series searched = SubsampleForSearch(series, options.search_budget);
+    std::optional<Series> searched_selection;
+    if (selection_series)
+      searched_selection = SubsampleForSearch(*selection_series, options.search_budget);
+    searched_rows = searched.samples();
+    if (searched_selection) searched_selection_rows = searched_selection->samples();
+    sel = SelectModel(spec, cfg, topt, searched, so, on_candidate,
+                      searched_selection ? &*searched_selection : nullptr);
     const Candidate& c = sel->candidates[sel->chosen];
     cfg = CandidateConfig(cfg, c);
     topt.simulation = c.simulation;
@@ -27,8 +35,24 @@ OfflineFit FitOffline(
   // The chosen setting, refitted on the whole series (the hold-out included).
   NarxModel model(spec, cfg);
   if (options.scaling) model.SetScaling(*options.scaling);
+  if (searched_rows > 0 && searched_rows < series.samples()) {
+    // Searched on blocks: the rule base is grown on the same blocks, where the chosen rule count
+    // was judged (on every row the entropy test keeps finding novel tails, and the count — and
+    // the cost — would grow with the record); every row then tunes premises and consequents.
+    // The scaling is the whole record's, so both passes see the same units.
+    if (!options.scaling) model.FitScaling(series);
+    TrainOptions grow = topt;
+    grow.fit_scaling = false;
+    grow.epochs = 1;
+    grow.simulation.clear();
+    grow.progress = nullptr;
+    model.Train(SubsampleForSearch(series, options.search_budget), grow);
+    topt.fit_scaling = false;
+    topt.grow_rules = false;
+  }
   TrainReport report = model.Train(series, topt);
-  return OfflineFit{std::move(model), cfg, topt, std::move(sel), std::move(report)};
+  return OfflineFit{std::move(model),   cfg, topt, std::move(sel), searched_rows,
+                    searched_selection_rows, std::move(report)};
 }
 
 }  // namespace odonata::sysid

@@ -10,6 +10,7 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
+#include "sysid/search_subsample.hpp"
 
 namespace odonata::sysid {
 
@@ -18,6 +19,9 @@ struct OfflineFitOptions {
   /// `train` as they are.
   bool search = true;
   SelectionOptions selection;
+  /// A long record's settings are chosen on blocks spread over it (search_subsample.hpp), then
+  /// trained on all of it.
+  SearchSubsample search_budget;
   /// The epoch count in `train` was given, not chosen: candidates train that many epochs.
   bool epochs_given = false;
   /// Declared scaling (the online identifier's ranges): every candidate and the final model use
@@ -32,6 +36,9 @@ struct OfflineFit {
   fuzzy::FuzzyModelConfig config;  ///< the setting trained (chosen or given)
   TrainOptions train;              ///< epochs and simulation schedule trained with
   std::optional<SelectionResult> selection;
+  /// Rows the search saw (the training series' and a selection series'): fewer than the record
+  /// when it was subsampled; 0 without a search.
+  Eigen::Index searched_rows = 0, searched_selection_rows = 0;
   TrainReport report;
 };
 

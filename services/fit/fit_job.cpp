@@ -311,6 +311,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     fo.search = search;
     fo.epochs_given = o.epochs_given;
     fo.scaling = declared;
+    fo.search_budget = o.search_budget;
     if (search) {
       sysid::SelectionOptions& so = fo.selection;
       so = o.selection;
@@ -356,6 +357,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           {"relative_tolerance", so.relative_tolerance},
           {"absolute_tolerance", so.absolute_tolerance},
           {"fit_samples", sel.fit_samples},
+          {"searched_rows", fit.searched_rows},
+          {"training_rows", train->samples()},
           {"holdout_samples", sel.holdout_samples},
           {"candidates", cands},
           {"best_index", sel.best},
@@ -563,6 +566,10 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         << sel["absolute_tolerance"].get<double>()
         << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
            "free-run NDEI\n";
+    if (sel.value("searched_rows", 0L) < sel.value("training_rows", 0L))
+      out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
+          << sel["training_rows"].get<long>()
+          << " training rows, in blocks spread over the file; --search-rows)\n";
     std::size_t k = 0;
     auto num = [](const nlohmann::json& v) { return v.is_null() ? NAN : v.get<double>(); };
     for (const auto& c : sel["candidates"]) {

@@ -12,6 +12,7 @@
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 #include "sysid/scheduled_refitter.hpp"
+#include "sysid/search_subsample.hpp"
 #include "sysid/series_from_table.hpp"
 #include "sysid/simulation_error_training.hpp"
 
@@ -40,6 +41,9 @@ struct FitJobOptions {
   bool kappa_given = false;
   bool epochs_given = false;
   sysid::SelectionOptions selection;
+  /// A long training file's settings are chosen on this many of its rows (blocks spread over
+  /// it), then trained on all of them; rows = 0 searches the whole file.
+  sysid::SearchSubsample search_budget;
   std::string predictions;  ///< optional CSV of measured, fuzzy and ARX predictions
   /// Optional selection CSV (a third excitation): candidates train on all of --train and are
   /// scored on it, instead of on a hold-out slice of --train.

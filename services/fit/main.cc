@@ -165,6 +165,14 @@ int main(int argc, char** argv) {
                  "selection CSV (a third excitation): score the candidates on it instead of on "
                  "the training file's end")
       ->check(CLI::ExistingFile);
+  app.add_option("--search-rows", o.search_budget.rows,
+                 "a longer training file's settings are chosen on this many of its rows, in " +
+                     std::to_string(o.search_budget.blocks) +
+                     " blocks spread over it (the hold-out is the last blocks), and the chosen "
+                     "setting is then trained on every row: the search's time stays bounded "
+                     "however long the log; 0 searches every row")
+      ->capture_default_str()
+      ->check(CLI::Range(Eigen::Index{0}, Eigen::Index{1000000000}));
   app.add_option("--select-thresholds", o.selection.thresholds, "H̄ values to try")->delimiter(',');
   app.add_option("--select-kappas", o.selection.kappas, "kappa values to try")->delimiter(',');
   app.add_option("--threads", o.selection.threads,

@@ -159,6 +159,30 @@ TEST(FitCli, SelectionAndRulesAreReadable) {
   EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
 }
 
+// A training file longer than --search-rows is searched on blocks spread over it, which the
+// report says (JSON and text), and the model is still trained on every row (issue 22).
+TEST(FitCli, ALongFileIsSearchedOnBlocksAndTrainedWhole) {
+  const std::string common = "--train " + Example("train.csv") +
+                             " --output y --input u --consequent linear --select-kappas 1 "
+                             "--select-thresholds 0.3,0.45 --max-epochs 3";
+  const std::string args = common + " --search-rows 2000";
+  const ProcessResult j = Exec(args + " --json", false);
+  ASSERT_EQ(j.status, 0) << j.out;
+  const auto report = nlohmann::json::parse(j.out);
+  EXPECT_EQ(report["selection"]["searched_rows"].get<long>(), 2000);
+  EXPECT_EQ(report["selection"]["training_rows"].get<long>(), 5000);
+  EXPECT_EQ(report["selection"]["fit_samples"].get<long>() +
+                report["selection"]["holdout_samples"].get<long>(),
+            2000);
+  EXPECT_EQ(report["train"]["one_step"]["samples"].get<long>(), 4999) << "scored on every row";
+  const ProcessResult t = Exec(args);
+  ASSERT_EQ(t.status, 0) << t.out;
+  EXPECT_NE(t.out.find("searched on 2000 of the 5000 training rows"), std::string::npos) << t.out;
+  const ProcessResult whole = Exec(common + " --search-rows 0 --json", false);
+  ASSERT_EQ(whole.status, 0) << whole.out;
+  EXPECT_EQ(nlohmann::json::parse(whole.out)["selection"]["searched_rows"].get<long>(), 5000);
+}
+
 // Into a log (stderr not a terminal), a long fit says where it is, with the time left once its
 // pace is known; with --json into a pipe it says nothing. The quiet time is 0 here, so any fit
 // is "long".
