@@ -87,6 +87,14 @@ namespace {
 // deviation has not settled.
 constexpr double kRestTolerance = 0.01;
 
+}  // namespace
+
+bool Restless(double rest_deviation, double linear_rest) {
+  return !(rest_deviation <= std::max(kRestTolerance, 10.0 * linear_rest));
+}
+
+namespace {
+
 // Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
 // one) and returns the model.
 NarxModel TrainCandidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
@@ -332,7 +340,7 @@ SelectionResult SelectModel(
     ParallelFor(cs.size(), ResolveThreads(options.threads), [&](std::size_t k) {
       if (k == *linear_index || !std::isfinite(cs[k].score)) return;
       cs[k].rest_deviation = RestDeviation(models[k], fit);
-      if (cs[k].rest_deviation > std::max(kRestTolerance, 10.0 * linear_rest)) {
+      if (Restless(cs[k].rest_deviation, linear_rest)) {
         cs[k].restless = true;
         cs[k].score = std::numeric_limits<double>::infinity();
       }

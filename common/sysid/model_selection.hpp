@@ -111,6 +111,9 @@ std::vector<double> DefaultKappas();
 /// deviation of the last quarter of that run over the outputs' deviation (mean over outputs;
 /// +∞ if it diverged). A model of a system at rest that oscillates by itself scores high.
 double RestDeviation(const NarxModel& model, const Series& train);
+/// A model whose RestDeviation is this is not at rest where the linear model (its deviation
+/// `linear_rest`) is: a self-excited oscillation.
+bool Restless(double rest_deviation, double linear_rest);
 
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);

@@ -1,6 +1,8 @@
 #include "sysid/offline_fit.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 namespace odonata::sysid {
 
@@ -51,6 +53,57 @@ OfflineFit FitOffline(
     topt.grow_rules = false;
   }
   TrainReport report = model.Train(series, topt);
+  if (sel && sel->free_run_criterion) {
+    // The candidates were checked at rest on what they trained on; the final model trained on
+    // more (every row, its rules grown on the blocks) and may not be the same dynamical system.
+    // One that oscillates by itself where the linear model comes to rest (the Silverbox's
+    // small-amplitude start) is refused: the chosen setting is trained again with its rules grown
+    // on every row, as without blocks, and if that oscillates too, the linear model (ARX, which
+    // cannot) is chosen.
+    const auto linear = std::find_if(sel->candidates.begin(), sel->candidates.end(),
+                                     [](const Candidate& c) { return c.linear; });
+    const bool check = !sel->candidates[sel->chosen].linear &&
+                       linear != sel->candidates.end() && std::isfinite(linear->rest_deviation);
+    auto restless = [&](const NarxModel& m, const char* what) {
+      const double rest = RestDeviation(m, series);
+      if (!Restless(rest, linear->rest_deviation)) return false;
+      std::ostringstream w;
+      w << "the final " << m.total_rules() << "-rule model (" << what
+        << ") oscillates by itself at rest (deviation " << rest << " of the output's, the linear "
+        << "model's " << linear->rest_deviation << "), which its candidate did not";
+      sel->warnings.push_back(w.str());
+      return true;
+    };
+    if (check && restless(model, topt.grow_rules ? "rules grown on every row"
+                                                 : "rules grown on the searched blocks")) {
+      bool settled = false;
+      if (!topt.grow_rules) {
+        NarxModel again(spec, cfg);
+        TrainOptions t = topt;
+        t.grow_rules = true;
+        again.SetScaling(model.scaling());
+        TrainReport r = again.Train(series, t);
+        if (!restless(again, "rules grown on every row")) {
+          model = std::move(again);
+          report = std::move(r);
+          topt = t;
+          settled = true;
+        }
+      }
+      if (!settled) {
+        sel->warnings.push_back("the linear model (ARX) is chosen");
+        sel->chosen = static_cast<std::size_t>(linear - sel->candidates.begin());
+        cfg = CandidateConfig(config, *linear);
+        topt = train;
+        if (options.scaling) topt.fit_scaling = false;
+        topt.simulation = linear->simulation;
+        if (!options.epochs_given) topt.epochs = std::max(1, linear->epochs);
+        model = NarxModel(spec, cfg);
+        if (options.scaling) model.SetScaling(*options.scaling);
+        report = model.Train(series, topt);
+      }
+    }
+  }
   return OfflineFit{std::move(model),   cfg, topt, std::move(sel), searched_rows,
                     searched_selection_rows, std::move(report)};
 }

@@ -293,5 +293,19 @@ TEST(ModelSelection, RefusesATrainingSeriesTooShortToHoldOut) {
                std::invalid_argument);
 }
 
+
+// The rest check the candidates and the final model share: not at rest is a deviation above 1 %
+// of the output's and above ten times the linear model's; a diverged run is never at rest.
+TEST(ModelSelection, RestlessMeansMovingWhereTheLinearModelSettles) {
+  EXPECT_FALSE(Restless(0.0, 0.0));
+  EXPECT_FALSE(Restless(0.009, 0.0));
+  EXPECT_TRUE(Restless(0.011, 0.0));
+  EXPECT_TRUE(Restless(0.67, 1e-16));  // the Silverbox's limit cycle
+  EXPECT_FALSE(Restless(0.05, 0.01));  // a linear model that itself moves sets the bar
+  EXPECT_TRUE(Restless(0.2, 0.01));
+  EXPECT_TRUE(Restless(std::numeric_limits<double>::infinity(), 0.0));
+  EXPECT_TRUE(Restless(std::numeric_limits<double>::quiet_NaN(), 0.0));
+}
+
 }  // namespace
 }  // namespace odonata::sysid
