@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bus/event_log_reader.hpp"
 #include "bus_cli/channel_options.hpp"
 #include "bus_cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
@@ -76,6 +77,11 @@ int main(int argc, char** argv) {
                   "applied channels averaged over the block, the rest at its first sample)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
+  bool strict = false;
+  exp->add_flag("--strict", strict,
+                "refuse a damaged log (a cut-off last event, garbage, an unreadable event): "
+                "without it every readable event is exported and the bytes lost are counted in "
+                "a warning");
   exp->add_option(
          "--run", ex.run,
          "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
@@ -85,6 +91,7 @@ int main(int argc, char** argv) {
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
+    if (*exp && strict) odonata::bus::ForEachLogEvent(logs, [](const lcm::LogEvent&) {}, true);
     if (*exp && signals) {
       if (ex.decimate != 1)
         throw std::runtime_error("--decimate applies to the DI-MAV's samples, not to --signals");

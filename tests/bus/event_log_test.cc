@@ -98,26 +98,57 @@ TEST_F(EventLogTest, AMalformedEventIsRefusedAndTheLogStaysReadable) {
   EXPECT_EQ(Events(w.files()), (std::vector<std::string>{"xy", "z"}));
 }
 
-TEST_F(EventLogTest, ADamagedLogIsAnErrorNotAShortRead) {
+// Damage does not end the reading: every readable event is read and the lost bytes counted;
+// --strict (strict) makes it an error naming the file.
+TEST_F(EventLogTest, ADamagedLogIsReadPastItsDamageAndCounted) {
   const auto files = Record(dir_ + "/log", 20);
   const std::string whole = Slurp(files[0]);
   ASSERT_EQ(Events(files).size(), 20u);
-  // Garbage appended, and garbage in the middle (which LogFile would silently skip to the next
-  // sync word).
-  const std::string tail = dir_ + "/tail", middle = dir_ + "/middle";
+  // Event i holds 28 + 1 + i bytes: events 1-3 end at byte 93, event 4 at 126.
+  const std::string tail = dir_ + "/tail", middle = dir_ + "/middle", seam = dir_ + "/seam";
   std::ofstream(tail, std::ios::binary) << whole << "garbage";
   std::ofstream(middle, std::ios::binary)
       << whole.substr(0, 100) << "\x01\x02\x03garbage" << whole.substr(100);
-  for (const std::string& bad : {tail, middle}) {
+  std::ofstream(seam, std::ios::binary)
+      << whole.substr(0, 93) << "\x01\x02\x03garbage" << whole.substr(93);
+  for (const std::string& bad : {tail, middle, seam}) {
+    std::vector<std::string> got;
+    const LogReadReport r = ForEachLogEvent({bad}, [&got](const lcm::LogEvent& ev) {
+      got.emplace_back(static_cast<const char*>(ev.data), static_cast<std::size_t>(ev.datalen));
+    });
+    // In the middle the garbage lands in event 4's header, which is lost with it.
+    const long expected = bad == middle ? 19 : 20;
+    EXPECT_EQ(r.events, expected) << bad;
+    EXPECT_EQ(static_cast<long>(got.size()), expected) << bad;
+    EXPECT_EQ(r.bytes_lost, bad == tail ? 7 : bad == middle ? 33 + 10 : 10) << bad;
+    EXPECT_EQ(r.damaged_files, 1) << bad;
+    EXPECT_EQ(got.back(), std::string(20, static_cast<char>('a' + 20 % 26))) << bad;
     try {
-      Events({bad});
-      ADD_FAILURE() << bad << " was read as if whole";
+      ForEachLogEvent({bad}, [](const lcm::LogEvent&) {}, true);
+      ADD_FAILURE() << bad << " was read as if whole with strict";
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("damaged event log"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
     }
   }
+  // Garbage at a seam costs no event (lcm::LogFile drops the whole event before it).
+  std::vector<std::string> at_seam;
+  ForEachLogEvent({seam}, [&at_seam](const lcm::LogEvent& ev) {
+    at_seam.emplace_back(static_cast<const char*>(ev.data), static_cast<std::size_t>(ev.datalen));
+  });
+  EXPECT_EQ(at_seam, Events(files));
+  // A forged header whose channel is 5000 bytes long (lcm's reader asserts on it) is garbage.
+  std::string forged = whole.substr(0, 93);
+  forged += std::string("\xED\xA1\xDA\x01", 4) + std::string(16, '\0') +
+            std::string("\x00\x00\x13\x88\x00\x00\x00\x01", 8) + whole.substr(93);
+  const std::string forged_path = dir_ + "/forged";
+  std::ofstream(forged_path, std::ios::binary) << forged;
+  EXPECT_EQ(Events({forged_path}), Events(files));
   EXPECT_THROW(Events({dir_ + "/missing"}), std::runtime_error);
+  // A whole log is whole, strict or not.
+  const LogReadReport clean = ForEachLogEvent(files, [](const lcm::LogEvent&) {}, true);
+  EXPECT_EQ(clean.events, 20);
+  EXPECT_EQ(clean.bytes_lost, 0);
 }
 
 // A logger killed while writing leaves its last event cut off: every whole event before it is
@@ -131,6 +162,9 @@ TEST_F(EventLogTest, ACutOffLastEventLeavesTheEventsBeforeIt) {
     std::ofstream(cut, std::ios::binary) << whole.substr(0, whole.size() - last + keep);
     const auto events = Events({cut});
     ASSERT_EQ(events.size(), 19u) << keep << " bytes of the last event kept";
+    EXPECT_EQ(ForEachLogEvent({cut}, [](const lcm::LogEvent&) {}).bytes_lost,
+              static_cast<int64_t>(keep));
+    EXPECT_THROW(ForEachLogEvent({cut}, [](const lcm::LogEvent&) {}, true), std::runtime_error);
     EXPECT_EQ(events.back(), std::string(19, static_cast<char>('a' + 19 % 26)));
   }
 }

@@ -254,6 +254,19 @@ TEST_F(PipelineProcess, LockstepRollMatchesOdonataSimBitForBit) {
     for (std::size_t k = 0; k < got.size(); ++k)
       ASSERT_EQ(std::memcmp(&got[k], &want[k], sizeof got[k]), 0) << name << " row " << k;
   }
+
+  // A log cut short (a battery pulled mid-event) still exports every readable event, with a
+  // warning that counts the bytes lost; --strict refuses it (issue 23 point 5).
+  const Result cut = RunInNamespace("head -c -5 run.lcm > cut.lcm && " + kLogger +
+                                    " export cut.lcm -o cut.csv; echo rc=$?; " + kLogger +
+                                    " export --strict cut.lcm -o strict.csv; echo strict_rc=$?");
+  EXPECT_NE(cut.out.find("rc=0"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.out.find("unreadable"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.out.find("cut-off event"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.out.find("strict_rc=1"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.out.find("damaged event log"), std::string::npos) << cut.out;
+  const auto cut_csv = odonata::io::CsvTable::Read(dir_ + "/cut.csv");
+  EXPECT_GE(cut_csv.rows() + 1, table.rows()) << "at most the last sample is lost";
 }
 
 // The test stand and another phase and seed; the plant starts with its default set-up.
