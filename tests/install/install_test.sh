@@ -38,6 +38,14 @@ for unit in "$stage"/lib/systemd/system/odonata-*.service; do
 done
 echo "PASS: the staging prefix holds the programs, scripts, jar, header, units and settings"
 
+# The installed own-vehicle example builds on its own, as a vehicle's project would: lcm-gen on
+# the installed signals_t.lcm, no odonata source or build tree.
+cmake -S "$stage/share/odonata/examples/own_vehicle" -B "$work/own_vehicle" >"$work/ov.log" 2>&1 &&
+  cmake --build "$work/own_vehicle" >>"$work/ov.log" 2>&1 ||
+  { cat "$work/ov.log"; fail "the installed own_vehicle example does not build"; }
+"$work/own_vehicle/own-vehicle" --help >/dev/null || fail "the installed example's own-vehicle does not run"
+echo "PASS: the installed own_vehicle example builds alone"
+
 # Nothing from the source or build tree: run from an empty directory, with a PATH that has only
 # the system's folders, so the installed odonata-run can find nothing but the installed files.
 mkdir "$work/cwd"
