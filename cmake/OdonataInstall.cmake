@@ -21,6 +21,8 @@ install(DIRECTORY lcmtypes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/lcmtype
 install(FILES common/inference/odonata/tsk_model.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/odonata)
 install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/examples)
+# A vehicle in Python publishes signals_t with this module (standard library only).
+install(FILES python/odonata_signals.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY deploy/board/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/board
         PATTERN "*.service" EXCLUDE PATTERN "*.target" EXCLUDE)

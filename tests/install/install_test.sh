@@ -25,6 +25,7 @@ for f in bin/odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,exp
   bin/odonata-{run,make-identifier-config,lcm-spy} include/odonata/tsk_model.hpp \
   share/java/odonata_lcmtypes.jar share/odonata/lcmtypes/odonata_plant_state_t.lcm \
   share/odonata/examples/narendra/train.csv share/odonata/board/odonata.env \
+  share/odonata/python/odonata_signals.py share/odonata/examples/own_vehicle/vehicle.py \
   lib/systemd/system/odonata.target; do
   [[ -e $stage/$f ]] || fail "$f is not installed"
 done
