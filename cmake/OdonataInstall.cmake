@@ -13,6 +13,8 @@ install(PROGRAMS deploy/make-identifier-config DESTINATION ${CMAKE_INSTALL_BINDI
 install(PROGRAMS deploy/lcm-spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME odonata-lcm-spy)
 # The one rule both scripts use to find the programs (imported from the scripts' own folder).
 install(FILES deploy/odonata_programs.py DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(FILES deploy/odonata_compare.py DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(ODONATA_TYPES_JAR)
   install(FILES ${ODONATA_TYPES_JAR} DESTINATION ${CMAKE_INSTALL_DATADIR}/java)
 endif()

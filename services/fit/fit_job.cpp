@@ -144,16 +144,21 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
 
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
 /// One output keeps the plain column names; several get one set of columns per output (_NAME).
+/// With a horizon K (> 1), fuzzy_k_step and arx_k_step follow: each a free run of K samples from
+/// the measured outputs before it.
 void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
-                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx) {
+                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon) {
   const auto no = spec.outputs.size();
+  const bool ahead = horizon > 1 && spec.output_lags > 0;
   std::vector<std::string> header{"set", "sample"};
   for (const auto& name : spec.outputs) {
     const std::string sfx = no > 1 ? "_" + name : "";
     for (const char* c :
          {"measured", "fuzzy_one_step", "fuzzy_free_run", "arx_one_step", "arx_free_run"})
       header.push_back(c + sfx);
+    if (ahead)
+      for (const char* c : {"fuzzy_k_step", "arx_k_step"}) header.push_back(c + sfx);
   }
   io::CsvWriter out(path, header);
   double set_index = 0;
@@ -164,12 +169,18 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
     const bool lags = spec.output_lags > 0;
     const Eigen::MatrixXd fr = lags ? sysid::SimulateFreeRun(spec, *s, fuzzy) : f1;
     const Eigen::MatrixXd ar = lags ? sysid::SimulateFreeRun(spec, *s, arx) : a1;
+    const Eigen::MatrixXd fk = ahead ? sysid::PredictAhead(spec, *s, fuzzy, horizon) : f1;
+    const Eigen::MatrixXd ak = ahead ? sysid::PredictAhead(spec, *s, arx, horizon) : a1;
     for (Eigen::Index r = 0; r < f1.rows(); ++r) {
       const Eigen::Index t = targets[static_cast<std::size_t>(r)];
       std::vector<double> row{set_index, double(t)};
       for (Eigen::Index o = 0; o < f1.cols(); ++o) {
         for (const double v : {s->outputs(t, o), f1(r, o), fr(r, o), a1(r, o), ar(r, o)})
           row.push_back(v);
+        if (ahead) {
+          row.push_back(fk(r, o));
+          row.push_back(ak(r, o));
+        }
       }
       out.WriteRow(row);
     }
@@ -480,7 +491,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     if (!o.predictions.empty()) {
       std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*train}};
       if (validate) sets.emplace_back("validate", &*validate);
-      WritePredictions(o.predictions, spec, sets, predict, arx_predict);
+      WritePredictions(o.predictions, spec, sets, predict, arx_predict, o.horizon);
       report["predictions_file"] = o.predictions;
     }
   }
