@@ -3,6 +3,9 @@ make-identifier-config): beside the script when installed (cmake --install or th
 them all in bin/), else in a build tree, at services/<name without "odonata-">/<name>."""
 import os
 
+# The project's version (CMakeLists.txt project(); tests/cli checks that they agree).
+VERSION = "0.1.0"
+
 
 def installed(script):
     """True when `script` runs from an installation: the programs sit beside it."""
@@ -17,3 +20,8 @@ def program(script, build, name):
         return os.path.join(here, name)
     build = build or os.path.join(os.path.dirname(here), "build")
     return os.path.join(build, "services", name.removeprefix("odonata-"), name)
+
+
+def add_version(parser, name):
+    """--version, as odonata's compiled programs print it."""
+    parser.add_argument("--version", action="version", version=f"{name} (odonata) {VERSION}")

@@ -1,19 +1,79 @@
 #pragma once
-// One exit-code convention for every odonata program: 0 after --help, 2 for bad arguments.
+// One command-line convention for every odonata program: 0 after --help and --version, 2 for bad
+// arguments, and a mistyped option answered with the closest one it may have meant.
 
+#include <algorithm>
+#include <cstdio>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#ifndef ODONATA_VERSION
+#define ODONATA_VERSION "unknown"
+#endif
+
 namespace odonata::cli {
 
-/// Parses the command line. Returns the code to exit with now (0 after --help, 2 for bad
-/// arguments, CLI11 having printed why), or nullopt when the program should go on.
+/// Edit distance (insertions, deletions, substitutions, adjacent swaps) between two words.
+inline std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+/// The long options of `app` and of its subcommands, without their dashes.
+inline std::vector<std::string> LongOptionNames(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : app.get_options())
+    for (const auto& n : o->get_lnames()) names.push_back(n);
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    for (const auto& n : LongOptionNames(*sub)) names.push_back(n);
+  return names;
+}
+
+/// For each --word on the command line that is no option: "did you mean --X?" when one is close
+/// (within a third of its length, at least one edit).
+inline void SuggestCloseOptions(const CLI::App& app, int argc, char** argv) {
+  const std::vector<std::string> known = LongOptionNames(app);
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--", 0) != 0 || arg.size() < 3) continue;
+    const std::string name = arg.substr(2, arg.find('=') == std::string::npos
+                                               ? std::string::npos
+                                               : arg.find('=') - 2);
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string best;
+    std::size_t best_d = std::max<std::size_t>(1, name.size() / 3) + 1;
+    for (const auto& k : known) {
+      const std::size_t d = EditDistance(name, k);
+      if (d < best_d) best_d = d, best = k;
+    }
+    if (!best.empty()) std::fprintf(stderr, "--%s: did you mean --%s?\n", name.c_str(), best.c_str());
+  }
+}
+
+/// Parses the command line. Returns the code to exit with now (0 after --help or --version, 2
+/// for bad arguments, CLI11 having printed why), or nullopt when the program should go on.
 inline std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv) {
+  std::string program = argc > 0 ? argv[0] : "odonata";
+  program = program.substr(program.find_last_of('/') + 1);
+  app.set_version_flag("--version", program + " (odonata) " ODONATA_VERSION);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    const int code = app.exit(e);
+    if (code != 0) SuggestCloseOptions(app, argc, argv);
+    return code == 0 ? 0 : 2;
   }
   return std::nullopt;
 }
