@@ -14,6 +14,13 @@ install(PROGRAMS deploy/lcm-spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME od
 # The one rule both scripts use to find the programs (imported from the scripts' own folder).
 install(FILES deploy/odonata_programs.py DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})
+# bash-completion loads a command's completion from a file of its name.
+foreach(_p odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger
+        odonata-control odonata-fit odonata-sim odonata-export odonata-run odonata-compare
+        odonata-make-identifier-config)
+  install(FILES deploy/odonata.bash-completion
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME ${_p})
+endforeach()
 install(FILES deploy/odonata_compare.py DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(ODONATA_TYPES_JAR)
   install(FILES ${ODONATA_TYPES_JAR} DESTINATION ${CMAKE_INSTALL_DATADIR}/java)

@@ -68,6 +68,9 @@ inline std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv)
   std::string program = argc > 0 ? argv[0] : "odonata";
   program = program.substr(program.find_last_of('/') + 1);
   app.set_version_flag("--version", program + " (odonata) " ODONATA_VERSION);
+  // Subcommands' options too (odonata-logger record/export): what the man pages are made of.
+  if (!app.get_subcommands([](const CLI::App*) { return true; }).empty())
+    app.set_help_all_flag("--help-all", "Print this help message and every subcommand's, and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

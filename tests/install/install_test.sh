@@ -39,6 +39,24 @@ for unit in "$stage"/lib/systemd/system/odonata-*.service; do
 done
 echo "PASS: the staging prefix holds the programs, scripts, jar, header, units and settings"
 
+# Man pages made from --help, and bash completion of options and odonata-control's commands.
+for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,run,compare}; do
+  page=$stage/share/man/man1/$p.1
+  [[ -s $page ]] || fail "no man page $p.1"
+  MANWIDTH=100 man -l "$page" 2>/dev/null | grep -q "^NAME" || fail "$p.1 does not render"
+done
+MANWIDTH=100 man -l "$stage/share/man/man1/odonata-logger.1" 2>/dev/null | grep -q -- "--strict" ||
+  fail "odonata-logger.1 lacks its export subcommand's options"
+completion=$(PATH=$stage/bin:$PATH bash -c '
+  source /usr/share/bash-completion/bash_completion
+  source "$1/share/bash-completion/completions/odonata-control"
+  c() { COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); COMP_LINE="$*"; COMP_POINT=${#COMP_LINE}; COMPREPLY=()
+        f=$(complete -p "$1" | sed -E "s/.*-F ([^ ]+).*/\1/"); "$f" "$1" "${COMP_WORDS[COMP_CWORD]}" ""
+        echo "${COMPREPLY[*]}"; }
+  c odonata-fit --inp; c odonata-control fr; c odonata-logger export --str' bash "$stage")
+[[ $completion == $'--input\nfreeze\n--strict' ]] || fail "bash completion gave: $completion"
+echo "PASS: man pages for every program, bash completion of options and commands"
+
 # The installed own-vehicle example builds on its own, as a vehicle's project would: lcm-gen on
 # the installed signals_t.lcm, no odonata source or build tree.
 cmake -S "$stage/share/odonata/examples/own_vehicle" -B "$work/own_vehicle" >"$work/ov.log" 2>&1 &&
