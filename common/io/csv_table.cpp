@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace odonata::io {
 namespace {
@@ -17,28 +18,42 @@ std::string Trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-std::vector<std::string> SplitCells(const std::string& line) {
+std::vector<std::string> SplitCells(const std::string& line, char delimiter) {
   std::vector<std::string> cells;
   std::string cell;
   std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(Trim(cell));
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  while (std::getline(in, cell, delimiter)) cells.push_back(Trim(cell));
+  if (!line.empty() && line.back() == delimiter) cells.emplace_back();
   return cells;
+}
+
+// What a header of one cell that holds another separator most likely means.
+std::string DelimiterHint(const std::string& header, char delimiter) {
+  for (const auto& [c, name] : {std::pair<char, const char*>{';', "';'"}, {'\t', "tab"},
+                                {',', "','"}})
+    if (c != delimiter && header.find(c) != std::string::npos)
+      return std::string(" (its header is one cell holding ") + name +
+             ": is the file separated by " + name + "? --delimiter " + name + ")";
+  return "";
 }
 
 }  // namespace
 
-CsvTable CsvTable::Read(const std::string& path, MissingCells missing) {
+CsvTable CsvTable::Read(const std::string& path, MissingCells missing, CsvFormat format) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(path + ": cannot open file (" + std::strerror(errno) + ")");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return Parse(ss.str(), path, missing);
+  return Parse(ss.str(), path, missing, format);
 }
 
 CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name,
-                         MissingCells missing) {
+                         MissingCells missing, CsvFormat format) {
+  if (format.delimiter == format.decimal)
+    throw std::invalid_argument("the CSV delimiter and decimal mark must differ (both '" +
+                                std::string(1, format.delimiter) + "')");
   CsvTable t;
+  std::string header_line;
   t.source_ = source_name;
   std::istringstream in(text);
   std::string line;
@@ -48,7 +63,7 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
     ++line_no;
     const std::string trimmed = Trim(line);
     if (trimmed.empty() || trimmed.front() == '#') continue;
-    auto cells = SplitCells(trimmed);
+    auto cells = SplitCells(trimmed, format.delimiter);
     if (!have_header) {
       for (std::size_t c = 0; c < cells.size(); ++c) {
         if (cells[c].empty()) {
@@ -63,6 +78,7 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
         }
       }
       t.names_ = cells;
+      header_line = trimmed;
       t.columns_.assign(cells.size(), {});
       have_header = true;
       continue;
@@ -70,12 +86,21 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
     if (cells.size() != t.names_.size()) {
       throw CsvError(source_name + ":" + std::to_string(line_no) + ": expected " +
                      std::to_string(t.names_.size()) + " cells, found " +
-                     std::to_string(cells.size()));
+                     std::to_string(cells.size()) +
+                     (t.names_.size() == 1 ? DelimiterHint(header_line, format.delimiter) : ""));
     }
     for (std::size_t c = 0; c < cells.size(); ++c) {
       const std::string where = source_name + ":" + std::to_string(line_no) + ": column " +
                                 std::to_string(c + 1) + " ('" + t.names_[c] + "')";
-      const std::string& cell = cells[c];
+      std::string cell = cells[c];
+      if (format.decimal != '.') {
+        // strtod reads the C locale's '.': a '.' in such a file is no decimal mark.
+        if (cell.find('.') != std::string::npos)
+          throw CsvError(where + ": '" + cell + "' is not a number with the decimal mark '" +
+                         std::string(1, format.decimal) + "'");
+        for (char& ch : cell)
+          if (ch == format.decimal) ch = '.';
+      }
       const bool keep = missing == MissingCells::kKeepAsNaN;
       if (cell.empty()) {
         if (!keep) throw CsvError(where + ": empty cell");

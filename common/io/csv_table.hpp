@@ -18,16 +18,25 @@ class CsvError : public std::runtime_error {
 /// the reader to bridge or cut out (sysid/series_from_table.hpp). Inf is an error either way.
 enum class MissingCells { kReject, kKeepAsNaN };
 
+/// How a file writes its cells: the separator between cells, and the decimal mark of numbers
+/// (a spreadsheet in a German or French locale writes "1,5;2,25").
+struct CsvFormat {
+  char delimiter = ',';  ///< ',', ';' or '\t'
+  char decimal = '.';    ///< '.' or ','; must differ from the delimiter
+};
+
 /// Column-major numeric table read from CSV. By default every cell must be a finite number, so
 /// no model is ever trained on NaN or Inf.
 class CsvTable {
  public:
   /// Reads `path`. Blank lines and lines starting with '#' are skipped.
   /// @throws CsvError naming the file, line and column of the first problem.
-  static CsvTable Read(const std::string& path, MissingCells missing = MissingCells::kReject);
+  static CsvTable Read(const std::string& path, MissingCells missing = MissingCells::kReject,
+                       CsvFormat format = {});
   /// Parses CSV text; `source_name` is used in error messages.
+  /// @throws std::invalid_argument when the format's delimiter and decimal mark are the same.
   static CsvTable Parse(const std::string& text, const std::string& source_name,
-                        MissingCells missing = MissingCells::kReject);
+                        MissingCells missing = MissingCells::kReject, CsvFormat format = {});
 
   const std::vector<std::string>& names() const { return names_; }
   std::size_t rows() const { return columns_.empty() ? 0 : columns_.front().size(); }

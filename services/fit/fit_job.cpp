@@ -31,7 +31,7 @@ namespace {
 sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                          const sysid::RegressorSpec& spec, nlohmann::json* data,
                          nlohmann::json* warnings) {
-  const io::CsvTable table = io::CsvTable::Read(path, io::MissingCells::kKeepAsNaN);
+  const io::CsvTable table = io::CsvTable::Read(path, io::MissingCells::kKeepAsNaN, o.csv_format);
   sysid::SeriesOptions so;
   so.outputs = spec.outputs;
   so.inputs = spec.inputs;

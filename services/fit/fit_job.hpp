@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "io/csv_table.hpp"
 #include "progress_bar.hpp"
 #include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
@@ -63,6 +64,7 @@ struct FitJobOptions {
   /// Real logs (docs/identifier.md §7.1): a time column resampled to `rate_hz` (0: the file's
   /// median rate), and gaps of at most `max_gap` samples bridged, longer ones cut into segments.
   std::string time_column;
+  io::CsvFormat csv_format;  ///< the CSV files' delimiter and decimal mark
   double rate_hz = 0;
   int max_gap = 3;
   /// Simulation-error training (simulation_error_training.hpp) after one-step training, with

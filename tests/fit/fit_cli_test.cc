@@ -183,6 +183,34 @@ TEST(FitCli, ALongFileIsSearchedOnBlocksAndTrainedWhole) {
   EXPECT_EQ(nlohmann::json::parse(whole.out)["selection"]["searched_rows"].get<long>(), 5000);
 }
 
+// A spreadsheet's CSV outside English locales: --delimiter ';' --decimal ',' (issue 23 point 7).
+TEST(FitCli, SemicolonSeparatedFilesWithDecimalCommas) {
+  std::string semi = "u;y\n", dot = "u,y\n";
+  for (int k = 0; k < 200; ++k) {
+    const double u = std::sin(0.1 * k), y = 2.5 * u * u;
+    char a[96], b[96];
+    std::snprintf(a, sizeof a, "%.6f;%.6f\n", u, y);
+    std::snprintf(b, sizeof b, "%.6f,%.6f\n", u, y);
+    std::string row = a;
+    for (auto& ch : row)
+      if (ch == '.') ch = ',';
+    semi += row;
+    dot += b;
+  }
+  const std::string sp = Write("semi.csv", semi), dp = Write("dot.csv", dot);
+  const std::string args = " --output y --input u --ny 0 --nu 1 --delay 0 --no-select --json";
+  const ProcessResult plain = Exec("--train " + sp + args, false);
+  EXPECT_EQ(plain.status, 1);
+  const ProcessResult hint = Exec("--train " + sp + args);
+  EXPECT_NE(hint.out.find("--delimiter ';'"), std::string::npos) << hint.out;
+  const ProcessResult read = Exec("--train " + sp + args + " --delimiter ';' --decimal ,", false);
+  ASSERT_EQ(read.status, 0) << read.out;
+  const ProcessResult same = Exec("--train " + dp + args, false);
+  ASSERT_EQ(same.status, 0) << same.out;
+  EXPECT_EQ(nlohmann::json::parse(read.out)["train"], nlohmann::json::parse(same.out)["train"]);
+  EXPECT_EQ(Exec("--train " + sp + args + " --decimal ,").status, 2);  // ',' twice
+}
+
 // Into a log (stderr not a terminal), a long fit says where it is, with the time left once its
 // pace is known; with --json into a pipe it says nothing. The quiet time is 0 here, so any fit
 // is "long".
