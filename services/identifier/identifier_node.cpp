@@ -41,8 +41,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
   if (config_.source == SampleSource::kSignals) {
     // Any vehicle, one signals_t per sample: no pairing, and no lockstep receipts (odonata's
     // generator is not driving it).
-    bus_.Subscribe<odonata::signals_t>(ch.signals,
-                                       [this](const auto& m) { Handle(stream_.OnSignals(m)); });
+    bus_.Subscribe<odonata::signals_t>(ch.signals, [this](const auto& m) { OnSignals(m); });
   } else {
     bus_.Subscribe<odonata::wing_command_t>(ch.command, [this](const auto& m) { OnCommand(m); });
     bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
@@ -138,6 +137,24 @@ void IdentifierNode::Acknowledge(int64_t state_seq) {
   if (started_) acks_.Publish(stream_.newest_held_state(), state_seq);
 }
 
+void IdentifierNode::OnSignals(const odonata::signals_t& msg) {
+  std::vector<SampleStream::Event> events;
+  try {
+    events = stream_.OnSignals(msg);
+  } catch (const std::invalid_argument& e) {
+    ++inputs_refused_;
+    const bool first = input_problem_.empty();
+    input_problem_ = e.what();
+    if (first && started_) bus_.SetState("refusing input: " + input_problem_);
+    throw;  // the bus counts it as dropped and reports it
+  }
+  if (!input_problem_.empty()) {
+    input_problem_.clear();
+    if (started_) bus_.SetState(core_.learning() ? "running" : "frozen");
+  }
+  Handle(events);
+}
+
 void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {
   for (const auto& e : events) {
     switch (e.kind) {
@@ -206,11 +223,11 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
   switch (msg.command) {
     case odonata::control_t::FREEZE:
       core_.Freeze();
-      if (started_) bus_.SetState("frozen");
+      if (started_ && input_problem_.empty()) bus_.SetState("frozen");
       return "frozen: predicting, not learning";
     case odonata::control_t::RESUME:
       core_.Resume();
-      if (started_) bus_.SetState("running");
+      if (started_ && input_problem_.empty()) bus_.SetState("running");
       return "learning";
     case odonata::control_t::RESET:
       std::fprintf(stderr, "[%s] reset by '%s': the model (%d rules, %lld samples) is discarded\n",
@@ -246,6 +263,10 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       // Stops after the answer is out (OnControl).
       return "stopping (the model is saved on the way out when --save-model is set)";
     case odonata::control_t::GET:
+      // A run that refuses every sample answers with why, not with "accepted".
+      if (!input_problem_.empty())
+        throw std::invalid_argument("input refused (" + std::to_string(inputs_refused_) +
+                                    " messages): " + input_problem_);
       return "parameters in force";
     default:
       throw std::invalid_argument("unknown control command " + std::to_string(msg.command));

@@ -67,6 +67,12 @@ class IdentifierNode {
   int64_t prediction_seq_ = 0;
   int64_t refits_reported_ = 0;  ///< refits landed or failed, as last said on stderr
   int64_t snapshot_seq_ = 0;
+  // Why the newest vehicle message was refused (empty once one is taken again), and how many
+  // were: a configuration naming a signal the vehicle does not send must not look like a quiet
+  // run (the heartbeat's state and GET's answer say it).
+  std::string input_problem_;
+  int64_t inputs_refused_ = 0;
+  void OnSignals(const odonata::signals_t& msg);
 };
 
 }  // namespace odonata::identifier

@@ -76,7 +76,14 @@ std::vector<SampleStream::Event> SampleStream::OnSignals(const odonata::signals_
   e.sample.inputs.resize(static_cast<Eigen::Index>(spec_.inputs.size()));
   const auto read = [&msg](const std::string& name) {
     const auto v = messages::SignalValue(msg, name);
-    if (!v) throw std::invalid_argument("signals from '" + msg.source + "' have no '" + name + "'");
+    if (!v) {
+      std::string have;
+      for (int i = 0; i < msg.num_signals && i < 20; ++i)
+        have += (i ? ", " : "") + msg.names[static_cast<std::size_t>(i)];
+      if (msg.num_signals > 20) have += ", …";
+      throw std::invalid_argument("signals from '" + msg.source + "' have no '" + name +
+                                  "' (they have " + have + "): check the configuration's names");
+    }
     if (!std::isfinite(*v))
       throw std::invalid_argument("signals from '" + msg.source + "': '" + name +
                                   "' is not finite");

@@ -21,6 +21,8 @@
 
 #include "model_messages/model_snapshot_message.hpp"
 #include "odonata/control_reply_t.hpp"
+#include "odonata/heartbeat_t.hpp"
+#include "odonata/signals_t.hpp"
 #include "support/memq_bus.hpp"
 
 namespace odonata::identifier {
@@ -512,6 +514,60 @@ TEST(IdentifierConfig, WithoutAFileTheRollLoopIsIdentified) {
   EXPECT_EQ(c.ranges.count("u_roll_applied_rad"), 1u);
   EXPECT_EQ(c.channels.state, "DIMAV_STATE");
   EXPECT_EQ(c.channels.beat_state, "DIMAV_BEAT_STATE");
+}
+
+// A configuration that names a signal the vehicle does not send is an error the identifier says
+// on its heartbeat and in GET's answer (rejected, with the names the vehicle has), not a quiet
+// "accepted" with nothing learned (issue 23 point 7); once the names match, it runs again.
+TEST_F(IdentifierNodeTest, ASignalNameTheVehicleDoesNotSendIsReportedNotSilent) {
+  IdentifierConfig c = Config();
+  c.source = SampleSource::kSignals;
+  c.spec.outputs = {"vz"};
+  c.spec.inputs = {"throttle"};
+  c.ranges = {{"vz", {-1.0, 1.0}}, {"throttle", {0.0, 1.0}}};
+  Start(std::nullopt, c);
+  std::vector<std::string> states;
+  bus_->Subscribe<odonata::heartbeat_t>(bus_->channels().heartbeat,
+                                        [&](const auto& h) { states.push_back(h.state); });
+  std::vector<odonata::control_reply_t> replies;
+  bus_->Subscribe<odonata::control_reply_t>(bus_->channels().control_reply,
+                                            [&](const auto& r) { replies.push_back(r); });
+  const auto send = [&](int64_t k, const std::string& output_name) {
+    odonata::signals_t m{};
+    m.seq = k;
+    m.source = "veh";
+    m.num_signals = 2;
+    m.names = {output_name, "throttle"};
+    m.values = {0.1 * std::sin(0.1 * double(k)), 0.5};
+    bus_->Publish(bus_->channels().signals, m);
+    Pump(*bus_);
+  };
+  int64_t seq = 0;
+  const auto get = [&]() {
+    replies.clear();
+    odonata::control_t q{};
+    q.seq = ++seq;  // a new request, not a resend of the last one
+    q.sender = "odonata-control";
+    q.target = "id-test";
+    q.command = odonata::control_t::GET;
+    bus_->Publish(bus_->channels().control, q);
+    Pump(*bus_);
+    EXPECT_EQ(replies.size(), 1u);
+    return replies.empty() ? odonata::control_reply_t{} : replies.back();
+  };
+  for (int64_t k = 0; k < 5; ++k) send(k, "vz_mps");
+  ASSERT_FALSE(states.empty());
+  EXPECT_NE(states.back().find("refusing input"), std::string::npos) << states.back();
+  EXPECT_NE(states.back().find("have no 'vz' (they have vz_mps, throttle)"), std::string::npos)
+      << states.back();
+  const auto refused = get();
+  EXPECT_FALSE(refused.accepted);
+  EXPECT_NE(refused.reason.find("input refused (5 messages)"), std::string::npos) << refused.reason;
+  EXPECT_TRUE(Samples().empty());
+  for (int64_t k = 5; k < 10; ++k) send(k, "vz");
+  EXPECT_EQ(states.back(), "running");
+  EXPECT_TRUE(get().accepted);
+  EXPECT_FALSE(Samples().empty());
 }
 
 }  // namespace
