@@ -12,7 +12,9 @@ install(PROGRAMS deploy/make-identifier-config DESTINATION ${CMAKE_INSTALL_BINDI
         RENAME odonata-make-identifier-config)
 install(PROGRAMS deploy/lcm-spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME odonata-lcm-spy)
 # The one rule both scripts use to find the programs (imported from the scripts' own folder).
-install(FILES deploy/odonata_programs.py DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The scripts' helper modules: not programs, so not in bin/.
+install(FILES deploy/odonata_programs.py deploy/odonata_compare.py
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})
 # bash-completion loads a command's completion from a file of its name.
 foreach(_p odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger
@@ -21,7 +23,6 @@ foreach(_p odonata-plant odonata-signal odonata-identifier odonata-monitor odona
   install(FILES deploy/odonata.bash-completion
           DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME ${_p})
 endforeach()
-install(FILES deploy/odonata_compare.py DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(ODONATA_TYPES_JAR)
   install(FILES ${ODONATA_TYPES_JAR} DESTINATION ${CMAKE_INSTALL_DATADIR}/java)
 endif()
@@ -33,11 +34,21 @@ install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/example
 # A vehicle in Python publishes signals_t with this module (standard library only).
 install(FILES python/odonata_signals.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES README.md deploy/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY deploy/board/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/board
         PATTERN "*.service" EXCLUDE PATTERN "*.target" EXCLUDE)
-# Units name /usr/bin and /etc/odonata; a staging prefix keeps them as reference copies.
-install(DIRECTORY deploy/board/ DESTINATION lib/systemd/system
-        FILES_MATCHING PATTERN "*.service" PATTERN "*.target")
+# The units start the programs where this installation puts them (the prefix is known only at
+# install time: `cmake --install --prefix`, or cpack's /usr), with settings in /etc/odonata.
+file(GLOB _units ${PROJECT_SOURCE_DIR}/deploy/board/*.service ${PROJECT_SOURCE_DIR}/deploy/board/*.target)
+foreach(_unit IN LISTS _units)
+  get_filename_component(_name ${_unit} NAME)
+  install(CODE "
+    file(READ \"${_unit}\" _text)
+    string(REPLACE \"/usr/bin/\" \"\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BINDIR}/\" _text \"\${_text}\")
+    string(REPLACE \"file:/usr/share/doc/odonata/\" \"file:\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_DOCDIR}/\" _text \"\${_text}\")
+    file(WRITE \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/lib/systemd/system/${_name}\" \"\${_text}\")
+    message(STATUS \"Installing: \$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/lib/systemd/system/${_name}\")")
+endforeach()
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME odonata)
@@ -48,8 +59,17 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
-# liblcm1 for the programs, python3 for odonata-run; the Java side only for lcm-spy.
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "liblcm1, python3")
+# python3 for the scripts; liblcm1 and the C++ runtime come from dpkg-shlibdeps (once); the
+# Java side only for lcm-spy.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+if(ODONATA_X86_64_V3)
+  # Built for this machine's AVX2 and FMA: a board without them would stop at an illegal
+  # instruction, so the version and the description say so. deploy/package.sh builds the
+  # package for any x86-64.
+  set(CPACK_DEBIAN_PACKAGE_VERSION "${PROJECT_VERSION}+x86-64-v3")
+  set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+      "${CPACK_PACKAGE_DESCRIPTION_SUMMARY} (needs AVX2 and FMA: x86-64-v3)")
+endif()
 include(CPack)

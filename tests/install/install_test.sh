@@ -29,15 +29,25 @@ for f in bin/odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,exp
   lib/systemd/system/odonata.target; do
   [[ -e $stage/$f ]] || fail "$f is not installed"
 done
-# Every unit starts an installed program with settings that are installed as examples.
+# Every unit starts a program where this installation put it (the prefix, not /usr/bin), with
+# settings that are installed as examples.
 for unit in "$stage"/lib/systemd/system/odonata-*.service; do
   exec_line=$(grep '^ExecStart=' "$unit") || fail "$unit has no ExecStart"
-  prog=$(sed -E 's|^ExecStart=/usr/bin/([^ ]+).*|\1|' <<<"$exec_line")
+  [[ $exec_line == "ExecStart=$stage/bin/"* ]] || fail "$(basename "$unit"): $exec_line is not in $stage/bin"
+  prog=$(sed -E "s|^ExecStart=$stage/bin/([^ ]+).*|\\1|" <<<"$exec_line")
   [[ -x $stage/bin/$prog ]] || fail "$(basename "$unit") starts $prog, which is not installed"
   settings=$(sed -E 's|.*--settings /etc/odonata/([^ ]+).*|\1|' <<<"$exec_line")
   [[ -f $stage/share/odonata/board/$settings ]] || fail "$(basename "$unit"): no example $settings"
 done
 echo "PASS: the staging prefix holds the programs, scripts, jar, header, units and settings"
+# bin/ holds programs only; the scripts' modules are in share/odonata/python; the docs have the
+# README and a copyright file.
+[[ -z $(ls "$stage"/bin/*.py 2>/dev/null) ]] || fail "Python modules in bin/: $(ls "$stage"/bin/*.py)"
+for f in share/odonata/python/odonata_programs.py share/odonata/python/odonata_compare.py \
+  share/doc/odonata/README.md share/doc/odonata/copyright; do
+  [[ -s $stage/$f ]] || fail "$f is not installed"
+done
+"$stage/bin/odonata-compare" --version >/dev/null || fail "the installed odonata-compare does not find its modules"
 
 # Man pages made from --help, and bash completion of options and odonata-control's commands.
 for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,run,compare}; do
@@ -95,10 +105,10 @@ set +a
 export LCM_DEFAULT_URL=${LCM_DEFAULT_URL/ttl=1/ttl=0}
 "$stage/bin/odonata-make-identifier-config" --preset roll --duration 4 --output "$board/identifier.json"
 for svc in plant identifier monitor logger; do
-  args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-$svc.service" | sed -E 's|^ExecStart=/usr/bin/||')
+  args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-$svc.service" | sed -E 's|^ExecStart=||')
   args=${args//\/etc\/odonata/$board}
   # shellcheck disable=SC2086
-  "$stage"/bin/$args >"$work/$svc.log" 2>&1 &
+  $args >"$work/$svc.log" 2>&1 &
   PIDS+=($!)
 done
 # Up means answering on the bus (a get from each of the four), not a second gone by.
@@ -110,10 +120,10 @@ for _ in $(seq 60); do
   ((${n:-0} >= 4)) && { up=1; break; }
 done
 ((up)) || { cat "$work/get.out"; fail "the four services did not all answer get within a minute"; }
-args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-signal.service" | sed -E 's|^ExecStart=/usr/bin/||')
+args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-signal.service" | sed -E 's|^ExecStart=||')
 args=${args//\/etc\/odonata/$board}
 # shellcheck disable=SC2086
-"$stage"/bin/$args --duration 2 >"$work/signal.log" 2>&1 || { cat "$work/signal.log"; fail "signal failed"; }
+$args --duration 2 >"$work/signal.log" 2>&1 || { cat "$work/signal.log"; fail "signal failed"; }
 for p in "${PIDS[@]}"; do
   kill -TERM "$p"
   wait "$p" || fail "a service did not stop cleanly on SIGTERM (as systemctl stop sends)"

@@ -11,6 +11,13 @@ trap 'rm -rf "$work"' EXIT
 deb=$(ls "$work"/odonata_*.deb 2>/dev/null | head -1)
 [[ -n $deb ]] || fail "cpack wrote no odonata_*.deb"
 dpkg-deb -c "$deb" >"$work/files"
+# A build for this machine's AVX2 says so in its version; deploy/package.sh's does not need it.
+if grep -q "^ODONATA_X86_64_V3" "$build/CMakeCache.txt" 2>/dev/null ||
+  grep -q -- "-march=x86-64-v3" "$build/CMakeFiles/"*/flags.make 2>/dev/null ||
+  grep -rqs -- "-march=x86-64-v3" "$build/common/io/CMakeFiles/"; then
+  [[ $(dpkg-deb -f "$deb" Version) == *+x86-64-v3 ]] ||
+    fail "built with -march=x86-64-v3 but labelled $(dpkg-deb -f "$deb" Version)"
+fi
 for f in ./usr/bin/odonata-identifier ./usr/bin/odonata-run ./usr/bin/odonata-lcm-spy \
   ./usr/lib/systemd/system/odonata-identifier.service ./usr/lib/systemd/system/odonata.target \
   ./usr/include/odonata/tsk_model.hpp ./usr/share/java/odonata_lcmtypes.jar \
@@ -19,4 +26,14 @@ for f in ./usr/bin/odonata-identifier ./usr/bin/odonata-run ./usr/bin/odonata-lc
 done
 depends=$(dpkg-deb -f "$deb" Depends)
 grep -q "liblcm1" <<<"$depends" || fail "the package does not depend on liblcm1 (Depends: $depends)"
+[[ $(grep -o "liblcm1" <<<"$depends" | wc -l) == 1 ]] || fail "liblcm1 is listed more than once: $depends"
+for f in ./usr/share/doc/odonata/copyright ./usr/share/doc/odonata/README.md \
+  ./usr/share/odonata/python/odonata_programs.py ./usr/share/man/man1/odonata-fit.1; do
+  grep -q " $f\$" "$work/files" || fail "$(basename "$deb") lacks $f"
+done
+! grep -q " ./usr/bin/.*\.py\$" "$work/files" || fail "Python modules in /usr/bin"
+# The units start /usr/bin's programs (cpack installs into /usr).
+dpkg-deb -x "$deb" "$work/root"
+grep -q "^ExecStart=/usr/bin/odonata-identifier " "$work/root/usr/lib/systemd/system/odonata-identifier.service" ||
+  fail "the packaged identifier unit does not start /usr/bin/odonata-identifier"
 echo "PASS: $(basename "$deb"): $(wc -l <"$work/files") entries, Depends: $depends"
