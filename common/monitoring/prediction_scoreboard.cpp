@@ -26,8 +26,16 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
       throw std::invalid_argument("prediction with NaN or Inf for " + p.names[o]);
     }
   }
+  // Bounded before anything changes: at most kMaxOutputs names in the run this joins.
+  const bool new_run = last_sample_ >= 0 && p.sample < last_sample_;
+  std::size_t names = new_run ? 0 : outputs_.size();
+  for (std::size_t o = 0; o < n; ++o)
+    if (new_run || outputs_.count(p.names[o]) == 0) ++names;
+  if (names > kMaxOutputs)
+    throw std::invalid_argument("prediction would score " + std::to_string(names) +
+                                " outputs in one run, over " + std::to_string(kMaxOutputs));
   std::vector<ScoreEvent> events;
-  if (last_sample_ >= 0 && p.sample < last_sample_) {
+  if (new_run) {
     // The plant restarted (a new run, e.g. validation after training): score it on its own and
     // keep the finished run in the summary. Only the run's own scores: a summary that held the
     // earlier runs doubled in size with every new run.

@@ -53,6 +53,9 @@ class PredictionScoreboard {
  public:
   static constexpr std::size_t kMaxFinishedRuns = 16;  ///< earlier runs kept in the summary
   static constexpr std::size_t kMaxAlarmEvents = 64;   ///< alarm events kept per output and run
+  /// Outputs scored per run: a model has at most RegressorSpec::kMaxSignals signals, so a
+  /// prediction naming more (300 forged ones of 1000 names each once held 1.2 GB) is refused.
+  static constexpr std::size_t kMaxOutputs = 256;
 
   /// One output's scores in the current run.
   struct Output {

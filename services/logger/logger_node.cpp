@@ -1,5 +1,6 @@
 #include "logger_node.hpp"
 
+#include "bus/event_log_format.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
@@ -27,7 +28,26 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
                                                 std::to_string(rbuf.data_size) + ": not logged");
           return;
         }
-        writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(rbuf.data_size));
+        const auto size = static_cast<int64_t>(rbuf.data_size);
+        if (options_.max_event_bytes > 0 && size > options_.max_event_bytes) {
+          ++bus_.stats().dropped;
+          bus_.Report("oversize message", std::to_string(size) + " bytes on '" + channel +
+                                              "', over --max-event-kb: not logged");
+          return;
+        }
+        if (options_.max_bytes > 0 &&
+            writer_.bytes() + bus::LogEventBytes(channel.size(), size) > options_.max_bytes) {
+          ++bus_.stats().dropped;
+          if (!over_budget_) {
+            over_budget_ = true;
+            bus_.SetState("disk budget spent: not recording");
+            bus_.Report("disk budget", "the recording reached --max-mb (" +
+                                           std::to_string(writer_.bytes()) +
+                                           " bytes): nothing more is written");
+          }
+          return;
+        }
+        writer_.Write(rbuf.recv_utime, channel, rbuf.data, static_cast<int32_t>(size));
         Track(channel, rbuf);
       });
   // SHUTDOWN reaches the logger too: it closes its files (OnShutdown below) like on SIGTERM.

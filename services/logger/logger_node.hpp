@@ -21,6 +21,12 @@ struct RecordOptions {
   /// At most this much is lost if the machine dies; what the logger acknowledges in lockstep is
   /// flushed before its receipt goes out, so a killed logger loses nothing acknowledged.
   double flush_period_s = 0.5;
+  /// Disk budget (docs/lcm.md §12): past this many bytes in all files of this recording nothing
+  /// more is written (0: none). Counted as dropped, said once on the heartbeat's state.
+  int64_t max_bytes = 0;
+  /// A message larger than this on one channel is not written (0: no limit): one forged 14 MB
+  /// snapshot after another must not fill the disk. Counted as dropped, reported per channel.
+  int64_t max_event_bytes = 0;
 };
 
 class LoggerNode {
@@ -39,6 +45,7 @@ class LoggerNode {
   bus::EventLogWriter writer_;
   WrittenRunMarks marks_;
   int64_t flushed_held_ = -1;  // the newest held state whose events were flushed
+  bool over_budget_ = false;   // the disk budget is spent: nothing more is written
   bus::AckPublisher acks_;
 };
 

@@ -32,6 +32,17 @@ int main(int argc, char** argv) {
   record->add_option("--channels", rec.channels_regex, "channel regex")->capture_default_str();
   record->add_option("--split-mb", split_mb, "start a new file past this many MB (0: never)")
       ->check(CLI::NonNegativeNumber);
+  double max_mb = 0, max_event_kb = 0;
+  record->add_option("--max-mb", max_mb,
+                     "disk budget: stop writing once the recording's files hold this many MB "
+                     "(0: no limit); what is refused is counted as dropped in the heartbeat")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  record->add_option("--max-event-kb", max_event_kb,
+                     "do not write a message larger than this many kB (0: no limit): a flood of "
+                     "forged large messages cannot fill the disk; counted as dropped")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   record->add_option("--flush-period", rec.flush_period_s, "seconds between flushes to disk")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -138,6 +149,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     rec.split_bytes = static_cast<int64_t>(split_mb * 1e6);
+    rec.max_bytes = static_cast<int64_t>(max_mb * 1e6);
+    rec.max_event_bytes = static_cast<int64_t>(max_event_kb * 1e3);
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
     opts.service = "odonata-logger";

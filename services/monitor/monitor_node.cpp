@@ -97,13 +97,29 @@ void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
 
 void MonitorNode::OnSnapshot(const odonata::model_snapshot_t& m) {
   if (m.instance.empty()) return;
-  if (snapshots_.size() >= kMaxSnapshots && snapshots_.count(m.instance) == 0) {
+  const auto bytes = static_cast<std::size_t>(std::max(0, m.getEncodedSize()));
+  if (bytes > kMaxSnapshotBytes) {
+    ++bus_.stats().dropped;
+    bus_.Report("oversize snapshot", "from '" + m.instance + "': " + std::to_string(bytes) +
+                                         " bytes, over the cache's whole budget: not kept");
+    return;
+  }
+  if (const auto it = snapshots_.find(m.instance); it != snapshots_.end()) {
+    snapshot_bytes_ -= it->second.bytes;
+    snapshots_.erase(it);
+  }
+  // The least recently heard go first, until the new one fits in count and in bytes.
+  while (!snapshots_.empty() &&
+         (snapshots_.size() >= kMaxSnapshots || snapshot_bytes_ + bytes > kMaxSnapshotBytes)) {
     const auto oldest = std::min_element(
         snapshots_.begin(), snapshots_.end(),
         [](const auto& a, const auto& b) { return a.second.received < b.second.received; });
+    snapshot_bytes_ -= oldest->second.bytes;
     snapshots_.erase(oldest);
+    ++bus_.stats().dropped;  // a snapshot forgotten to keep the bound (heartbeat: dropped)
   }
-  snapshots_[m.instance] = CachedSnapshot{m, std::chrono::steady_clock::now()};
+  snapshots_[m.instance] = CachedSnapshot{m, std::chrono::steady_clock::now(), bytes};
+  snapshot_bytes_ += bytes;
 }
 
 void MonitorNode::OnControl(const odonata::control_t& m) {
@@ -117,7 +133,8 @@ void MonitorNode::OnControl(const odonata::control_t& m) {
   const auto params = [&] {
     return std::vector<std::pair<std::string, double>>{
         {"peers", static_cast<double>(peers_.peers().size())},
-        {"snapshots_cached", static_cast<double>(snapshots_.size())}};
+        {"snapshots_cached", static_cast<double>(snapshots_.size())},
+        {"snapshot_bytes", static_cast<double>(snapshot_bytes_)}};
   };
   if (m.command == odonata::control_t::RESET) {
     std::fprintf(stderr, "[%s] reset by '%s': the scores so far are discarded\n",

@@ -49,6 +49,10 @@ class MonitorNode {
   /// snapshots cannot grow it without limit: past them, the least recently heard is forgotten.
   static constexpr std::size_t kMaxPeers = monitoring::PeerTable::kMaxPeers;
   static constexpr std::size_t kMaxSnapshots = 64;
+  /// And in bytes (their encoded size, which the decoded message about matches in memory): 16
+  /// forged snapshots of 14 MB each must not hold 700 MB.
+  static constexpr std::size_t kMaxSnapshotBytes = 64u << 20;
+  std::size_t snapshot_bytes() const { return snapshot_bytes_; }
   static constexpr std::size_t kMaxFinishedRuns =
       monitoring::PredictionScoreboard::kMaxFinishedRuns;
   std::size_t peer_count() const { return peers_.peers().size(); }
@@ -77,7 +81,9 @@ class MonitorNode {
   struct CachedSnapshot {
     odonata::model_snapshot_t snapshot;
     std::chrono::steady_clock::time_point received;
+    std::size_t bytes = 0;
   };
+  std::size_t snapshot_bytes_ = 0;
   std::map<std::string, CachedSnapshot> snapshots_;  // last per identifier instance
   int64_t accuracy_seq_ = 0;
   std::size_t printed_lines_ = 0;

@@ -175,6 +175,38 @@ TEST_F(MonitorNodeTest, AFloodOfNewNamesKeepsTheMonitorBounded) {
   EXPECT_TRUE(node_->Summary()["services"].contains("peer-599"));
 }
 
+// The snapshot cache is bounded in bytes as well as in count: 16 forged 14 MB snapshots do not
+// stay in memory together, the newest is kept, and each one forgotten is counted as dropped.
+TEST_F(MonitorNodeTest, TheSnapshotCacheIsBoundedInBytes) {
+  odonata::model_snapshot_t big{};
+  big.num_outputs = 1;
+  big.models.resize(1);
+  auto& rules = big.models[0];
+  rules.num_rules = 1;
+  rules.output_widths = {1.0};
+  rules.num_coefficients = 1;
+  rules.coefficients = {{0.0}};
+  rules.covariance_size = 14 << 17;  // 14 MB of doubles
+  rules.covariances = {std::vector<double>(static_cast<std::size_t>(rules.covariance_size), 0.5)};
+  rules.centres = {{}};
+  rules.sigmas = {{}};
+  rules.utility_sums = {0.0};
+  rules.born = {0};
+  big.outputs = {"y"};
+  big.output_mean = {0.0};
+  big.output_std = {1.0};
+  const auto dropped_before = bus_->stats().dropped;
+  for (int i = 0; i < 16; ++i) {
+    big.instance = "forged-" + std::to_string(i);
+    bus_->Publish(bus_->channels().model, big);
+    Pump(*bus_, 20);
+  }
+  EXPECT_LE(node_->snapshot_bytes(), MonitorNode::kMaxSnapshotBytes);
+  EXPECT_LT(node_->snapshot_count(), 16u);
+  EXPECT_GT(node_->snapshot_count(), 0u);
+  EXPECT_GT(bus_->stats().dropped, dropped_before);
+}
+
 // Found by fuzzing: every new run stored a summary that held all earlier runs, so the summary
 // doubled with each run (24 GB after a few thousand forged predictions). Now each run keeps its
 // own scores, and only the latest kMaxFinishedRuns.

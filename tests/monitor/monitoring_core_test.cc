@@ -48,6 +48,32 @@ TEST(PredictionScoreboard, ABadPredictionChangesNothing) {
   EXPECT_EQ(board.output("y").total_one_step.samples(), 2);
 }
 
+// Forged predictions with ever new output names cannot grow the board: at most kMaxOutputs per
+// run, checked before anything changes (issue 24 point 5).
+TEST(PredictionScoreboard, OutputsPerRunAreBounded) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  const auto wide = [](int64_t k, std::size_t n, const std::string& prefix) {
+    Prediction p;
+    p.sample = k;
+    for (std::size_t i = 0; i < n; ++i) {
+      p.names.push_back(prefix + std::to_string(i));
+      p.measured.push_back(1.0);
+      p.predicted.push_back(1.0);
+      p.free_run.push_back(1.0);
+      p.rules.push_back(1);
+    }
+    return p;
+  };
+  EXPECT_THROW(board.Add(wide(0, 1000, "f")), std::invalid_argument);
+  EXPECT_NO_THROW(board.Add(wide(0, 200, "a")));
+  EXPECT_THROW(board.Add(wide(1, 100, "b")), std::invalid_argument);  // 300 in this run
+  EXPECT_EQ(board.last_sample(), 0);
+  EXPECT_NO_THROW(board.Add(wide(1, 200, "a")));  // the same names go on
+  EXPECT_EQ(board.outputs().size(), 200u);
+  EXPECT_NO_THROW(board.Add(wide(0, PredictionScoreboard::kMaxOutputs, "c")));  // a new run
+  EXPECT_EQ(board.outputs().size(), PredictionScoreboard::kMaxOutputs);
+}
+
 TEST(PredictionScoreboard, WarnsOnceWhenTheWindowFitFallsAndOnceWhenItRecovers) {
   ScoreboardOptions o;
   o.window_samples = 20;
