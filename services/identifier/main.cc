@@ -13,6 +13,7 @@
 #include "bus_cli/control_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "identifier_node.hpp"
+#include "model_export/fis_import.hpp"
 
 int main(int argc, char** argv) {
   std::string config_path, model_path, save_path, lcm_url, instance;
@@ -25,7 +26,10 @@ int main(int argc, char** argv) {
       "snapshots; obeys ODONATA_CONTROL (freeze, resume, reset, set H, save, snapshot)."};
   app.add_option("--config", config_path,
                  "configuration file (JSON; default: the roll loop printed by --print-config)");
-  app.add_option("--model", model_path, "start from this saved model instead of the bus snapshot")
+  app.add_option("--model", model_path,
+                 "start from this saved model (JSON), or from rules in a Sugeno .fis (Gaussian "
+                 "inputs named as odonata-export names the regressor, linear or constant "
+                 "outputs), instead of the bus snapshot")
       ->check(CLI::ExistingFile);
   app.add_option("--save-model", save_path, "write the model here on exit and on SAVE_MODEL");
   std::string models_dir;
@@ -61,7 +65,17 @@ int main(int argc, char** argv) {
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
     channels.ApplyTo(&config.channels);
     std::optional<odonata::sysid::NarxModel> initial;
-    if (!model_path.empty()) initial = odonata::sysid::NarxModel::Load(model_path);
+    if (!model_path.empty()) {
+      if (model_path.size() > 4 && model_path.compare(model_path.size() - 4, 4, ".fis") == 0) {
+        // Rules in raw units (odonata-export's, or written by hand): unfolded into this
+        // configuration's regressor and ranges (docs/model_export.md §6).
+        odonata::sysid::NarxModel empty(config.spec, config.model);
+        empty.SetScaling(odonata::sysid::ScalingFromRanges(config.spec, config.ranges));
+        initial = odonata::model_export::LoadFis(model_path, empty);
+      } else {
+        initial = odonata::sysid::NarxModel::Load(model_path);
+      }
+    }
     if (check_config) {
       const auto& sp = config.spec;
       std::printf("%s: %s identifies", config.instance.c_str(),
