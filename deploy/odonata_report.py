@@ -49,14 +49,6 @@ def fmt(v, digits=2):
     return f"{v:.{digits}f}"
 
 
-def fmt_ndei(v):
-    if _finite(v) is None:
-        return "–"
-    if v > DIVERGED_NDEI:
-        return "diverges"
-    return f"{v:.3g}"
-
-
 # --- headline and verdict -------------------------------------------------------------------
 
 def headline_mode(s):
@@ -69,10 +61,25 @@ def headline_mode(s):
 
 
 def headline(s):
+    """Validation FIT % in the headline mode (one unit throughout the report: higher is better)."""
     mode = headline_mode(s)
-    return {"metric": f"{mode.replace('_', '-')} NDEI",
-            "fuzzy": _finite((s["validate"].get(mode) or {}).get("ndei")),
-            "arx": _finite((s["arx"].get(mode) or {}).get("ndei"))}
+    return {"metric": f"{mode.replace('_', '-')} FIT %",
+            "fuzzy": _finite((s["validate"].get(mode) or {}).get("fit")),
+            "arx": _finite((s["arx"].get(mode) or {}).get("fit"))}
+
+
+def lead(s):
+    """The one sentence an experiment opens with: what the model is for, and fuzzy against ARX
+    in FIT points."""
+    mode = headline_mode(s)
+    use = ("one-step prediction (the loop integrates: a long free run drifts for any model)"
+           if s["integrator"] else
+           "a static map (no output lags)" if mode == "one_step" else
+           "simulation (free run over the validation excitation)")
+    hl = s["headline"]
+    scores = f"fuzzy {fmt(hl['fuzzy'])} %, ARX {fmt(hl['arx'])} %".replace("diverges %", "diverges")
+    return (f"{s['output']} from {', '.join(s['inputs'])}, a model for {use}: "
+            f"{s['verdict']} ({scores}).")
 
 
 def _fits(s, mode):
@@ -177,18 +184,20 @@ def summarise(r):
 
 # --- tables ----------------------------------------------------------------------------------
 
-# The headline (validation NDEI in the headline mode, fuzzy beside ARX) comes first; the verdict last.
-COLUMNS = [("experiment", "experiment"), ("headline", "headline"), ("hl_fuzzy", "fuzzy"), ("hl_arx", "ARX"),
+# The verdict and the headline (validation FIT % in the headline mode, fuzzy beside ARX) come first,
+# where a narrow screen shows them; the details follow.
+COLUMNS = [("experiment", "experiment"), ("verdict", "verdict"), ("headline", "headline"),
+           ("hl_fuzzy", "fuzzy"), ("hl_arx", "ARX"),
            ("delta", "fuzzy − ARX"), ("order", "ny/nu"), ("H", "H chosen"), ("rules", "rules"),
            ("paper_mfs", "paper MFs"), ("paper_h_fit", "paper H: val FIT (rules)"), ("train_fit", "train FIT"),
            ("train_fr", "train free-run"), ("val_fit", "val FIT"), ("val_vaf", "val VAF"), ("val_rmse", "val RMSE"),
            ("val_fr", "val free-run"), ("arx_fit", "ARX val FIT"), ("arx_fr", "ARX free-run"),
            ("avg", "beat-avg fuzzy / ARX free-run"), ("pers_fit", "persist. FIT"),
-           ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy"), ("verdict", "verdict")]
+           ("ndei_ratio", "NDEI / persist."), ("paper_acc", "paper accuracy")]
 # The terminal keeps what decides the verdict; VAF, RMSE, training and averaged-output scores are
 # in summary.md and index.html.
-TERMINAL_KEYS = ["experiment", "headline", "hl_fuzzy", "hl_arx", "delta", "order", "rules", "paper_mfs",
-                 "val_fit", "val_fr", "verdict"]
+TERMINAL_KEYS = ["experiment", "verdict", "headline", "hl_fuzzy", "hl_arx", "delta", "order", "rules",
+                 "paper_mfs", "val_fit", "val_fr"]
 
 
 def _averaged(s):
@@ -209,8 +218,8 @@ def table_rows(summary, short=False):
         rows.append({
             "experiment": s["experiment"],
             "headline": hl["metric"],
-            "hl_fuzzy": fmt_ndei(hl["fuzzy"]),
-            "hl_arx": fmt_ndei(hl["arx"]),
+            "hl_fuzzy": fmt(hl["fuzzy"]),
+            "hl_arx": fmt(hl["arx"]),
             "delta": _delta(s),
             "order": f"{s['ny']}/{s['nu']}",
             "H": f"{s['entropy_threshold']:.4g}",
@@ -235,9 +244,8 @@ def table_rows(summary, short=False):
     return rows
 
 
-TABLE_NOTE = ("headline: validation NDEI (lower is better), free run unless the loop integrates or has no "
-              "output lags; fuzzy − ARX in FIT points in that mode (FIT = 100 (1 − NDEI)), |Δ| < 1 counts as "
-              "equal. FIT/VAF in %, one-step unless 'free-run'; validation uses a different excitation.")
+TABLE_NOTE = ("headline: validation FIT % (higher is better), free run unless the loop integrates or has "
+              "no output lags; fuzzy − ARX in FIT points in that mode, |Δ| < 1 counts as equal. FIT/VAF in %, one-step unless 'free-run'; validation uses a different excitation.")
 
 
 def terminal_table(summary):
@@ -257,8 +265,10 @@ def terminal_table(summary):
 def markdown(summary):
     rows = table_rows(summary)
     md = ["# odonata — the paper's six identifications through the LCM pipeline", "",
-          f"Mode: {summary['mode']}; consequents: {summary['consequent']}; seed {summary['seed']}.", "",
-          TABLE_NOTE, "",
+          f"Mode: {summary['mode']}; consequents: {summary['consequent']}; seed {summary['seed']}.", ""]
+    for s in summary["experiments"]:
+        md.append(f"- **{s['experiment']}**: {lead(s)}")
+    md += ["", TABLE_NOTE, "",
           "| " + " | ".join(h for _, h in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
     for r in rows:
         md.append("| " + " | ".join(r[k] for k, _ in COLUMNS) + " |")
@@ -267,10 +277,10 @@ def markdown(summary):
         hl = s["headline"]
         md.append(f"## {s['experiment']}: {s['output']} from {', '.join(s['inputs'])}")
         md.append("")
-        md.append(f"**Verdict:** {s['verdict']}.")
+        md.append(f"**{lead(s)}**")
         md.append("")
-        md.append(f"- headline: validation {hl['metric']} {fmt_ndei(hl['fuzzy'])} (fuzzy) vs "
-                  f"{fmt_ndei(hl['arx'])} (ARX), lower is better")
+        md.append(f"- headline: validation {hl['metric']} {fmt(hl['fuzzy'])} (fuzzy) vs "
+                  f"{fmt(hl['arx'])} (ARX), higher is better")
         for n in s["notes"]:
             md.append(f"- {n}")
         md.append(f"- goals: {', '.join(k + ('' if v else ' NOT MET') for k, v in s['goals'].items())}")
@@ -638,6 +648,8 @@ def page(summary, figures):
          f"<p>Mode {html.escape(summary['mode'])}, {html.escape(summary['consequent'])} consequents, seed {summary['seed']}. "
          f"{html.escape(TABLE_NOTE)} "
          "Persistence (ŷ(k+1) = y(k)) and linear ARX on the same regressors are the baselines.</p>",
+         "<ul>" + "".join(f"<li style='font-family:sans-serif;font-size:14px'><b>{html.escape(s['experiment'])}</b>: "
+                          f"{html.escape(lead(s))}</li>" for s in summary["experiments"]) + "</ul>",
          "<div style='overflow-x:auto'><table id='summary'><tr>" +
          "".join(f"<th>{html.escape(hd)}</th>" for _, hd in COLUMNS) + "</tr>"]
     for r in rows:
@@ -647,9 +659,9 @@ def page(summary, figures):
         name = s["experiment"]
         hl = s["headline"]
         h.append(f"<h2 id='{name}'>{html.escape(name)}: {html.escape(s['output'])} from {html.escape(', '.join(s['inputs']))}</h2>")
-        h.append(f"<p class='verdict'><b>Verdict:</b> {html.escape(s['verdict'])}.<br>"
-                 f"Headline: validation {html.escape(hl['metric'])} {fmt_ndei(hl['fuzzy'])} (fuzzy) vs "
-                 f"{fmt_ndei(hl['arx'])} (ARX), lower is better.</p>")
+        h.append(f"<p class='verdict'><b>{html.escape(lead(s))}</b><br>"
+                 f"Headline: validation {html.escape(hl['metric'])} {fmt(hl['fuzzy'])} (fuzzy) vs "
+                 f"{fmt(hl['arx'])} (ARX), higher is better.</p>")
         if s["notes"]:
             h.append("<ul>" + "".join(f"<li style='font-family:sans-serif'>{html.escape(n)}</li>" for n in s["notes"]) + "</ul>")
         goals = ", ".join(f"{k}: {'met' if v else 'NOT met'}" for k, v in s["goals"].items())

@@ -16,8 +16,8 @@ std::string Number(double v) {
 }  // namespace
 
 std::string LinguisticLabel(double c) {
-  if (c < -1.0 - 1e-9) return "below range";
-  if (c > 1.0 + 1e-9) return "above range";
+  // A centre beyond the declared range still sits at that end of the data: "above range (≈1.87)"
+  // read as if the rule were outside what the vehicle does.
   if (c < -0.6) return "very low";
   if (c < -0.2) return "low";
   if (c <= 0.2) return "medium";
@@ -33,9 +33,10 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
   const std::string target = model.spec().TargetName(output);
   const int n = fm.inputs();
   std::vector<std::string> lines;
+  const bool one = rb.rules() == 1;  // fires fully everywhere: the model is its consequent
   for (int j = 0; j < rb.rules(); ++j) {
-    std::string s = "IF ";
-    for (int i = 0; i < n; ++i) {
+    std::string s = one ? "" : "IF ";
+    for (int i = 0; i < n && !one; ++i) {
       const double c = rb.centre(j, i);
       const double raw = sc.regressor_mid(i) + sc.regressor_half(i) * c;
       const double width = sc.regressor_half(i) * rb.sigma(j, i);
@@ -46,7 +47,9 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
     const double ys = sc.output_std(output);
     if (fm.consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
       const auto& cons = static_cast<const fuzzy::SingletonConsequent&>(fm.consequent());
-      s += " THEN " + target + " is ≈" + Number(sc.UnscaleOutput(output, cons.centre(j)));
+      const std::string value = Number(sc.UnscaleOutput(output, cons.centre(j)));
+      s += one ? target + " = " + value + " (one rule: a constant)"
+               : " THEN " + target + " is ≈" + value;
     } else {
       // y = mean + std (a0 + Σ a_i (r_i − mid_i)/half_i): expand to raw coefficients.
       const auto& cons = static_cast<const fuzzy::LinearConsequent&>(fm.consequent());
@@ -59,7 +62,8 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
         terms += (k < 0 ? " - " : " + ") + Number(std::abs(k)) + "·" +
                  names[static_cast<std::size_t>(i)];
       }
-      s += " THEN " + target + " ≈ " + Number(constant) + terms;
+      s += one ? target + " = " + Number(constant) + terms + " (one rule: a linear model, as ARX)"
+               : " THEN " + target + " ≈ " + Number(constant) + terms;
     }
     lines.push_back(s);
   }
