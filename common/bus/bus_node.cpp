@@ -61,7 +61,9 @@ BusNode::BusNode(const BusOptions& options)
     WaitForLcm();
   }
   signals_.async_wait([this](const boost::system::error_code& ec, int) {
-    if (!ec) Stop(0);
+    if (ec) return;
+    stopped_by_signal_ = true;
+    Stop(0);
   });
   if (options_.heartbeat_period_s > 0) {
     Every(std::chrono::microseconds(static_cast<int64_t>(options_.heartbeat_period_s * 1e6)),

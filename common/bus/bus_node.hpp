@@ -81,6 +81,10 @@ class BusNode {
   void After(std::chrono::microseconds delay, std::function<void()> fn);
   /// Called on SIGINT/SIGTERM (and Stop()) before the loop ends: flush files here.
   void OnShutdown(std::function<void()> fn) { on_shutdown_ = std::move(fn); }
+  /// True once SIGINT or SIGTERM stopped the loop (not the service's own Stop()).
+  bool stopped_by_signal() const { return stopped_by_signal_; }
+  /// The code Run() returns, for a shutdown hook that learns the run did not finish.
+  void SetExitCode(int code) { exit_code_ = code; }
 
   /// Runs the loop until Stop() or a signal. Returns the process exit code.
   int Run();
@@ -153,6 +157,7 @@ class BusNode {
   std::function<void()> on_shutdown_;
   ServiceStats stats_;
   std::string state_ = "starting";
+  bool stopped_by_signal_ = false;
   std::string host_;
   int64_t heartbeat_seq_ = 0;
   int64_t started_utime_ = NowUtime();

@@ -57,6 +57,13 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
   }
   bus_.OnShutdown([this] {
     if (options_.progress && !finished_) std::fputc('\n', stderr);  // end the progress line
+    if (!finished_ && bus_.stopped_by_signal()) {
+      std::fprintf(stderr,
+                   "odonata-signal: stopped by a signal after %lld of %zu commands: the run is "
+                   "not complete\n",
+                   static_cast<long long>(commands_sent_), schedule_.size());
+      bus_.SetExitCode(kExitInterrupted);
+    }
     finished_ = true;
     timer_.cancel();
     boost::system::error_code ignored;

@@ -36,6 +36,9 @@ inline constexpr int kExitNoPlant = 1;
 inline constexpr int kExitDiverged = 3;
 /// Exit code when a lockstep consumer stopped acknowledging or left mid-run: it misses samples.
 inline constexpr int kExitConsumerLost = 4;
+/// Exit code when SIGINT or SIGTERM stopped the generator before its last command: the run is
+/// shorter than asked for, which a script must not take for a whole run.
+inline constexpr int kExitInterrupted = 5;
 
 /// How the generator runs.
 struct SignalOptions {

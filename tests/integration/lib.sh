@@ -89,12 +89,13 @@ wait_hold() {
 }
 
 # Stops a process with SIGTERM and fails unless it exits 0 within 5 s.
-stop_clean() {
-  local pid=$1 what=$2
+stop_clean() {  # stop_clean PID WHAT [EXPECTED_CODE]: SIGTERM, exit within 5 s with the code
+  local pid=$1 what=$2 expected=${3:-0} rc=0
   kill -TERM "$pid"
   for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
   kill -0 "$pid" 2>/dev/null && fail "$what did not exit within 5 s of SIGTERM"
-  wait "$pid" || fail "$what exited with code $? after SIGTERM"
+  wait "$pid" || rc=$?
+  ((rc == expected)) || fail "$what exited with code $rc after SIGTERM, not $expected"
 }
 
 # json_get FILE EXPR: evaluates a Python expression on the parsed JSON `j`.

@@ -35,7 +35,9 @@ start plant2 "$PLANT" --mode realtime --preset roll --lcm-url "$URL"
 wait_for_log "$OUT/monitor2.log" "odonata-plant.*is back" 30 || { cat "$OUT/monitor2.log"; fail "the new monitor did not see the new plant"; }
 # Every swap happened while the generator was still sending: it must still run, and stop cleanly.
 kill -0 "$PID_signal" 2>/dev/null || fail "the generator's run ended before the swaps did: $(cat "$OUT/signal.log")"
-stop_clean "$PID_signal" "the signal generator, still running after the swaps"
+# Stopped before its last command, the generator says the run is not complete (exit 5).
+stop_clean "$PID_signal" "the signal generator, still running after the swaps" 5
+grep -q "stopped by a signal after" "$OUT/signal.log" || fail "the interrupted generator did not say so"
 for p in "$PID_ident2" "$PID_monitor2" "$PID_logger2" "$PID_plant2"; do
   kill -0 "$p" 2>/dev/null || fail "a service died during the swaps"
 done

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstring>
 #include <map>
 #include <set>
@@ -191,6 +192,22 @@ TEST(SignalNode, RealtimeSendsOnTheClockWithoutAPlant) {
   // The last command goes out just before Stop(); memq queues it undelivered, so ≥ 19 arrive.
   ASSERT_GE(seqs.size(), 19u);
   for (std::size_t i = 0; i < seqs.size(); ++i) EXPECT_EQ(seqs[i], static_cast<int64_t>(i));
+}
+
+// SIGTERM before the last command: the run is shorter than asked for, and the exit code says so
+// (issue 24 point 8: it was 0, so a script took 2000 of 10000 commands for a whole run).
+TEST(SignalNode, ASignalBeforeTheLastCommandIsNotASuccess) {
+  bus::BusNode bus(MemqOptions());
+  SignalOptions options;
+  options.lockstep = false;
+  options.reset_plant = false;
+  options.rate_hz = 100;
+  SignalNode signal(bus, Roll(10.0), options);  // 1000 commands: 10 s
+  bus.After(std::chrono::milliseconds(100), [] { ::raise(SIGTERM); });
+  EXPECT_EQ(RunFenced(bus), kExitInterrupted);
+  EXPECT_TRUE(bus.stopped_by_signal());
+  EXPECT_GT(signal.commands_sent(), 0);
+  EXPECT_LT(signal.commands_sent(), 1000);
 }
 
 }  // namespace
