@@ -40,14 +40,15 @@ std::string ControlCommandName(int8_t command) {
 }
 
 bool IsDestructive(int8_t command) {
-  return command == odonata::control_t::RESET || command == odonata::control_t::SHUTDOWN;
+  return command == odonata::control_t::RESET || command == odonata::control_t::SHUTDOWN ||
+         command == odonata::control_t::FREEZE || command == odonata::control_t::RESUME ||
+         command == odonata::control_t::SAVE_MODEL;
 }
 
 std::string ControlRefusal(const odonata::control_t& msg, const std::vector<std::string>& allowed) {
   if (!IsDestructive(msg.command)) return "";
   if (std::find(allowed.begin(), allowed.end(), msg.sender) != allowed.end()) return "";
-  return std::string(msg.command == odonata::control_t::RESET ? "reset" : "shutdown") +
-         " from sender '" + msg.sender +
+  return ControlCommandName(msg.command) + " from sender '" + msg.sender +
          "', which is not among the allowed senders (--control-from)";
 }
 

@@ -11,7 +11,8 @@
 
 namespace odonata::bus {
 
-/// Senders whose RESET and SHUTDOWN are obeyed when a service is given none (--control-from):
+/// Senders whose gated commands (IsDestructive) are obeyed when a service is given none
+/// (--control-from):
 /// the operator's tool and the generator, which resets the plant before each run.
 const std::vector<std::string>& DefaultControlSenders();
 
@@ -31,7 +32,8 @@ const std::map<std::string, int8_t>& ControlCommands();
 /// The operator's name of `command`, or "command N" for an unknown one.
 std::string ControlCommandName(int8_t command);
 
-/// RESET and SHUTDOWN: they throw away a model or stop a service.
+/// RESET, SHUTDOWN, FREEZE, RESUME and SAVE_MODEL: they throw away a model, stop a service, end or
+/// restart learning mid-run, or write a file — what a forged message must not do (issue 24).
 bool IsDestructive(int8_t command);
 
 /// Empty when a process may obey `msg`, else why not (a destructive command from a sender not in

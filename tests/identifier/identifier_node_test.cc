@@ -360,6 +360,16 @@ TEST_F(IdentifierNodeTest, EveryCommandIsAnsweredWithTheValueInForce) {
   EXPECT_FALSE(r->accepted);
   EXPECT_NE(r->reason.find("intruder"), std::string::npos) << r->reason;
   EXPECT_GT(node_->core().model().total_rules(), 0);
+  // Freeze, resume and save-model are gated alike (issue 24 point 4): a forged freeze mid-run
+  // stopped learning at 1009 of 2997 samples.
+  for (const int8_t gated : {odonata::control_t::RESUME, odonata::control_t::FREEZE,
+                             odonata::control_t::SAVE_MODEL}) {
+    r = ask(gated, 0, "intruder", "id-test");
+    ASSERT_NE(r, nullptr);
+    EXPECT_FALSE(r->accepted) << int(gated);
+    EXPECT_NE(r->reason.find("not among the allowed senders"), std::string::npos) << r->reason;
+  }
+  EXPECT_FALSE(node_->core().learning());  // still frozen: the forged resume did nothing
 
   EXPECT_EQ(ask(odonata::control_t::GET, 0, "odonata-control", "someone-else"), nullptr);
 
