@@ -29,7 +29,8 @@ uint32_t Be32(const unsigned char* p) {
 bool PlausibleEvent(FILE* f, int64_t at, int64_t size) {
   if (size - at < kLogEventHeaderBytes) return false;
   unsigned char h[kLogEventHeaderBytes];
-  if (std::fseek(f, static_cast<long>(at), SEEK_SET) != 0 || std::fread(h, 1, sizeof h, f) != sizeof h)
+  if (std::fseek(f, static_cast<long>(at), SEEK_SET) != 0 ||
+      std::fread(h, 1, sizeof h, f) != sizeof h)
     return false;
   if (std::memcmp(h, kSync, 4) != 0) return false;
   const uint32_t channel = Be32(h + 20), data = Be32(h + 24);

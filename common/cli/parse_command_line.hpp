@@ -23,8 +23,8 @@ inline std::size_t EditDistance(const std::string& a, const std::string& b) {
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
       if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
@@ -48,9 +48,8 @@ inline void SuggestCloseOptions(const CLI::App& app, int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg.rfind("--", 0) != 0 || arg.size() < 3) continue;
-    const std::string name = arg.substr(2, arg.find('=') == std::string::npos
-                                               ? std::string::npos
-                                               : arg.find('=') - 2);
+    const std::string name =
+        arg.substr(2, arg.find('=') == std::string::npos ? std::string::npos : arg.find('=') - 2);
     if (std::find(known.begin(), known.end(), name) != known.end()) continue;
     std::string best;
     std::size_t best_d = std::max<std::size_t>(1, name.size() / 3) + 1;
@@ -58,7 +57,8 @@ inline void SuggestCloseOptions(const CLI::App& app, int argc, char** argv) {
       const std::size_t d = EditDistance(name, k);
       if (d < best_d) best_d = d, best = k;
     }
-    if (!best.empty()) std::fprintf(stderr, "--%s: did you mean --%s?\n", name.c_str(), best.c_str());
+    if (!best.empty())
+      std::fprintf(stderr, "--%s: did you mean --%s?\n", name.c_str(), best.c_str());
   }
 }
 

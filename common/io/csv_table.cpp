@@ -29,8 +29,8 @@ std::vector<std::string> SplitCells(const std::string& line, char delimiter) {
 
 // What a header of one cell that holds another separator most likely means.
 std::string DelimiterHint(const std::string& header, char delimiter) {
-  for (const auto& [c, name] : {std::pair<char, const char*>{';', "';'"}, {'\t', "tab"},
-                                {',', "','"}})
+  for (const auto& [c, name] :
+       {std::pair<char, const char*>{';', "';'"}, {'\t', "tab"}, {',', "','"}})
     if (c != delimiter && header.find(c) != std::string::npos)
       return std::string(" (its header is one cell holding ") + name +
              ": is the file separated by " + name + "? --delimiter " + name + ")";

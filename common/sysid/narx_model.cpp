@@ -128,8 +128,8 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
   for (int epoch = 0; epoch < options.epochs; ++epoch) {
     if (options.cancel && options.cancel->load()) throw TrainingCancelled();
-    fuzzy::LearnMode mode = epoch == 0 && options.grow_rules ? fuzzy::LearnMode::kGrowAndTune
-                                                              : fuzzy::LearnMode::kTune;
+    fuzzy::LearnMode mode =
+        epoch == 0 && options.grow_rules ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kTune;
     // Once least squares owns the consequents, later passes only move the antecedents: an online
     // consequent update would only pull them away from the optimum just solved.
     if (epoch > 0 && options.refine_least_squares) mode = fuzzy::LearnMode::kTunePremises;

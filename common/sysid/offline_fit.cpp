@@ -62,8 +62,8 @@ OfflineFit FitOffline(
     // cannot) is chosen.
     const auto linear = std::find_if(sel->candidates.begin(), sel->candidates.end(),
                                      [](const Candidate& c) { return c.linear; });
-    const bool check = !sel->candidates[sel->chosen].linear &&
-                       linear != sel->candidates.end() && std::isfinite(linear->rest_deviation);
+    const bool check = !sel->candidates[sel->chosen].linear && linear != sel->candidates.end() &&
+                       std::isfinite(linear->rest_deviation);
     auto restless = [&](const NarxModel& m, const char* what) {
       const double rest = RestDeviation(m, series);
       if (!Restless(rest, linear->rest_deviation)) return false;
@@ -104,8 +104,9 @@ OfflineFit FitOffline(
       }
     }
   }
-  return OfflineFit{std::move(model),   cfg, topt, std::move(sel), searched_rows,
-                    searched_selection_rows, std::move(report)};
+  return OfflineFit{std::move(model), cfg,           topt,
+                    std::move(sel),   searched_rows, searched_selection_rows,
+                    std::move(report)};
 }
 
 }  // namespace odonata::sysid

@@ -33,14 +33,16 @@ int main(int argc, char** argv) {
   record->add_option("--split-mb", split_mb, "start a new file past this many MB (0: never)")
       ->check(CLI::NonNegativeNumber);
   double max_mb = 0, max_event_kb = 0;
-  record->add_option("--max-mb", max_mb,
-                     "disk budget: stop writing once the recording's files hold this many MB "
-                     "(0: no limit); what is refused is counted as dropped in the heartbeat")
+  record
+      ->add_option("--max-mb", max_mb,
+                   "disk budget: stop writing once the recording's files hold this many MB "
+                   "(0: no limit); what is refused is counted as dropped in the heartbeat")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  record->add_option("--max-event-kb", max_event_kb,
-                     "do not write a message larger than this many kB (0: no limit): a flood of "
-                     "forged large messages cannot fill the disk; counted as dropped")
+  record
+      ->add_option("--max-event-kb", max_event_kb,
+                   "do not write a message larger than this many kB (0: no limit): a flood of "
+                   "forged large messages cannot fill the disk; counted as dropped")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   record->add_option("--flush-period", rec.flush_period_s, "seconds between flushes to disk")
@@ -102,7 +104,9 @@ int main(int argc, char** argv) {
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
 
   try {
-    if (*exp && strict) odonata::bus::ForEachLogEvent(logs, [](const lcm::LogEvent&) {}, true);
+    if (*exp && strict)
+      odonata::bus::ForEachLogEvent(
+          logs, [](const lcm::LogEvent&) {}, true);
     if (*exp && signals) {
       if (ex.decimate != 1)
         throw std::runtime_error("--decimate applies to the DI-MAV's samples, not to --signals");

@@ -124,7 +124,8 @@ TEST_F(EventLogTest, ADamagedLogIsReadPastItsDamageAndCounted) {
     EXPECT_EQ(r.damaged_files, 1) << bad;
     EXPECT_EQ(got.back(), std::string(20, static_cast<char>('a' + 20 % 26))) << bad;
     try {
-      ForEachLogEvent({bad}, [](const lcm::LogEvent&) {}, true);
+      ForEachLogEvent(
+          {bad}, [](const lcm::LogEvent&) {}, true);
       ADD_FAILURE() << bad << " was read as if whole with strict";
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("damaged event log"), std::string::npos) << e.what();
@@ -146,7 +147,8 @@ TEST_F(EventLogTest, ADamagedLogIsReadPastItsDamageAndCounted) {
   EXPECT_EQ(Events({forged_path}), Events(files));
   EXPECT_THROW(Events({dir_ + "/missing"}), std::runtime_error);
   // A whole log is whole, strict or not.
-  const LogReadReport clean = ForEachLogEvent(files, [](const lcm::LogEvent&) {}, true);
+  const LogReadReport clean = ForEachLogEvent(
+      files, [](const lcm::LogEvent&) {}, true);
   EXPECT_EQ(clean.events, 20);
   EXPECT_EQ(clean.bytes_lost, 0);
 }
@@ -164,7 +166,9 @@ TEST_F(EventLogTest, ACutOffLastEventLeavesTheEventsBeforeIt) {
     ASSERT_EQ(events.size(), 19u) << keep << " bytes of the last event kept";
     EXPECT_EQ(ForEachLogEvent({cut}, [](const lcm::LogEvent&) {}).bytes_lost,
               static_cast<int64_t>(keep));
-    EXPECT_THROW(ForEachLogEvent({cut}, [](const lcm::LogEvent&) {}, true), std::runtime_error);
+    EXPECT_THROW(ForEachLogEvent(
+                     {cut}, [](const lcm::LogEvent&) {}, true),
+                 std::runtime_error);
     EXPECT_EQ(events.back(), std::string(19, static_cast<char>('a' + 19 % 26)));
   }
 }

@@ -26,7 +26,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   });
   if (read + report.bytes_lost != static_cast<int64_t>(size)) std::abort();
   try {
-    odonata::bus::ForEachLogEvent({path}, [](const lcm::LogEvent&) {}, true);
+    odonata::bus::ForEachLogEvent(
+        {path}, [](const lcm::LogEvent&) {}, true);
     if (report.bytes_lost != 0) std::abort();  // strict read a damaged log as whole
   } catch (const std::runtime_error&) {
     if (report.bytes_lost == 0) std::abort();

@@ -362,8 +362,8 @@ TEST_F(IdentifierNodeTest, EveryCommandIsAnsweredWithTheValueInForce) {
   EXPECT_GT(node_->core().model().total_rules(), 0);
   // Freeze, resume and save-model are gated alike (issue 24 point 4): a forged freeze mid-run
   // stopped learning at 1009 of 2997 samples.
-  for (const int8_t gated : {odonata::control_t::RESUME, odonata::control_t::FREEZE,
-                             odonata::control_t::SAVE_MODEL}) {
+  for (const int8_t gated :
+       {odonata::control_t::RESUME, odonata::control_t::FREEZE, odonata::control_t::SAVE_MODEL}) {
     r = ask(gated, 0, "intruder", "id-test");
     ASSERT_NE(r, nullptr);
     EXPECT_FALSE(r->accepted) << int(gated);

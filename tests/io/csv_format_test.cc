@@ -11,12 +11,12 @@ namespace odonata::io {
 namespace {
 
 TEST(CsvFormat, SemicolonsAndDecimalCommas) {
-  const CsvTable t = CsvTable::Parse("u;y\n1,5;-2,25\n3;4e-1\n", "semi.csv",
-                                     MissingCells::kReject, CsvFormat{';', ','});
+  const CsvTable t = CsvTable::Parse("u;y\n1,5;-2,25\n3;4e-1\n", "semi.csv", MissingCells::kReject,
+                                     CsvFormat{';', ','});
   EXPECT_EQ(t.Column("u"), (std::vector<double>{1.5, 3.0}));
   EXPECT_EQ(t.Column("y"), (std::vector<double>{-2.25, 0.4}));
-  const CsvTable tabs = CsvTable::Parse("u\ty\n1.5\t2\n", "tabs.tsv", MissingCells::kReject,
-                                        CsvFormat{'\t', '.'});
+  const CsvTable tabs =
+      CsvTable::Parse("u\ty\n1.5\t2\n", "tabs.tsv", MissingCells::kReject, CsvFormat{'\t', '.'});
   EXPECT_EQ(tabs.Column("y"), std::vector<double>{2.0});
 }
 

@@ -81,13 +81,13 @@ TEST(FisImport, AFileThatDoesNotFitIsRefusedWithWhy) {
   };
   inference::TskModel renamed = tsk;
   renamed.input_names[1] = "throttle_k";
-  const std::string names = message(
-      [&] { ModelFromTsk(renamed, Empty(fuzzy::ConsequentKind::kLinear), "mine.fis"); });
+  const std::string names =
+      message([&] { ModelFromTsk(renamed, Empty(fuzzy::ConsequentKind::kLinear), "mine.fis"); });
   EXPECT_NE(names.find("mine.fis"), std::string::npos) << names;
   EXPECT_NE(names.find("[y_k, throttle_k]"), std::string::npos) << names;
   EXPECT_NE(names.find("[y_k, u_k]"), std::string::npos) << names;
-  const std::string kind = message(
-      [&] { ModelFromTsk(tsk, Empty(fuzzy::ConsequentKind::kSingleton), "mine.fis"); });
+  const std::string kind =
+      message([&] { ModelFromTsk(tsk, Empty(fuzzy::ConsequentKind::kSingleton), "mine.fis"); });
   EXPECT_NE(kind.find("singleton"), std::string::npos) << kind;
   // A malformed file: the line at fault, and the file's name.
   const std::string path = ::testing::TempDir() + "/bad.fis";

@@ -64,7 +64,8 @@ TEST(PythonSignals, FragmentsAsLcmDoes) {
       "d = p.datagrams(\"CH\", bytes(65499 - 2))\n"
       "print([len(x) for x in d], [x[:4].hex() for x in d], d[0][20:23])\n"
       "print(o.parse_udpm_url(\"udpm://239.255.76.68:7690?ttl=1\"))\n"
-      "try:\n  o.encode_signals(0, 0, \"a\\0b\", [], [])\nexcept ValueError as e:\n  print(\"refused\")");
+      "try:\n  o.encode_signals(0, 0, \"a\\0b\", [], [])\nexcept ValueError as e:\n  "
+      "print(\"refused\")");
   EXPECT_NE(py.find("[65507]"), std::string::npos) << py;  // 8 bytes of header + 65 499
   EXPECT_NE(py.find("[65443, 97] ['4c433033', '4c433033'] b'CH\\x00'"), std::string::npos) << py;
   EXPECT_NE(py.find("('239.255.76.68', 7690, 1)"), std::string::npos) << py;

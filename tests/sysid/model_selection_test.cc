@@ -293,7 +293,6 @@ TEST(ModelSelection, RefusesATrainingSeriesTooShortToHoldOut) {
                std::invalid_argument);
 }
 
-
 // The rest check the candidates and the final model share: not at rest is a deviation above 1 %
 // of the output's and above ten times the linear model's; a diverged run is never at rest.
 TEST(ModelSelection, RestlessMeansMovingWhereTheLinearModelSettles) {
