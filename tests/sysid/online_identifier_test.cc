@@ -55,16 +55,18 @@ TEST(RefitSchedule, DoublesThenKeepsItsPace) {
 // One learner, two schedules (docs/identifier.md §6.3): refits run odonata-fit's learner in a
 // worker thread and land at fixed counts, so the result is the same whatever the threads do.
 TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsModel) {
-  const Series train = testing::NarendraTrain(1200);
+  // Small enough that its five model selections stay well inside the timeout under the
+  // sanitizers on one busy core (1200 samples took 177 s quiet there, over 300 s with two hogs).
+  const Series train = testing::NarendraTrain(600);
   RefitSchedule refit;
-  refit.first = 300;
-  refit.every = 600;
+  refit.first = 150;
+  refit.every = 300;
   refit.buffer = 5000;  // holds the whole record: the closing refit sees every sample
   const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, train);
   OnlineIdentifier online(empty, refit);
   for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
-  // 300 lands at 600, where the next begins; the freeze at 1199 replaces that one with the
-  // closing refit on all 1200 samples, which lands when the model is next used.
+  // 150 lands at 300, where the next begins; the freeze at 599 replaces that one with the
+  // closing refit on all 600 samples, which lands when the model is next used.
   EXPECT_EQ(online.refits(), 1);
   online.Freeze();
   EXPECT_EQ(online.refits(), 1) << "a freeze does not wait for the closing refit";
