@@ -95,8 +95,18 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
   for (const Message& m : run.messages) {
     if ((first_command = std::get_if<odonata::wing_command_t>(&m))) break;
   }
-  if (!first_command)
+  if (!first_command) {
+    // A plant restarted after the last command opens a run of states alone: say which run to
+    // take instead of only that commands are missing.
+    if (summary.runs > 1) {
+      throw std::runtime_error("run " + std::to_string(pick) + " of " +
+                               std::to_string(summary.runs) + " has no commands on " +
+                               options.command_channel +
+                               " (a plant that started and was never commanded); pick another "
+                               "with --run");
+    }
     throw std::runtime_error("no commands on " + options.command_channel + " in the log");
+  }
 
   // The columns odonata-sim writes; the beat columns when the run has beat states.
   summary.beat_columns = run.beats > 0;

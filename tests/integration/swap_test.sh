@@ -33,6 +33,9 @@ kill -KILL "$PID_plant"
 wait_for_log "$OUT/monitor2.log" "odonata-plant.*silent" 30 || { cat "$OUT/monitor2.log"; fail "the new monitor did not report the killed plant"; }
 start plant2 "$PLANT" --mode realtime --preset roll --lcm-url "$URL"
 wait_for_log "$OUT/monitor2.log" "odonata-plant.*is back" 30 || { cat "$OUT/monitor2.log"; fail "the new monitor did not see the new plant"; }
+# The new plant has taken over once it has applied commands (its heartbeat's count): its first
+# state comes after its heartbeat, and a run with no commands would leave nothing to export.
+wait_up "$URL" odonata-plant -- --fresh --at-least messages_in=20
 # Every swap happened while the generator was still sending: it must still run, and stop cleanly.
 kill -0 "$PID_signal" 2>/dev/null || fail "the generator's run ended before the swaps did: $(cat "$OUT/signal.log")"
 # Stopped before its last command, the generator says the run is not complete (exit 5).

@@ -1,0 +1,108 @@
+// odonata-logger export on a log whose plant restarted after the last command: the trailing run
+// of states alone is named as such, and the run that has commands still exports.
+#include "log_export/log_csv_export.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "messages/plant_state_message.hpp"
+#include "messages/wing_command_message.hpp"
+
+namespace odonata::log_export {
+namespace {
+
+class TempDir {
+ public:
+  TempDir() {
+    char tmpl[] = "/tmp/odonata_export_test_XXXXXX";
+    path_ = mkdtemp(tmpl);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+template <typename T>
+void Write(lcm::LogFile& log, const std::string& channel, const T& msg, int64_t utime) {
+  std::vector<uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+  msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  lcm::LogEvent ev{};
+  ev.timestamp = utime;
+  ev.channel = channel;
+  ev.datalen = static_cast<int32_t>(buf.size());
+  ev.data = buf.data();
+  ASSERT_EQ(log.writeEvent(&ev), 0);
+}
+
+odonata::plant_state_t State(int64_t seq, int64_t command_seq) {
+  pipeline::PlantSample s;
+  s.seq = seq;
+  s.command_seq = command_seq;
+  s.output.time_s = 0.01 * static_cast<double>(seq);
+  return messages::ToStateMessage(s, seq);
+}
+
+// States 0…n answered by commands 0…n−1, then, if `restart`, a new plant's state 0 alone.
+std::string WriteLog(const std::string& dir, int n, bool restart) {
+  const std::string path = dir + "/log.00000";
+  lcm::LogFile log(path, "w");
+  pipeline::CommandSchedule schedule;
+  schedule.sample_period_s = 0.01;
+  schedule.commands.assign(static_cast<std::size_t>(n), plant::CommandMatrix::Constant(0.5));
+  int64_t t = 1;
+  Write(log, "DIMAV_STATE", State(0, -1), t++);
+  for (int k = 0; k < n; ++k) {
+    Write(log, "DIMAV_COMMAND",
+          messages::ToCommandMessage(schedule, static_cast<std::size_t>(k), 0), t++);
+    Write(log, "DIMAV_STATE", State(k + 1, k), t++);
+  }
+  if (restart) Write(log, "DIMAV_STATE", State(0, -1), t++);
+  return path;
+}
+
+TEST(LogCsvExport, ATrailingRunWithoutCommandsIsNamedAndTheCommandedRunStillExports) {
+  const TempDir dir;
+  const std::string log = WriteLog(dir.path(), 20, true);
+  const std::string csv = dir.path() + "/samples.csv";
+  try {
+    ExportLogToCsv({log}, csv, ExportOptions{});
+    FAIL() << "the state-only run exported";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("run 1 of 2 has no commands"), std::string::npos) << what;
+    EXPECT_NE(what.find("--run"), std::string::npos) << what;
+  }
+  ExportOptions first;
+  first.run = 0;
+  const ExportSummary s = ExportLogToCsv({log}, csv, first);
+  EXPECT_EQ(s.runs, 2);
+  EXPECT_EQ(s.exported_run, 0);
+  EXPECT_EQ(s.rows, 20);
+  std::ifstream in(csv);
+  long lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_EQ(lines, 21);  // the header and one row per sample
+}
+
+TEST(LogCsvExport, ALogWithoutCommandsSaysSo) {
+  const TempDir dir;
+  const std::string log = WriteLog(dir.path(), 0, false);
+  try {
+    ExportLogToCsv({log}, dir.path() + "/samples.csv", ExportOptions{});
+    FAIL() << "a log without commands exported";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "no commands on DIMAV_COMMAND in the log");
+  }
+}
+
+}  // namespace
+}  // namespace odonata::log_export
