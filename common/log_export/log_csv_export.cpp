@@ -234,7 +234,7 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
     const auto n = static_cast<std::size_t>(p.num_outputs);
     if (p.names.size() != n || p.measured.size() != n || p.predicted.size() != n ||
         p.free_run.size() != n || p.next.size() != n || p.rules.size() != n ||
-        p.max_entropy.size() != n)
+        p.max_entropy.size() != n || p.arx_predicted.size() != n || p.arx_free_run.size() != n)
       return;
     if (!all.empty() && p.names != all.front().names) return;
     all.push_back(std::move(p));
@@ -242,8 +242,8 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
   if (all.empty()) throw std::runtime_error("no predictions on " + channel + " in the log");
   std::vector<std::string> header{"run", "sample", "learning"};
   for (const auto& name : all.front().names)
-    for (const char* f :
-         {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy"})
+    for (const char* f : {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy",
+                          "_arx_predicted", "_arx_free_run"})
       header.push_back(name + f);
   io::CsvWriter out(csv_path, header);
   int run = 0;
@@ -258,7 +258,7 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
       // CSV reader rejects NaN, so write the prediction itself instead.
       const double next = std::isfinite(p.next[o]) ? p.next[o] : p.predicted[o];
       for (double v : {p.measured[o], p.predicted[o], p.free_run[o], next, double(p.rules[o]),
-                       p.max_entropy[o]})
+                       p.max_entropy[o], p.arx_predicted[o], p.arx_free_run[o]})
         row.push_back(v);
     }
     out.WriteRow(row);
@@ -276,7 +276,8 @@ long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std
     odonata::prediction_t p;
     if (!SafeDecode(&p, ev.data, ev.datalen) || p.num_outputs <= 0) return;
     try {
-      board.Add({p.sample, p.names, p.measured, p.predicted, p.free_run, p.rules});
+      board.Add({p.sample, p.names, p.measured, p.predicted, p.free_run, p.rules, p.arx_predicted,
+                 p.arx_free_run});
       ++scored;
     } catch (const std::invalid_argument&) {
       // a prediction the monitor would drop too (ragged, NaN, a duplicate or a leap)

@@ -21,6 +21,8 @@ odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
     p.next.push_back(report.next(o));
     p.rules.push_back(report.rules(o));
     p.max_entropy.push_back(report.max_entropy(o));
+    p.arx_predicted.push_back(report.arx_predicted(o));
+    p.arx_free_run.push_back(report.arx_free_run(o));
   }
   p.learning = report.learned ? 1 : 0;
   return p;

@@ -10,9 +10,11 @@ namespace odonata::monitoring {
 std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   const std::size_t n = p.names.size();
   if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
-      p.rules.size() != n) {
+      p.rules.size() != n || p.arx_predicted.size() != p.arx_free_run.size() ||
+      (!p.arx_predicted.empty() && p.arx_predicted.size() != n)) {
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
   }
+  const bool arx = !p.arx_predicted.empty();
   const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
   if (!leap.empty()) throw std::invalid_argument(leap);
   if (last_sample_ >= 0 && p.sample == last_sample_) {
@@ -22,7 +24,8 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   // (the genuine one for that sample would then be dropped as a duplicate).
   for (std::size_t o = 0; o < n; ++o) {
     if (!std::isfinite(p.measured[o]) || !std::isfinite(p.predicted[o]) ||
-        !std::isfinite(p.free_run[o])) {
+        !std::isfinite(p.free_run[o]) ||
+        (arx && (!std::isfinite(p.arx_predicted[o]) || !std::isfinite(p.arx_free_run[o])))) {
       throw std::invalid_argument("prediction with NaN or Inf for " + p.names[o]);
     }
   }
@@ -69,6 +72,23 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     out.total_free_run.Add(p.measured[o], p.free_run[o]);
     out.window_free_run.Add(p.measured[o], p.free_run[o]);
     out.rules = p.rules[o];
+    if (arx) {
+      out.arx_total_one_step.Add(p.measured[o], p.arx_predicted[o]);
+      out.arx_window_one_step.Add(p.measured[o], p.arx_predicted[o]);
+      out.arx_total_free_run.Add(p.measured[o], p.arx_free_run[o]);
+      out.arx_window_free_run.Add(p.measured[o], p.arx_free_run[o]);
+      if (out.window_one_step.full() && out.arx_window_one_step.full()) {
+        const double fit = out.window_one_step.Get().fit_percent;
+        const double linear = out.arx_window_one_step.Get().fit_percent;
+        if (fit <= linear && !out.behind_arx) {
+          events.push_back({ScoreEvent::Kind::kBehindArx, name, p.sample, 0, fit, linear});
+          out.behind_arx = true;
+        } else if (fit > linear + options_.arx_margin_points && out.behind_arx) {
+          events.push_back({ScoreEvent::Kind::kAheadOfArx, name, p.sample, 0, fit, linear});
+          out.behind_arx = false;
+        }
+      }
+    }
     if (const auto a = out.alarm.Push(static_cast<long>(p.sample), p.measured[o], p.predicted[o])) {
       const bool alarm = a->kind == metrics::AccuracyEvent::Kind::kAlarm;
       events.push_back({alarm ? ScoreEvent::Kind::kAlarm : ScoreEvent::Kind::kRecovered, name,
@@ -107,6 +127,11 @@ bool PredictionScoreboard::Warned(const std::string& output) const {
   return it != outputs_.end() && it->second.warned;
 }
 
+bool PredictionScoreboard::BehindArx(const std::string& output) const {
+  const auto it = outputs_.find(output);
+  return it != outputs_.end() && it->second.behind_arx;
+}
+
 bool PredictionScoreboard::Alarmed(const std::string& output) const {
   const auto it = outputs_.find(output);
   return it != outputs_.end() && it->second.alarm.alarmed();
@@ -122,8 +147,17 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
                           {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
                           {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
                           {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())},
+                          {"window_free_run", metrics::AccuracyToJson(o.window_free_run.Get())},
                           {"alarm_events", o.alarm_events},
                           {"alarmed", o.alarm.alarmed()}};
+    if (o.has_arx()) {
+      j["outputs"][name]["arx"] = {
+          {"one_step", metrics::AccuracyToJson(o.arx_total_one_step.Get())},
+          {"free_run", metrics::AccuracyToJson(o.arx_total_free_run.Get())},
+          {"window_one_step", metrics::AccuracyToJson(o.arx_window_one_step.Get())},
+          {"window_free_run", metrics::AccuracyToJson(o.arx_window_free_run.Get())}};
+      j["outputs"][name]["behind_arx"] = o.behind_arx;
+    }
   }
   return j;
 }

@@ -24,6 +24,9 @@ struct Prediction {
   std::vector<std::string> names;
   std::vector<double> measured, predicted, free_run;
   std::vector<int> rules;
+  /// The identifier's live ARX baseline (prediction_t.arx_*): empty when not carried (a
+  /// prediction from an older writer), or one entry per output.
+  std::vector<double> arx_predicted, arx_free_run;
 };
 
 struct ScoreboardOptions {
@@ -31,16 +34,23 @@ struct ScoreboardOptions {
   double warn_fit_percent = 80.0;    ///< warn when the window's one-step FIT drops below
   std::size_t alarm_window_samples = 100;
   double alarm_drop_points = 5.0;
+  /// Behind the live ARX once the window's fuzzy one-step FIT is not above the ARX's; ahead again
+  /// only when it leads by more than this many points, so a model that is as good as linear (one
+  /// rule is a linear model) is said once, not at every sample the two swap places.
+  double arx_margin_points = 0.5;
 };
 
 /// What a prediction changed that the operator should hear of.
 struct ScoreEvent {
   enum class Kind {
-    kNewRun,        ///< the sample number went back: a new run (`sample`, after `previous`)
-    kAlarm,         ///< `output`'s tracking FIT fell (`fit` against a settled `reference`)
-    kRecovered,     ///< back to `fit` against the `reference` before the alarm
-    kLowFit,        ///< the window's one-step FIT `fit` fell below the warning level
-    kLowFitCleared  ///< back to `fit`
+    kNewRun,         ///< the sample number went back: a new run (`sample`, after `previous`)
+    kAlarm,          ///< `output`'s tracking FIT fell (`fit` against a settled `reference`)
+    kRecovered,      ///< back to `fit` against the `reference` before the alarm
+    kLowFit,         ///< the window's one-step FIT `fit` fell below the warning level
+    kLowFitCleared,  ///< back to `fit`
+    kBehindArx,      ///< over a full window the fuzzy one-step FIT `fit` is not above the
+                     ///< live ARX's `reference`: the rules are not paying for themselves
+    kAheadOfArx      ///< the fuzzy model leads ARX again by more than arx_margin_points
   };
   Kind kind = Kind::kNewRun;
   std::string output;
@@ -61,12 +71,21 @@ class PredictionScoreboard {
   struct Output {
     metrics::CumulativeAccuracy total_one_step, total_free_run;
     metrics::WindowAccuracy window_one_step, window_free_run;
+    /// The live ARX's scores over the same samples (none counted when predictions carry none).
+    metrics::CumulativeAccuracy arx_total_one_step, arx_total_free_run;
+    metrics::WindowAccuracy arx_window_one_step, arx_window_free_run;
+    bool behind_arx = false;
     metrics::AccuracyAlarm alarm;
     std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents
     int rules = 0;
     bool warned = false;
     Output(std::size_t w, const metrics::AccuracyAlarmOptions& a)
-        : window_one_step(w), window_free_run(w), alarm(a) {}
+        : window_one_step(w),
+          window_free_run(w),
+          arx_window_one_step(w),
+          arx_window_free_run(w),
+          alarm(a) {}
+    bool has_arx() const { return arx_total_one_step.samples() > 0; }
   };
 
   explicit PredictionScoreboard(ScoreboardOptions options) : options_(options) {}
@@ -86,9 +105,12 @@ class PredictionScoreboard {
   int64_t gaps() const { return gaps_; }  ///< samples missing within the current run
   bool Warned(const std::string& output) const;
   bool Alarmed(const std::string& output) const;
+  /// Over the last full window the fuzzy model's one-step FIT was not above the live ARX's.
+  bool BehindArx(const std::string& output) const;
 
   /// The current run: last_sample, gaps and per output rules, one_step, free_run,
-  /// window_one_step, alarm_events, alarmed.
+  /// window_one_step, window_free_run, alarm_events, alarmed, and, when predictions carry the
+  /// live ARX, "arx" (the same four scores) and behind_arx.
   nlohmann::json RunSummary() const;
   /// RunSummary() with "previous_runs" (the latest kMaxFinishedRuns) when there were any.
   nlohmann::json Summary() const;

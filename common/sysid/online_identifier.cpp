@@ -6,16 +6,18 @@
 namespace odonata::sysid {
 
 OnlineIdentifier::OnlineIdentifier(NarxModel model, RefitSchedule refit)
-    : model_(std::move(model)), refitter_(refit) {}
+    : model_(std::move(model)), arx_(model_.scaling()), refitter_(refit) {}
 
 void OnlineIdentifier::RestartHistory() {
   history_.clear();
   free_history_.clear();
+  arx_free_history_.clear();
   have_last_ = false;
 }
 
 void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
   model_ = std::move(model);
+  arx_ = RecursiveArx(model_.scaling());
   samples_learned_ = samples_learned;
   refitter_.Clear();  // rows learned by the model that is gone
   RestartHistory();
@@ -55,6 +57,7 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
     gaps_ += s.index - last_index_ - 1;
     history_.clear();
     free_history_.clear();
+    arx_free_history_.clear();
     set(PushResult::kGap);
   }
   have_last_ = true;
@@ -66,19 +69,23 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   // The free run starts from measured outputs; once running, each entry is replaced by the
   // model's own simulation of that sample.
   free_history_.push_back(s.outputs);
+  arx_free_history_.push_back(s.outputs);
   while (history_.size() > t0 + 1) {
     history_.pop_front();
     free_history_.pop_front();
+    arx_free_history_.pop_front();
   }
   if (history_.size() < t0 + 1) return std::nullopt;
 
   const auto n = static_cast<Eigen::Index>(history_.size());
   const auto no = static_cast<Eigen::Index>(spec.outputs.size());
-  Eigen::MatrixXd y(n, no), f(n, no), u(n, static_cast<Eigen::Index>(spec.inputs.size()));
+  Eigen::MatrixXd y(n, no), f(n, no), fa(n, no),
+      u(n, static_cast<Eigen::Index>(spec.inputs.size()));
   for (Eigen::Index r = 0; r < n; ++r) {
     const auto i = static_cast<std::size_t>(r);
     y.row(r) = history_[i].outputs.transpose();
     f.row(r) = free_history_[i].transpose();
+    fa.row(r) = arx_free_history_[i].transpose();
     u.row(r) = history_[i].inputs.transpose();
   }
 
@@ -94,9 +101,21 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
     if (!std::isfinite(rep.free_run(o))) rep.free_run(o) = t > 0 ? f(t - 1, o) : y(t, o);
   }
   free_history_.back() = rep.free_run;
+  spec.Fill(t, fa, u, x);
+  rep.arx_free_run = arx_.Predict(x);
+  for (Eigen::Index o = 0; o < no; ++o) {
+    if (!std::isfinite(rep.arx_free_run(o))) rep.arx_free_run(o) = t > 0 ? fa(t - 1, o) : y(t, o);
+  }
+  arx_free_history_.back() = rep.arx_free_run;
 
   spec.Fill(t, y, u, x);
   rep.predicted = model_.Predict(x);
+  rep.arx_predicted = arx_.Predict(x);
+  for (Eigen::Index o = 0; o < no; ++o) {
+    if (!std::isfinite(rep.arx_predicted(o))) rep.arx_predicted(o) = t > 0 ? y(t - 1, o) : y(t, o);
+  }
+  // The baseline learns what the fuzzy model learns, and nothing when frozen (a fair validation).
+  if (learning_) arx_.Update(x, s.outputs);
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
   // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "sysid/narx_model.hpp"
+#include "sysid/recursive_arx.hpp"
 #include "sysid/scheduled_refitter.hpp"
 
 namespace odonata::sysid {
@@ -24,6 +25,9 @@ struct SampleReport {
   Eigen::VectorXi rules;
   Eigen::VectorXd max_entropy;
   bool learned = false;
+  /// The live linear baseline on the same regressors (RecursiveArx): ŷ(k | k−1) and its own
+  /// free run, so a consumer sees whether the fuzzy model beats linear.
+  Eigen::VectorXd arx_predicted, arx_free_run;
 };
 
 enum class PushResult { kAccepted, kGap, kDuplicate, kRejected };
@@ -61,6 +65,9 @@ class OnlineIdentifier {
   void SetForgetting(double lambda);
 
   const NarxModel& model() const { return model_; }
+  /// The live ARX baseline: learns while the identifier learns, freezes with it, and starts
+  /// again from nothing when the model is replaced (it is not part of a snapshot).
+  const RecursiveArx& arx() const { return arx_; }
   int64_t samples_learned() const { return samples_learned_; }
   int64_t gaps() const { return gaps_; }
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
@@ -73,6 +80,8 @@ class OnlineIdentifier {
   bool learning_ = true;
   std::deque<Sample> history_;                // consecutive samples, newest last
   std::deque<Eigen::VectorXd> free_history_;  // free-run outputs aligned with history_
+  RecursiveArx arx_;
+  std::deque<Eigen::VectorXd> arx_free_history_;  // the ARX's own free run, likewise
   int64_t last_index_ = -1;
   bool have_last_ = false;
   int64_t samples_learned_ = 0;

@@ -37,6 +37,12 @@ int main(int argc, char** argv) {
                  "settled level (and clear it within 1 point of that level)")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 100.0));
+  app.add_option("--arx-margin", o.arx_margin_points,
+                 "the fuzzy model is behind the identifier's live ARX while its window one-step "
+                 "FIT is not above the ARX's, and ahead again when it leads by more than this "
+                 "many points")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
   app.add_option("--warn-fit", o.warn_fit_percent, "warn below this window FIT %")
       ->capture_default_str();
   app.add_option("--heartbeat-timeout", o.heartbeat_timeout_s,

@@ -17,6 +17,7 @@ monitoring::ScoreboardOptions ScoreboardOptions(const MonitorOptions& o) {
   s.warn_fit_percent = o.warn_fit_percent;
   s.alarm_window_samples = o.alarm_window_samples;
   s.alarm_drop_points = o.alarm_drop_points;
+  s.arx_margin_points = o.arx_margin_points;
   return s;
 }
 }  // namespace
@@ -45,7 +46,8 @@ MonitorNode::MonitorNode(bus::BusNode& bus, MonitorOptions options)
 void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   if (m.num_outputs < 0 || m.names.size() != static_cast<std::size_t>(m.num_outputs))
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
-  const monitoring::Prediction p{m.sample, m.names, m.measured, m.predicted, m.free_run, m.rules};
+  const monitoring::Prediction p{m.sample,   m.names, m.measured,      m.predicted,
+                                 m.free_run, m.rules, m.arx_predicted, m.arx_free_run};
   const char* me = bus_.options().instance.c_str();
   using Kind = monitoring::ScoreEvent::Kind;
   for (const auto& e : scores_.Add(p)) {
@@ -74,6 +76,20 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
         break;
       case Kind::kLowFitCleared:
         std::fprintf(stderr, "[%s] %s one-step FIT back to %.1f %%\n", me, output, e.fit);
+        break;
+      case Kind::kBehindArx:
+        std::fprintf(stderr,
+                     "[%s] WARNING: %s: the fuzzy model does not beat linear at sample %lld: "
+                     "one-step FIT %.2f %% against the live ARX's %.2f %% over the last %zu "
+                     "samples\n",
+                     me, output, static_cast<long long>(e.sample), e.fit, e.reference,
+                     options_.window_samples);
+        break;
+      case Kind::kAheadOfArx:
+        std::fprintf(stderr,
+                     "[%s] %s: the fuzzy model beats the live ARX again at sample %lld: %.2f %% "
+                     "against %.2f %%\n",
+                     me, output, static_cast<long long>(e.sample), e.fit, e.reference);
         break;
     }
   }
@@ -192,6 +208,14 @@ void MonitorNode::PublishAccuracy() {
     append(o.total_free_run.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
            &a.total_rmse_free_run);
     a.rules.push_back(o.rules);
+    // NaN when the predictions carry no baseline (an older identifier).
+    const auto arx_fit = [&o](const auto& score) {
+      return o.has_arx() ? score.Get().fit_percent : std::nan("");
+    };
+    a.window_fit_one_step_arx.push_back(arx_fit(o.arx_window_one_step));
+    a.total_fit_one_step_arx.push_back(arx_fit(o.arx_total_one_step));
+    a.window_fit_free_run_arx.push_back(arx_fit(o.arx_window_free_run));
+    a.total_fit_free_run_arx.push_back(arx_fit(o.arx_total_free_run));
   }
   bus_.Publish(bus_.channels().accuracy, a);
 }
@@ -204,16 +228,47 @@ nlohmann::json MonitorNode::Summary() const {
 
 void MonitorNode::Print() {
   std::string text;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-16s %6s %10s %10s %10s %10s %9s\n", "output", "rules",
-                "FIT win %", "FIT all %", "free-run %", "RMSE", "samples");
+  char line[320];
+  // Fuzzy beside the live ARX, over the window and since the run began; "<= ARX" marks an output
+  // whose rules do not beat linear over the window (one step ahead or in free run).
+  std::snprintf(line, sizeof line, "%-16s %5s %19s %19s %19s %19s %10s %9s\n", "output", "rules",
+                "FIT win % (ARX)", "FIT all % (ARX)", "free win % (ARX)", "free all % (ARX)",
+                "RMSE", "samples");
   text += line;
+  // A FIT below −100 % (errors over twice the signal's spread) is a diverging simulation, not
+  // a figure to read digits from (odonata-compare's cut too).
+  const auto fit_text = [](double fit, int width) {
+    char cell[24];
+    if (fit < -100.0)
+      std::snprintf(cell, sizeof cell, "%*s", width, "diverges");
+    else
+      std::snprintf(cell, sizeof cell, "%*.2f", width, fit);
+    return std::string(cell);
+  };
+  const auto pair = [&fit_text](double fuzzy, double arx, bool has_arx) {
+    return fit_text(fuzzy, 8) + " (" + (has_arx ? fit_text(arx, 8) : std::string(7, ' ') + "-") +
+           ")";
+  };
   for (const auto& name : scores_.outputs()) {
     const auto& o = scores_.output(name);
     const auto t = o.total_one_step.Get();
-    std::snprintf(line, sizeof line, "%-16s %6d %10.2f %10.2f %10.2f %10.4g %9ld\n", name.c_str(),
-                  o.rules, o.window_one_step.Get().fit_percent, t.fit_percent,
-                  o.total_free_run.Get().fit_percent, t.rmse, t.samples);
+    const bool arx = o.has_arx();
+    const double win = o.window_one_step.Get().fit_percent;
+    const double win_free = o.window_free_run.Get().fit_percent;
+    const double arx_win = o.arx_window_one_step.Get().fit_percent;
+    const double arx_win_free = o.arx_window_free_run.Get().fit_percent;
+    std::string mark;
+    if (scores_.BehindArx(name)) mark += "  <= ARX one-step";
+    // In free run only where ARX's own simulation holds: two diverging runs say nothing.
+    if (arx && arx_win_free >= -100.0 && win_free <= arx_win_free) mark += "  <= ARX free run";
+    std::snprintf(
+        line, sizeof line, "%-16s %5d %19s %19s %19s %19s %10.4g %9ld%s\n", name.c_str(), o.rules,
+        pair(win, arx_win, arx).c_str(),
+        pair(t.fit_percent, o.arx_total_one_step.Get().fit_percent, arx).c_str(),
+        pair(win_free, arx_win_free, arx).c_str(),
+        pair(o.total_free_run.Get().fit_percent, o.arx_total_free_run.Get().fit_percent, arx)
+            .c_str(),
+        t.rmse, t.samples, mark.c_str());
     text += line;
   }
   for (const auto& [instance, peer] : peers_.peers()) {

@@ -33,6 +33,7 @@ struct MonitorOptions {
   /// second of samples (100 at 100 Hz), and how far below the settled level raises it.
   std::size_t alarm_window_samples = 100;
   double alarm_drop_points = 5.0;
+  double arx_margin_points = 0.5;    ///< ScoreboardOptions::arx_margin_points
   double heartbeat_timeout_s = 3.0;  ///< warn when a service is silent this long
   std::string summary_json;          ///< write final accuracy here on exit (optional)
   bool live_table = false;           ///< redraw a table (stdout is a terminal)
@@ -64,6 +65,9 @@ class MonitorNode {
   /// True while `output`'s change alarm is raised (accuracy fell well below its settled level
   /// and has not come back).
   bool Alarmed(const std::string& output) const { return scores_.Alarmed(output); }
+  /// True while `output`'s fuzzy model has not beaten the identifier's live ARX over the last
+  /// window (one step ahead): the table marks it "<= ARX".
+  bool BehindArx(const std::string& output) const { return scores_.BehindArx(output); }
 
  private:
   void OnPrediction(const odonata::prediction_t& msg);

@@ -41,6 +41,8 @@ odonata::prediction_t Prediction() {
   p.next = {7, 8};
   p.rules = {9, 10};
   p.max_entropy = {0.1, 0.2};
+  p.arx_predicted = {0.3, 0.4};
+  p.arx_free_run = {0.5, 0.6};
   p.learning = 1;
   return p;
 }
@@ -52,7 +54,9 @@ odonata::accuracy_t Accuracy() {
   for (auto* v : {&a.window_fit_one_step, &a.window_vaf_one_step, &a.window_rmse_one_step,
                   &a.total_fit_one_step, &a.total_vaf_one_step, &a.total_rmse_one_step,
                   &a.window_fit_free_run, &a.window_vaf_free_run, &a.window_rmse_free_run,
-                  &a.total_fit_free_run, &a.total_vaf_free_run, &a.total_rmse_free_run})
+                  &a.total_fit_free_run, &a.total_vaf_free_run, &a.total_rmse_free_run,
+                  &a.window_fit_one_step_arx, &a.total_fit_one_step_arx, &a.window_fit_free_run_arx,
+                  &a.total_fit_free_run_arx})
     *v = {1.5, 2.5};
   a.rules = {3, 4};
   a.gaps = 7;

@@ -14,6 +14,11 @@ rows=$(($(wc -l <"$R/predictions.csv") - 1))
 fit=$(json_get "$R/monitor-summary.json" 'j["outputs"]["roll_rad"]["one_step"]["fit"]')
 "$PY" -c "import sys; sys.exit(0 if float('$fit') > 80 else 1)" || fail "validation FIT $fit"
 [[ $(json_get "$R/monitor-summary.json" 'len(j["previous_runs"])') == 1 ]] || fail "monitor did not score training and validation separately"
+# The identifier's live ARX is scored beside the fuzzy model on the same samples, and logged.
+o='j["outputs"]["roll_rad"]'
+[[ $(json_get "$R/monitor-summary.json" "$o[\"arx\"][\"one_step\"][\"samples\"] == $o[\"one_step\"][\"samples\"] and $o[\"arx\"][\"one_step\"][\"fit\"] > 80") == True ]] ||
+  fail "the monitor did not score the live ARX on the validation samples"
+head -1 "$R/predictions.csv" | grep -q roll_rad_arx_predicted || fail "predictions.csv has no ARX column"
 offline_fit "$R/identifier.json" "$R/train.csv" "$OUT/offline.json"
 same_model "$R/model.json" "$OUT/offline.json" || fail "online (lockstep) and offline models differ"
 pass "lockstep pipeline: $rows predictions, validation FIT $fit %, online model == odonata-fit model"

@@ -21,6 +21,8 @@ void Pump(bus::BusNode& bus, int ms = 1) { testing::Pump(bus, ms); }
 double Y(int64_t k) { return std::sin(0.03 * static_cast<double>(k)); }
 double OneStep(int64_t k) { return Y(k) + 0.01 * std::cos(1.7 * static_cast<double>(k)); }
 double FreeRun(int64_t k) { return 0.9 * Y(k) + 0.05; }
+// The identifier's live ARX baseline: worse than the fuzzy model in both modes.
+double Arx(int64_t k) { return 0.8 * Y(k) + 0.1; }
 
 class MonitorNodeTest : public ::testing::Test {
  protected:
@@ -47,6 +49,8 @@ class MonitorNodeTest : public ::testing::Test {
     p.next = {0.0};
     p.rules = {3};
     p.max_entropy = {0.2};
+    p.arx_predicted = {Arx(k)};
+    p.arx_free_run = {Arx(k) - 0.05};
     p.learning = 1;
     bus_->Publish(bus_->channels().prediction, p);
     Pump(*bus_);
@@ -91,6 +95,30 @@ TEST_F(MonitorNodeTest, PublishesWindowAndTotalAccuracyOfBothModes) {
          a.total_rmse_free_run[0], metrics::Score(y, free));
   expect("window free-run", a.window_fit_free_run[0], a.window_vaf_free_run[0],
          a.window_rmse_free_run[0], metrics::Score(y.tail(100), free.tail(100)));
+  // The live ARX's FIT over the same samples, beside the fuzzy model's.
+  Eigen::VectorXd arx(n), arx_free(n);
+  for (int k = 0; k < n; ++k) {
+    arx(k) = Arx(k);
+    arx_free(k) = Arx(k) - 0.05;
+  }
+  EXPECT_NEAR(a.total_fit_one_step_arx[0], metrics::Score(y, arx).fit_percent, 1e-6);
+  EXPECT_NEAR(a.window_fit_one_step_arx[0], metrics::Score(y.tail(100), arx.tail(100)).fit_percent,
+              1e-6);
+  EXPECT_NEAR(a.total_fit_free_run_arx[0], metrics::Score(y, arx_free).fit_percent, 1e-6);
+  EXPECT_NEAR(a.window_fit_free_run_arx[0],
+              metrics::Score(y.tail(100), arx_free.tail(100)).fit_percent, 1e-6);
+  EXPECT_FALSE(node_->BehindArx("roll_rad"));
+  EXPECT_FALSE(node_->Summary()["outputs"]["roll_rad"]["behind_arx"].get<bool>());
+}
+
+// A model that does no better than the live ARX is marked, and unmarked when it does again.
+TEST_F(MonitorNodeTest, MarksAWindowWhereTheFuzzyModelDoesNotBeatTheLiveArx) {
+  for (int64_t k = 0; k < 150; ++k) Send(k, OneStep(k), FreeRun(k));
+  EXPECT_FALSE(node_->BehindArx("roll_rad"));
+  for (int64_t k = 150; k < 300; ++k) Send(k, Arx(k) - 0.2, FreeRun(k));  // worse than linear
+  EXPECT_TRUE(node_->BehindArx("roll_rad"));
+  for (int64_t k = 300; k < 450; ++k) Send(k, OneStep(k), FreeRun(k));
+  EXPECT_FALSE(node_->BehindArx("roll_rad"));
 }
 
 TEST_F(MonitorNodeTest, WarnsWhenTheWindowFitDropsAndClearsWhenItRecovers) {

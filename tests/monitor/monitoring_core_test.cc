@@ -13,7 +13,60 @@
 namespace odonata::monitoring {
 namespace {
 
-Prediction At(int64_t k, double y, double yhat) { return {k, {"y"}, {y}, {yhat}, {yhat}, {3}}; }
+Prediction At(int64_t k, double y, double yhat) {
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {}, {}};
+}
+
+// A prediction carrying the live ARX baseline (prediction_t.arx_*).
+Prediction WithArx(int64_t k, double y, double yhat, double arx) {
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {arx}, {arx}};
+}
+
+// Over a full window the fuzzy model is scored against the live ARX on the same samples: the
+// operator hears once when it stops beating linear and once when it beats it again.
+TEST(PredictionScoreboard, SaysWhenTheFuzzyModelDoesNotBeatTheLiveArx) {
+  ScoreboardOptions o;
+  o.window_samples = 20;
+  PredictionScoreboard board(o);
+  const auto y = [](int64_t k) { return std::sin(0.3 * static_cast<double>(k)); };
+  std::vector<ScoreEvent::Kind> heard;
+  const auto add = [&](const Prediction& p) {
+    for (const auto& e : board.Add(p))
+      if (e.kind == ScoreEvent::Kind::kBehindArx || e.kind == ScoreEvent::Kind::kAheadOfArx)
+        heard.push_back(e.kind);
+  };
+  // The fuzzy error 0.01, the ARX's 0.1: ahead, nothing said.
+  for (int64_t k = 0; k < 40; ++k) add(WithArx(k, y(k), y(k) + 0.01, y(k) + 0.1));
+  EXPECT_TRUE(heard.empty());
+  EXPECT_FALSE(board.BehindArx("y"));
+  // Then the other way round: once the window holds only those samples, it is behind.
+  for (int64_t k = 40; k < 80; ++k) add(WithArx(k, y(k), y(k) + 0.1, y(k) + 0.01));
+  ASSERT_EQ(heard.size(), 1u);
+  EXPECT_EQ(heard[0], ScoreEvent::Kind::kBehindArx);
+  EXPECT_TRUE(board.BehindArx("y"));
+  for (int64_t k = 80; k < 120; ++k) add(WithArx(k, y(k), y(k) + 0.01, y(k) + 0.1));
+  ASSERT_EQ(heard.size(), 2u);
+  EXPECT_EQ(heard[1], ScoreEvent::Kind::kAheadOfArx);
+  const auto s = board.Summary()["outputs"]["y"];
+  ASSERT_TRUE(s.contains("arx"));
+  EXPECT_EQ(s["arx"]["one_step"]["samples"], 120);
+  EXPECT_GT(s["window_one_step"]["fit"].get<double>(),
+            s["arx"]["window_one_step"]["fit"].get<double>());
+  EXPECT_FALSE(s["behind_arx"].get<bool>());
+}
+
+TEST(PredictionScoreboard, PredictionsWithoutTheBaselineScoreAsBefore) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  for (int64_t k = 0; k < 10; ++k) board.Add(At(k, 1.0 * k, 1.0 * k));
+  EXPECT_FALSE(board.output("y").has_arx());
+  EXPECT_FALSE(board.Summary()["outputs"]["y"].contains("arx"));
+  // A baseline of the wrong length, or not finite, is a bad prediction: nothing changes.
+  Prediction ragged = WithArx(10, 1.0, 1.0, 1.0);
+  ragged.arx_free_run.clear();
+  EXPECT_THROW(board.Add(ragged), std::invalid_argument);
+  EXPECT_THROW(board.Add(WithArx(10, 1.0, 1.0, std::nan(""))), std::invalid_argument);
+  EXPECT_EQ(board.last_sample(), 9);
+}
 
 TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBack) {
   PredictionScoreboard board(ScoreboardOptions{});

@@ -126,6 +126,8 @@ int main(int argc, char** argv) {
     pred.next = {0.5};
     pred.rules = {3};
     pred.max_entropy = {0.75};
+    pred.arx_predicted = {0.09};
+    pred.arx_free_run = {0.08};
     pred.learning = 1;
     failures += bus.publish("ODONATA_PREDICTION", &pred) != 0;
 
@@ -140,7 +142,9 @@ int main(int argc, char** argv) {
     for (auto* v : {&acc.window_fit_one_step, &acc.window_vaf_one_step, &acc.window_rmse_one_step,
                     &acc.total_fit_one_step, &acc.total_vaf_one_step, &acc.total_rmse_one_step,
                     &acc.window_fit_free_run, &acc.window_vaf_free_run, &acc.window_rmse_free_run,
-                    &acc.total_fit_free_run, &acc.total_vaf_free_run, &acc.total_rmse_free_run})
+                    &acc.total_fit_free_run, &acc.total_vaf_free_run, &acc.total_rmse_free_run,
+                    &acc.window_fit_one_step_arx, &acc.total_fit_one_step_arx,
+                    &acc.window_fit_free_run_arx, &acc.total_fit_free_run_arx})
       *v = {95.5};
     acc.rules = {3};
     failures += bus.publish("ODONATA_ACCURACY", &acc) != 0;
