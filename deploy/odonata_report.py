@@ -304,10 +304,51 @@ def _with_unit(signal):
 
 
 def _regressors(model):
-    """(signal, lag) of each regressor, in the model's order: output lags from 1, input lags from 0."""
+    """(signal, lag) of each regressor, in the model's order: output lags from 1, input lags from
+    the delay (RegressorSpec::Fill)."""
     spec = model["regressor"]
+    delay = spec.get("delay", 0)
     return [(o, l + 1) for o in spec["outputs"] for l in range(spec["output_lags"])] + \
-        [(u, l) for u in spec["inputs"] for l in range(spec["input_lags"])]
+        [(u, delay + l) for u in spec["inputs"] for l in range(spec["input_lags"])]
+
+
+def rule_shares(model, csv_path):
+    """Each rule's share of the normalised firing strength over the samples of `csv_path` (the
+    model's first output), or None when the file lacks a regressor's column."""
+    try:
+        with open(csv_path) as f:
+            rows = list(csv.DictReader(f))
+        cols = {sig: np.array([float(r[sig]) for r in rows]) for sig, _ in _regressors(model)}
+    except (OSError, KeyError, ValueError):
+        return None
+    regs = _regressors(model)
+    first = max(lag for _, lag in regs) if regs else 0
+    n = len(rows)
+    if n <= first:
+        return None
+    x = np.stack([cols[sig][first - lag:n - lag] for sig, lag in regs], axis=1)
+    sc = model["scaling"]
+    xs = (x - np.array(sc["regressor_mid"])) / np.array(sc["regressor_half"])
+    rules = model["models"][0]["rules"]
+    c = np.array([r["centre"] for r in rules])
+    sig = np.sqrt(np.array([r["sigma"] for r in rules]) ** 2 + 1e-12)
+    d2 = (((xs[:, None, :] - c[None]) / sig[None]) ** 2).sum(axis=2)
+    # Relative to each sample's nearest rule, so far samples do not underflow to 0 / 0.
+    w = np.exp(-0.5 * (d2 - d2.min(axis=1, keepdims=True)))
+    return (w / w.sum(axis=1, keepdims=True)).mean(axis=0)
+
+
+def dominant_rules(shares, cover=0.8, most=6):
+    """Rule indices by share, largest first, until they carry `cover` of the firing (at most
+    `most`, at least one)."""
+    order = sorted(range(len(shares)), key=lambda j: -shares[j])
+    picked, total = [], 0.0
+    for j in order:
+        if len(picked) == most or (picked and total >= cover):
+            break
+        picked.append(j)
+        total += shares[j]
+    return picked
 
 
 def _save(plt, fig, out, r, kind):
@@ -520,19 +561,41 @@ def plot_membership(plt, out, r):
     sc = model["scaling"]
     regs = [f"{sig} lag {lag}" for sig, lag in _regressors(model)]
     rules = model["models"][0]["rules"]
+    # A model of many rules is a tangle of curves: draw the few that carry most of the firing over
+    # the training samples in colour, with their share, and the rest thin and grey behind them.
+    shares = rule_shares(model, os.path.join(r["dir"], "pipeline", "train.csv"))
+    shown = dominant_rules(shares) if shares is not None and len(rules) > 6 else list(range(len(rules)))
     n = len(regs)
-    fig, ax = plt.subplots(n, 1, figsize=(7, 1.6 * n + 0.5), squeeze=False)
+    fig, ax = plt.subplots(n, 1, figsize=(7.8, 1.6 * n + 0.7), squeeze=False)
     for i in range(n):
         lo = sc["regressor_mid"][i] - 1.3 * sc["regressor_half"][i]
         hi = sc["regressor_mid"][i] + 1.3 * sc["regressor_half"][i]
         x = np.linspace(lo, hi, 400)
-        for j, rule in enumerate(rules):
+        for j in [k for k in range(len(rules)) if k not in shown] + shown:
+            rule = rules[j]
             c = sc["regressor_mid"][i] + sc["regressor_half"][i] * rule["centre"][i]
             s = sc["regressor_half"][i] * math.sqrt(rule["sigma"][i] ** 2 + 1e-6)
-            ax[i][0].plot(x, np.exp(-0.5 * ((x - c) / s) ** 2), lw=1)
+            label = None
+            if i == 0 and j in shown:
+                label = f"rule {j + 1}" + (f" ({100 * shares[j]:.0f} % of firing)" if shares is not None else "")
+            if j in shown:
+                ax[i][0].plot(x, np.exp(-0.5 * ((x - c) / s) ** 2), lw=1.4, color=f"C{shown.index(j) % 10}",
+                              label=label)
+            else:
+                ax[i][0].plot(x, np.exp(-0.5 * ((x - c) / s) ** 2), lw=0.5, color="0.75", zorder=0)
         ax[i][0].set_ylabel(regs[i], fontsize=8)
         ax[i][0].set_ylim(0, 1.05)
-    ax[0][0].set_title(f"{r['name']}: membership functions at the end ({len(rules)} rules)")
+    others = len(rules) - len(shown)
+    if others:
+        rest = 100 * (1 - sum(shares[j] for j in shown))
+        ax[0][0].plot([], [], lw=0.5, color="0.75", label=f"{others} other rules ({rest:.0f} % of firing)")
+    if len(shown) <= 10:
+        ax[0][0].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    what = "membership functions"
+    if others:
+        what = "the rule carrying most of the firing" if len(shown) == 1 else \
+            f"the {len(shown)} rules carrying most of the firing"
+    ax[0][0].set_title(f"{r['name']}: {what} at the end ({len(rules)} rules)")
     return _save(plt, fig, out, r, "membership")
 
 
