@@ -92,6 +92,7 @@ class BusNode {
 
   /// Sets the heartbeat state, publishing a heartbeat at once when it changes.
   void SetState(const std::string& state);
+  const std::string& state() const { return state_; }
   void PublishHeartbeat();
   /// True when this process should act on `msg`: addressed to it and, for RESET and SHUTDOWN,
   /// from an allowed sender. A refusal is counted as dropped and logged, every time, and

@@ -49,6 +49,24 @@ int64_t LockstepSequencer::LowestAck() const {
   return lowest;
 }
 
+void LockstepSequencer::SetBusy(const std::string& instance, bool busy) {
+  if (consumers_.count(instance) == 0) return;
+  if (busy)
+    busy_.insert(instance);
+  else
+    busy_.erase(instance);
+}
+
+bool LockstepSequencer::AllLaggardsBusy(int64_t state_seq) const {
+  bool any = false;
+  for (const auto& [instance, acked] : consumers_) {
+    if (acked >= state_seq) continue;
+    if (busy_.count(instance) == 0) return false;
+    any = true;
+  }
+  return any;
+}
+
 std::string LockstepSequencer::Laggards(int64_t state_seq) const {
   std::string names;
   for (const auto& [instance, acked] : consumers_) {
@@ -66,6 +84,7 @@ SequencerAction LockstepSequencer::TryAdvance() {
     phase_ = Phase::kAwaitingAnswer;
     current_ = 0;
     resends_ = 0;
+    busy_in_a_row_ = 0;
     a.progressed = true;
   } else if (phase_ == Phase::kAwaitingAnswer) {
     // The newest state the plant answered and every consumer holds; the plant answers in seq
@@ -74,6 +93,7 @@ SequencerAction LockstepSequencer::TryAdvance() {
     if (confirmed <= current_) return a;
     current_ = confirmed;
     resends_ = 0;
+    busy_in_a_row_ = 0;
     a.progressed = true;
     if (current_ == command_count_) {
       phase_ = Phase::kFinished;
@@ -105,6 +125,7 @@ SequencerAction LockstepSequencer::AddConsumer(const std::string& instance) {
 
 SequencerAction LockstepSequencer::RemoveConsumer(const std::string& instance) {
   consumers_.erase(instance);
+  busy_.erase(instance);
   return TryAdvance();
 }
 
@@ -197,6 +218,20 @@ SequencerAction LockstepSequencer::OnTimeout() {
   const bool acks_missing = phase_ == Phase::kAwaitingInitial
                                 ? received_ && !Acknowledged(0)
                                 : answered_ >= Awaited() && !Acknowledged(Awaited());
+  if (acks_missing && AllLaggardsBusy(Awaited())) {
+    // They have the messages or will get them from the next resend once they are back: nothing
+    // is lost by waiting, and resending into a process that is not reading helps nobody.
+    if (busy_in_a_row_ < kMaxBusyTimeouts) {
+      ++busy_in_a_row_;
+      ++busy_timeouts_;
+      return a;
+    }
+    return Fail(SequencerAction::Failure::kConsumerLost,
+                "no acknowledgement of state " + std::to_string(Awaited()) + " from " +
+                    Laggards(Awaited()) + ", busy for " + std::to_string(busy_in_a_row_) +
+                    " timeouts in a row: it would miss samples");
+  }
+  busy_in_a_row_ = 0;
   if (resends_ >= max_resends_) {
     if (acks_missing) {
       return Fail(SequencerAction::Failure::kConsumerLost,

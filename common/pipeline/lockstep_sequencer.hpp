@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 
 #include "sequence/lockstep_window.hpp"
@@ -80,6 +81,12 @@ class LockstepSequencer {
   SequencerAction AddConsumer(const std::string& instance);
   /// Stops waiting for `instance` (it stopped cleanly); may release the next command.
   SequencerAction RemoveConsumer(const std::string& instance);
+  /// `instance` says (heartbeat state "refitting") that it is landing a scheduled refit and
+  /// acknowledges nothing until it has: while every consumer the run waits for is busy, a
+  /// timeout resends nothing and costs none of max_resends, for at most kMaxBusyTimeouts in a
+  /// row (a forged or stuck "busy" cannot hold the run for ever). Unknown instances are ignored.
+  void SetBusy(const std::string& instance, bool busy);
+  static constexpr int kMaxBusyTimeouts = 3000;  ///< 10 min at the default 200 ms timeout
   /// `instance` holds state `state_seq` and all it needs (ack_t). Unknown instances are ignored,
   /// and so is a receipt for a state beyond the answer to the newest command sent.
   SequencerAction OnAck(const std::string& instance, int64_t state_seq);
@@ -107,6 +114,8 @@ class LockstepSequencer {
   int64_t total_resends() const { return total_resends_; }
   /// Of those, resends because a consumer had not acknowledged a state the plant had answered.
   int64_t ack_resends() const { return ack_resends_; }
+  /// Timeouts spent waiting for busy consumers (SetBusy), nothing resent.
+  int64_t busy_timeouts() const { return busy_timeouts_; }
   /// Receipts ignored because they acknowledged a state no command sent could have produced.
   int64_t impossible_acks() const { return impossible_acks_; }
   /// The consumers waited for, with the newest state each acknowledged.
@@ -120,6 +129,8 @@ class LockstepSequencer {
   int64_t LowestAck() const;
   bool Acknowledged(int64_t state_seq) const { return LowestAck() >= state_seq; }
   std::string Laggards(int64_t state_seq) const;
+  // Every consumer that lacks `state_seq` is busy (and there is one).
+  bool AllLaggardsBusy(int64_t state_seq) const;
   // Confirms what the plant answered and every consumer acknowledged, then fills the window.
   SequencerAction TryAdvance();
   // Sends what the window (and the hold) allow beyond what was sent: `a` with the commands.
@@ -143,6 +154,9 @@ class LockstepSequencer {
   bool start_held_ = false;
   int64_t hold_at_ = -1;  // no command from here on until ReleaseHold() (-1: no hold)
   std::map<std::string, int64_t> consumers_;  // instance -> newest acknowledged state
+  std::set<std::string> busy_;                // consumers landing a refit
+  int busy_in_a_row_ = 0;
+  int64_t busy_timeouts_ = 0;
 };
 
 }  // namespace odonata::pipeline

@@ -59,6 +59,9 @@ class OnlineIdentifier {
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
   /// the learned-sample count becomes `samples_learned` (a resumed model's own count).
   void ReplaceModel(NarxModel model, int64_t samples_learned = 0);
+  /// Called before the model waits for a scheduled refit that has not finished
+  /// (ScheduledRefitter::SetWaitHook).
+  void SetRefitWaitHook(std::function<void()> hook) { refitter_.SetWaitHook(std::move(hook)); }
   /// @throws std::invalid_argument (model unchanged) outside the fuzzy core's range.
   void SetEntropyThreshold(double h);
   /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].

@@ -70,6 +70,8 @@ void ScheduledRefitter::Start(const NarxModel& model) {
 
 bool ScheduledRefitter::Land(NarxModel& model) {
   if (!pending_.valid()) return false;
+  if (wait_hook_ && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    wait_hook_();
   std::optional<NarxModel> refitted = pending_.get();
   if (!refitted) {
     ++failed_;

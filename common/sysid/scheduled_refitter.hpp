@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <optional>
@@ -79,6 +80,9 @@ class ScheduledRefitter {
   void BeginClosing(const NarxModel& model);
   /// Lands the closing refit, if one is in flight (waits for it). @return true when it landed.
   bool Settle(NarxModel& model);
+  /// Called before a landing waits for a refit that has not finished (not when it has): the
+  /// identifier says it is busy, so a lockstep generator waits instead of resending.
+  void SetWaitHook(std::function<void()> hook) { wait_hook_ = std::move(hook); }
   /// Forgets everything (a model from elsewhere replaced this one); a refit in flight is
   /// cancelled (it stops at its next training pass or step) and dropped. The destructor too.
   void Clear();
@@ -107,6 +111,7 @@ class ScheduledRefitter {
   bool closing_ = false;       ///< the refit in flight lands at Settle()
   int64_t refits_ = 0;
   int64_t failed_ = 0;
+  std::function<void()> wait_hook_;
 };
 
 /// The series a refit learns from: the samples in order, a break wherever an index is skipped.

@@ -37,6 +37,14 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
+  // A landing that must wait for its refit blocks this thread; say so first, so a lockstep
+  // generator waits instead of resending into a process that is not reading (docs/lcm.md §10),
+  // and the monitor knows why the heartbeats pause.
+  core_.SetRefitWaitHook([this] {
+    if (bus_.state() == "refitting") return;
+    state_before_refit_ = bus_.state();
+    bus_.SetState("refitting");
+  });
   const auto& ch = config_.channels;
   if (config_.source == SampleSource::kSignals) {
     // Any vehicle, one signals_t per sample: no pairing, and no lockstep receipts (odonata's
@@ -175,6 +183,7 @@ void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {
 void IdentifierNode::Learn(const sysid::Sample& sample) {
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);
+  RefitLanded();
   if (result == sysid::PushResult::kGap)
     bus_.stats().gaps = std::max(bus_.stats().gaps, core_.gaps());
   if (result == sysid::PushResult::kRejected || result == sysid::PushResult::kDuplicate) {
@@ -227,6 +236,7 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       return "frozen: predicting, not learning";
     case odonata::control_t::RESUME:
       core_.Resume();
+      RefitLanded();
       if (started_ && input_problem_.empty()) bus_.SetState("running");
       return "learning";
     case odonata::control_t::RESET:
@@ -285,8 +295,13 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"gaps", static_cast<double>(core_.gaps())}};
 }
 
+void IdentifierNode::RefitLanded() {
+  if (bus_.state() == "refitting") bus_.SetState(state_before_refit_);
+}
+
 void IdentifierNode::PublishSnapshot() {
   core_.Settle();  // a closing refit after a freeze is the model to publish (waits for it)
+  RefitLanded();
   odonata::model_snapshot_t s = model_messages::EncodeSnapshot(core_.model());
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;
@@ -299,6 +314,7 @@ void IdentifierNode::PublishSnapshot() {
 void IdentifierNode::SaveModel(const std::string& path) {
   if (path.empty()) throw std::invalid_argument("SAVE_MODEL without a path (and no --save-model)");
   core_.Settle();  // a closing refit after a freeze is the model to save (waits for it)
+  RefitLanded();
   core_.model().Save(path);
   std::fprintf(stderr, "[%s] model saved to %s (%d rules, %lld samples learned)\n",
                config_.instance.c_str(), path.c_str(), core_.model().total_rules(),

@@ -96,6 +96,9 @@ void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
   if (finished_) return;
   if (msg.service != "odonata-identifier" && msg.service != "odonata-logger") return;
   const bool known = sequencer_.consumers().count(msg.instance) > 0;
+  // An identifier landing a scheduled refit acknowledges nothing until it has: patience, not
+  // resends (docs/lcm.md §10).
+  if (known) sequencer_.SetBusy(msg.instance, msg.state == "refitting");
   if (!known && (msg.state == "running" || msg.state == "frozen")) {
     sequencer_.AddConsumer(msg.instance);
     if (sequencer_.phase() != pipeline::LockstepSequencer::Phase::kAwaitingInitial) {
@@ -307,6 +310,13 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
                  bus_.options().instance.c_str(), schedule_.size(), schedule_.source.c_str(),
                  rate.c_str(), static_cast<long long>(sequencer_.total_resends()),
                  static_cast<long long>(sequencer_.ack_resends()));
+    if (sequencer_.busy_timeouts() > 0) {
+      std::fprintf(stderr,
+                   "[%s] waited %lld timeout(s) for consumers landing a scheduled refit (nothing "
+                   "resent meanwhile)\n",
+                   bus_.options().instance.c_str(),
+                   static_cast<long long>(sequencer_.busy_timeouts()));
+    }
     if (sequencer_.impossible_acks() > 0) {
       std::fprintf(stderr,
                    "[%s] %lld receipt(s) for states beyond the newest command were ignored (a "

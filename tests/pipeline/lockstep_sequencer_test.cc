@@ -301,6 +301,43 @@ TEST(LockstepSequencer, AConsumerThatNeverAcknowledgesFailsTheRun) {
   EXPECT_NE(a.message.find("state 1"), std::string::npos) << a.message;
 }
 
+// A consumer landing a scheduled refit says so ("refitting"): its timeouts resend nothing and
+// cost none of max_resends, and the run goes on when its receipts come; a consumer that is busy
+// for ever still fails the run, and a busy flag for a stranger changes nothing.
+TEST(LockstepSequencer, ABusyConsumerIsWaitedForWithoutResendsButNotForEver) {
+  LockstepSequencer s(5, false, 1);
+  s.AddConsumer("identifier");
+  s.SetBusy("stranger", true);
+  s.Start();
+  s.OnState(0, -1, false);
+  ASSERT_EQ(s.OnAck("identifier", 0).kind, Kind::kSendCommand);
+  s.OnState(1, 0, false);
+  s.SetBusy("identifier", true);
+  for (int i = 0; i < 100; ++i) ASSERT_EQ(s.OnTimeout().kind, Kind::kNone) << i;
+  EXPECT_EQ(s.busy_timeouts(), 100);
+  EXPECT_EQ(s.total_resends(), 0);
+  s.SetBusy("identifier", false);
+  EXPECT_EQ(s.OnAck("identifier", 1).kind, Kind::kSendCommand);
+  // Not busy: the usual patience (one resend, then the failure).
+  s.OnState(2, 1, false);
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kSendCommand);
+  EXPECT_EQ(s.OnTimeout().kind, Kind::kFailed);
+
+  LockstepSequencer stuck(5, false, 1);
+  stuck.AddConsumer("identifier");
+  stuck.Start();
+  stuck.OnState(0, -1, false);
+  stuck.OnAck("identifier", 0);
+  stuck.OnState(1, 0, false);
+  stuck.SetBusy("identifier", true);
+  for (int i = 0; i < LockstepSequencer::kMaxBusyTimeouts; ++i)
+    ASSERT_EQ(stuck.OnTimeout().kind, Kind::kNone) << i;
+  const SequencerAction a = stuck.OnTimeout();
+  EXPECT_EQ(a.kind, Kind::kFailed);
+  EXPECT_EQ(a.failure, SequencerAction::Failure::kConsumerLost);
+  EXPECT_NE(a.message.find("busy"), std::string::npos) << a.message;
+}
+
 // A lone fresh state 0 mid-run (forged, or stale) does not abort the run: the plant's answer
 // clears it, and without one the suspicion lapses after the confirmation timeouts, during which
 // nothing is resent (a restarted plant would otherwise be commanded and its restart hidden).
