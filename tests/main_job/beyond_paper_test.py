@@ -33,6 +33,12 @@ def main():
                 continue
             if e["fuzzy"] < floor:
                 failures.append(f"{name}: fuzzy {e['fuzzy']:.2f} % below the floor {floor} %")
+            # The same experiment learned online through the LCM pipeline (issue 21 point 6).
+            on = e.get("online") or {}
+            if not isinstance(on.get("fit"), (int, float)) or on["fit"] < floor:
+                failures.append(f"{name}: online (pipeline) FIT {on.get('fit')} below the floor {floor} %")
+            if not isinstance(on.get("arx"), (int, float)):
+                failures.append(f"{name}: no live ARX beside the online model")
             if e["arx_squared"] is None:
                 failures.append(f"{name}: no squared-input ARX baseline")
             if not os.path.getsize(os.path.join(out, f"{name}-output.png")):

@@ -77,7 +77,6 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   OfflineFitOptions fo;  // odonata-fit --consequent linear: the kind stays the configuration's
   fo.selection.simulation = DefaultSimulationStages();
   fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
-  fo.scaling = empty.scaling();
   const OfflineFit offline =
       FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
   EXPECT_EQ(online.model().ToJson().dump(), offline.model.ToJson().dump());
