@@ -122,6 +122,9 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   const bool per_sample = learning_ && refitter_.refits() == 0;
   const auto results = model_.Learn(
       x, s.outputs, per_sample ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kFrozen);
+  // Between refits the model tracks by recursive global least squares, continued from the last
+  // refit (ConsequentTracker): one learner, its least-squares problem one row longer.
+  if (learning_ && !per_sample) refitter_.Track(model_, x, s.outputs);
   for (Eigen::Index o = 0; o < no; ++o) {
     rep.max_entropy(o) = results[static_cast<std::size_t>(o)].max_entropy;
     rep.rules(o) = model_.model(static_cast<int>(o)).rules();

@@ -46,41 +46,47 @@ void ScheduledRefitter::Start(const NarxModel& model) {
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
   // Everything the worker reads is its own copy (the cancel flag is shared, atomic).
-  pending_ = std::async(
-      std::launch::async,
-      [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
-       cancel = cancel_]() -> std::optional<NarxModel> {
-        try {
-          // odonata-fit's defaults, the scaling too: fitted on the samples kept. The declared
-          // ranges are for the per-sample learner, which needs a scaling before any data; a refit
-          // has its data, and under the ranges' scaling its choice differed from odonata-fit's on
-          // the same file (vertical_wide: 2 rules at 87 % free run against 3 at 97 %).
-          OfflineFitOptions o;
-          o.selection.simulation = DefaultSimulationStages();
-          o.selection.threads = threads;
-          // The consequent kind is the configuration's (readable singletons stay singletons, and
-          // a snapshot still fits the identifier that resumes it); H̄, κ and epochs are chosen.
-          o.selection.consequents = {base.consequent};
-          TrainOptions t;
-          t.cancel = cancel.get();
-          return FitOffline(spec, base, t, series, o).model;
-        } catch (const std::exception&) {
-          // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
-          return std::nullopt;
-        }
-      });
+  pending_ =
+      std::async(std::launch::async,
+                 [spec = model.spec(), base = *base_, series = KeptSeries(),
+                  threads = schedule_.threads, cancel = cancel_]() -> std::optional<Refitted> {
+                   try {
+                     // odonata-fit's defaults, the scaling too: fitted on the samples kept. The
+                     // declared ranges are for the per-sample learner, which needs a scaling before
+                     // any data; a refit has its data, and under the ranges' scaling its choice
+                     // differed from odonata-fit's on the same file (vertical_wide: 2 rules at 87 %
+                     // free run against 3 at 97 %).
+                     OfflineFitOptions o;
+                     o.selection.simulation = DefaultSimulationStages();
+                     o.selection.threads = threads;
+                     // The consequent kind is the configuration's (readable singletons stay
+                     // singletons, and a snapshot still fits the identifier that resumes it); H̄, κ
+                     // and epochs are chosen.
+                     o.selection.consequents = {base.consequent};
+                     TrainOptions t;
+                     t.cancel = cancel.get();
+                     NarxModel fitted = FitOffline(spec, base, t, series, o).model;
+                     ConsequentTracker tracker = ConsequentTracker::Build(fitted, series);
+                     return Refitted{std::move(fitted), std::move(tracker)};
+                   } catch (const std::exception&) {
+                     // Too few samples for the hold-out and the lags, or cancelled: keep the model
+                     // learning.
+                     return std::nullopt;
+                   }
+                 });
 }
 
 bool ScheduledRefitter::Land(NarxModel& model) {
   if (!pending_.valid()) return false;
   if (wait_hook_ && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
     wait_hook_();
-  std::optional<NarxModel> refitted = pending_.get();
+  std::optional<Refitted> refitted = pending_.get();
   if (!refitted) {
     ++failed_;
     return false;
   }
-  model = std::move(*refitted);
+  model = std::move(refitted->model);
+  tracker_ = std::move(refitted->tracker);
   ++refits_;
   return true;
 }
@@ -123,6 +129,7 @@ void ScheduledRefitter::Cancel() {
 
 void ScheduledRefitter::Clear() {
   Cancel();
+  tracker_ = ConsequentTracker{};
   closing_ = false;
   kept_.clear();
   base_.reset();

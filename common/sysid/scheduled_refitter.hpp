@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/consequent_tracker.hpp"
 #include "sysid/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -80,6 +81,12 @@ class ScheduledRefitter {
   void BeginClosing(const NarxModel& model);
   /// Lands the closing refit, if one is in flight (waits for it). @return true when it landed.
   bool Settle(NarxModel& model);
+  /// Between refits: one step of recursive global least squares on the consequents of the model
+  /// the last refit gave (ConsequentTracker), for the raw regressor x and measured y.
+  void Track(NarxModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    tracker_.Step(model, x, y);
+  }
+  long tracked() const { return tracker_.steps(); }
   /// Called before a landing waits for a refit that has not finished (not when it has): the
   /// identifier says it is busy, so a lockstep generator waits instead of resending.
   void SetWaitHook(std::function<void()> hook) { wait_hook_ = std::move(hook); }
@@ -103,7 +110,12 @@ class ScheduledRefitter {
   RefitSchedule schedule_;
   std::optional<fuzzy::FuzzyModelConfig> base_;  ///< the settings the refits search around
   std::deque<Sample> kept_;                      ///< oldest first
-  std::future<std::optional<NarxModel>> pending_;
+  struct Refitted {
+    NarxModel model;
+    ConsequentTracker tracker;  // its prior: the refit's least-squares problem
+  };
+  std::future<std::optional<Refitted>> pending_;
+  ConsequentTracker tracker_;  // the landed refit's
   /// Raised to stop the refit in flight when it will never land (Clear, the destructor).
   std::shared_ptr<std::atomic<bool>> cancel_;
   int64_t learned_ = 0;        ///< the count AfterLearn last saw

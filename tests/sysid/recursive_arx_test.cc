@@ -4,6 +4,7 @@
 
 #include "narendra_series.hpp"
 #include "sysid/arx_model.hpp"
+#include "sysid/consequent_tracker.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/recursive_arx.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -67,6 +68,74 @@ TEST(OnlineIdentifier, ReportsTheLiveArxBesideTheFuzzyModelAndFreezesItWithTheMo
   // A replaced model (a resume) starts its baseline afresh.
   id.ReplaceModel(empty);
   EXPECT_EQ(id.arx().samples(), 0);
+}
+
+}  // namespace
+}  // namespace odonata::sysid
+
+namespace odonata::sysid {
+namespace {
+
+// Continued from the refit's factorisation (docs/identifier.md §6.3): from the least-squares
+// consequents of the samples A and their covariance, recursive global least squares over the
+// samples B ends at the least-squares consequents of A and B together, premises unchanged.
+TEST(ConsequentTracker, ContinuesTheLeastSquaresProblemOfTheRefit) {
+  const Series all = testing::NarendraTrain(1200);
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.entropy.threshold = 0.5;  // a few rules, so the problem couples them
+  NarxModel model(testing::NarendraSpec(), cfg);
+  TrainOptions o;
+  o.epochs = 3;
+  model.Train(all, o);
+  ASSERT_GE(model.model(0).rules(), 3);
+  const auto part = [&](Eigen::Index from, Eigen::Index rows) {
+    Series s;
+    s.inputs = all.inputs.middleRows(from, rows);
+    s.outputs = all.outputs.middleRows(from, rows);
+    return s;
+  };
+  const Series a = part(0, 800), b = part(800, 400);
+  const auto scaled = [&](const Series& s, Eigen::MatrixXd* x, Eigen::VectorXd* y) {
+    const RegressionData d = BuildRegression(model.spec(), s);
+    x->resize(d.x.rows(), d.x.cols());
+    y->resize(d.x.rows());
+    for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
+      x->row(k) = model.scaling().ScaleRegressor(d.x.row(k).transpose()).transpose();
+      (*y)(k) = model.scaling().ScaleOutput(0, d.y(k, 0));
+    }
+    return d;
+  };
+  Eigen::MatrixXd xa, xab;
+  Eigen::VectorXd ya, yab;
+  scaled(a, &xa, &ya);
+  ASSERT_TRUE(model.mutable_model(0).RefineConsequents(xa, ya, 1e-10, 0.0));
+  ConsequentTracker tracker = ConsequentTracker::Build(model, a, 1e-10);
+  ASSERT_FALSE(tracker.empty());
+  // The reference: least squares on A and B, the rows B contributes as the tracker sees them
+  // (B's regressors start after its own lags, as a history restarted there would).
+  NarxModel reference = model;
+  const RegressionData db = BuildRegression(model.spec(), b);
+  Eigen::MatrixXd xb;
+  Eigen::VectorXd yb;
+  scaled(b, &xb, &yb);
+  xab.resize(xa.rows() + xb.rows(), xa.cols());
+  xab << xa, xb;
+  yab.resize(ya.size() + yb.size());
+  yab << ya, yb;
+  ASSERT_TRUE(reference.mutable_model(0).RefineConsequents(xab, yab, 1e-10, 0.0));
+  const Eigen::VectorXd before = model.model(0).consequent().Parameters();
+  for (Eigen::Index k = 0; k < db.x.rows(); ++k)
+    tracker.Step(model, db.x.row(k).transpose(), db.y.row(k).transpose());
+  EXPECT_EQ(tracker.steps(), db.x.rows());
+  const Eigen::VectorXd tracked = model.model(0).consequent().Parameters();
+  const Eigen::VectorXd expected = reference.model(0).consequent().Parameters();
+  EXPECT_GT((tracked - before).norm(), 1e-6) << "the tracker did not move the consequents";
+  EXPECT_LT((tracked - expected).norm(), 1e-5 * expected.norm())
+      << "tracked " << tracked.transpose() << "\nbatch " << expected.transpose();
+  // A model with another rule count is not the one it was built for: left alone.
+  NarxModel other(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
+  tracker.Step(other, db.x.row(0).transpose(), db.y.row(0).transpose());
+  EXPECT_EQ(tracker.steps(), db.x.rows());
 }
 
 }  // namespace
