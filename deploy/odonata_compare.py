@@ -10,10 +10,15 @@ SETS = ("train", "validate")
 FUZZY, ARX = "tab:blue", "tab:orange"
 
 
+# Below −100 % FIT (errors over twice the spread of the data: worse than predicting the mean,
+# twice over) a simulation has left the data; its digits (−3e24 %) say nothing more. One cut for
+# every place that prints "diverges": this plot, the report, odonata-run and odonata-monitor.
+DIVERGED_FIT = -100.0
+
+
 def fit_label(fit):
-    """FIT % as a legend shows it; below −100 % (worse than predicting the mean, twice over) or
-    not finite, the model has left the data: "diverges"."""
-    if fit is None or not isinstance(fit, (int, float)) or not math.isfinite(fit) or fit < -100:
+    """FIT % as a legend shows it; below DIVERGED_FIT or not finite: "diverges"."""
+    if fit is None or not isinstance(fit, (int, float)) or not math.isfinite(fit) or fit < DIVERGED_FIT:
         return "diverges"
     return f"FIT {fit:.1f} %"
 

@@ -12,8 +12,7 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DT = 0.01  # s per sample: the pipeline runs at 100 Hz
-# A FIT below −999 % (NDEI above 10.99; NDEI = 1 − FIT/100) only says the simulation ran away.
-DIVERGED_FIT = -999.0
+from odonata_compare import DIVERGED_FIT  # noqa: E402  (one cut for "diverges" everywhere)
 DIVERGED_NDEI = 1 - DIVERGED_FIT / 100
 # Fuzzy and ARX closer than this many FIT points are called equal: below it the difference is
 # within what a different seed or excitation moves.
