@@ -14,24 +14,30 @@ OfflineFit FitOffline(
   fuzzy::FuzzyModelConfig cfg = config;
   TrainOptions topt = train;
   if (options.scaling) topt.fit_scaling = false;
+  // A candidate's setting, to train on every row: the chosen one, or the linear fallback.
+  const auto adopt = [&](const Candidate& c) {
+    cfg = CandidateConfig(config, c);
+    topt = train;
+    if (options.scaling) topt.fit_scaling = false;
+    topt.simulation = c.simulation;
+    if (!options.epochs_given) topt.epochs = std::max(1, c.epochs);
+  };
   std::optional<SelectionResult> sel;
+  std::optional<Series> searched;
   Eigen::Index searched_rows = 0, searched_selection_rows = 0;
   if (options.search) {
     SelectionOptions so = options.selection;
     so.scaling = options.scaling;
     if (!topt.refine_least_squares) so.simulation.clear();  // the online pass has no such phase
-    const Series searched = SubsampleForSearch(series, options.search_budget);
+    searched = SubsampleForSearch(series, options.search_budget);
     std::optional<Series> searched_selection;
     if (selection_series)
       searched_selection = SubsampleForSearch(*selection_series, options.search_budget);
-    searched_rows = searched.samples();
+    searched_rows = searched->samples();
     if (searched_selection) searched_selection_rows = searched_selection->samples();
-    sel = SelectModel(spec, cfg, topt, searched, so, on_candidate,
+    sel = SelectModel(spec, cfg, topt, *searched, so, on_candidate,
                       searched_selection ? &*searched_selection : nullptr);
-    const Candidate& c = sel->candidates[sel->chosen];
-    cfg = CandidateConfig(cfg, c);
-    topt.simulation = c.simulation;
-    if (!options.epochs_given) topt.epochs = std::max(1, c.epochs);
+    adopt(sel->candidates[sel->chosen]);
   }
   if (options.on_training) options.on_training(topt.epochs);
   // The chosen setting, refitted on the whole series (the hold-out included).
@@ -48,7 +54,7 @@ OfflineFit FitOffline(
     grow.epochs = 1;
     grow.simulation.clear();
     grow.progress = nullptr;
-    model.Train(SubsampleForSearch(series, options.search_budget), grow);
+    model.Train(*searched, grow);
     topt.fit_scaling = false;
     topt.grow_rules = false;
   }
@@ -93,11 +99,7 @@ OfflineFit FitOffline(
       if (!settled) {
         sel->warnings.push_back("the linear model (ARX) is chosen");
         sel->chosen = static_cast<std::size_t>(linear - sel->candidates.begin());
-        cfg = CandidateConfig(config, *linear);
-        topt = train;
-        if (options.scaling) topt.fit_scaling = false;
-        topt.simulation = linear->simulation;
-        if (!options.epochs_given) topt.epochs = std::max(1, linear->epochs);
+        adopt(*linear);
         model = NarxModel(spec, cfg);
         if (options.scaling) model.SetScaling(*options.scaling);
         report = model.Train(series, topt);
