@@ -7,27 +7,16 @@
 #include <fstream>
 #include <sstream>
 
-#include "../sysid/narendra_series.hpp"
 #include "model_export/fis_import.hpp"
 #include "model_export/fis_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
 #include "sysid/signal_ranges.hpp"
+#include "trained_narendra_model.hpp"
 
 namespace odonata::model_export {
 namespace {
 
-sysid::NarxModel Trained(fuzzy::ConsequentKind kind) {
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = kind;
-  cfg.entropy.threshold = 0.49;
-  sysid::NarxModel m(sysid::testing::NarendraSpec(), cfg);
-  sysid::TrainOptions o;
-  o.epochs = 2;
-  m.Train(sysid::testing::NarendraTrain(2000), o);
-  auto& rb = m.mutable_model(0).mutable_rule_base();
-  for (int j = 0; j < rb.rules(); ++j) rb.set_output_width(j, 0.6 + 0.05 * (j % 9));
-  return m;
-}
+sysid::NarxModel Trained(fuzzy::ConsequentKind kind) { return testing::TrainedNarendraModel(kind); }
 
 // An identifier's empty model: the same regressor, its own declared ranges.
 sysid::NarxModel Empty(fuzzy::ConsequentKind kind) {

@@ -10,30 +10,18 @@
 
 #include <fl/Headers.h>
 
-#include "../sysid/narendra_series.hpp"
 #include "model_export/fis_writer.hpp"
 #include "model_export/fll_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
 #include "odonata/tsk_model.hpp"
 #include "sysid/free_run.hpp"
+#include "trained_narendra_model.hpp"
 
 namespace odonata::model_export {
 namespace {
 
 sysid::NarxModel Trained(fuzzy::ConsequentKind kind, bool uneven_output_widths) {
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = kind;
-  cfg.entropy.threshold = 0.49;  // a few dozen rules, as odonata-fit's selection picks here
-  sysid::NarxModel m(sysid::testing::NarendraSpec(), cfg);
-  sysid::TrainOptions o;
-  o.epochs = 2;
-  m.Train(sysid::testing::NarendraTrain(2000), o);
-  // Output widths other than 1 become rule weights: give the export something to fold.
-  if (uneven_output_widths) {
-    auto& rb = m.mutable_model(0).mutable_rule_base();
-    for (int j = 0; j < rb.rules(); ++j) rb.set_output_width(j, 0.6 + 0.05 * (j % 9));
-  }
-  return m;
+  return testing::TrainedNarendraModel(kind, uneven_output_widths);
 }
 
 // The 1000 validation regressors, raw units.

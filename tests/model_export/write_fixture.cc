@@ -6,8 +6,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "../sysid/narendra_series.hpp"
-#include "sysid/narx_model.hpp"
+#include "trained_narendra_model.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -16,15 +15,7 @@ int main(int argc, char** argv) {
   }
   const std::string dir = argv[1];
   using namespace odonata;
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.entropy.threshold = 0.49;  // a few dozen rules, as odonata-fit's selection picks here
-  sysid::NarxModel m(sysid::testing::NarendraSpec(), cfg);
-  sysid::TrainOptions o;
-  o.epochs = 2;
-  m.Train(sysid::testing::NarendraTrain(2000), o);
-  // Output widths other than 1 export as rule weights, which Octave must apply too.
-  auto& rb = m.mutable_model(0).mutable_rule_base();
-  for (int j = 0; j < rb.rules(); ++j) rb.set_output_width(j, 0.6 + 0.05 * (j % 9));
+  const sysid::NarxModel m = model_export::testing::TrainedNarendraModel();
   m.Save(dir + "/model.json");
   const auto data = sysid::BuildRegression(m.spec(), sysid::testing::NarendraValidate(1001));
   std::ofstream in(dir + "/inputs.csv"), out(dir + "/expected.csv");
