@@ -143,3 +143,33 @@ subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 os.unlink(ranges.name)
 PYEOF
 }
+
+# vehicle_accounting URL INSTANCE N: asks a signals identifier (get) what it learned of a vehicle's
+# N samples and sets LEARNED and GAPS. Real time over UDP guarantees no delivery; what the
+# protocol guarantees is the accounting: a sample after the first (ny = nu = 1) is learned at
+# most once and a lost one is counted (the last ones excepted: nothing after them shows the gap).
+vehicle_accounting() {
+  local url=$1 instance=$2 n=$3
+  "$CONTROL" get --target "$instance" --lcm-url "$url" >"$OUT/get.out" 2>&1 ||
+    { cat "$OUT/get.out"; fail "the identifier did not answer get"; }
+  LEARNED=$(sed -nE 's/.*samples_learned=([0-9]+).*/\1/p' "$OUT/get.out")
+  GAPS=$(sed -nE 's/.* gaps=([0-9]+).*/\1/p' "$OUT/get.out")
+  [[ -n $LEARNED && -n $GAPS ]] || { cat "$OUT/get.out"; fail "get did not report samples_learned and gaps"; }
+  ((LEARNED >= 1 && LEARNED + GAPS <= n - 1)) ||
+    { cat "$OUT/get.out"; fail "learned $LEARNED and lost $GAPS of $((n - 1)) samples"; }
+}
+
+# vehicle_offline_equal CONFIG CSV MODEL N: when nothing was lost live (GAPS) or in the log (CSV
+# has N rows), odonata-fit on the exported CSV must give MODEL bit for bit (the logger and the
+# identifier follow one sequence rule); sets SAME to what was found.
+vehicle_offline_equal() {
+  local cfg=$1 csv=$2 model=$3 n=$4 rows
+  rows=$(($(wc -l <"$csv") - 1))
+  if ((GAPS == 0 && rows == n)); then
+    offline_fit "$cfg" "$csv" "$OUT/offline.json" unfrozen
+    same_model "$model" "$OUT/offline.json" || fail "the online model differs from odonata-fit on the exported log"
+    SAME="offline model identical"
+  else
+    SAME="$GAPS samples lost live, $((n - rows)) in the log: models not compared"
+  fi
+}

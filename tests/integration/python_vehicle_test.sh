@@ -29,17 +29,11 @@ print(len(pub.udpm.datagrams("LARGE_SIGNALS", encode_signals(1, 0, "python-large
 PYEOF
 [[ $(cat "$OUT/large.log") -ge 6 ]] || fail "the large message was not fragmented: $(cat "$OUT/large.log")"
 wait_up "$URL" own-vehicle-id -- --fresh
-"$CONTROL" get --target own-vehicle-id --lcm-url "$URL" >"$OUT/get.out" 2>&1 || { cat "$OUT/get.out"; fail "the identifier did not answer get"; }
-learned=$(sed -nE 's/.*samples_learned=([0-9]+).*/\1/p' "$OUT/get.out")
-gaps=$(sed -nE 's/.* gaps=([0-9]+).*/\1/p' "$OUT/get.out")
-[[ -n $learned && -n $gaps ]] || { cat "$OUT/get.out"; fail "get did not report samples_learned and gaps"; }
-((learned >= 1 && learned + gaps <= N - 1)) ||
-  { cat "$OUT/get.out"; fail "learned $learned and lost $gaps of $((N - 1)) samples"; }
+vehicle_accounting "$URL" own-vehicle-id $N
 stop_clean "$PID_ident" "identifier"
 stop_clean "$PID_logger" "logger"
 "$LOGGER" export "$OUT"/log.* --signals -o "$OUT/samples.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export --signals failed"; }
 head -1 "$OUT/samples.csv" | grep -q "^seq,t_s,vz_mps,throttle,battery_v$" || fail "unexpected columns: $(head -1 "$OUT/samples.csv")"
-rows=$(($(wc -l <"$OUT/samples.csv") - 1))
 # The large message, as the logger recorded it, decodes to what was sent.
 "$LOGGER" export "$OUT"/log.* --signals --signals-channel LARGE_SIGNALS -o "$OUT/large.csv" >"$OUT/export_large.log" 2>&1 ||
   { cat "$OUT/export_large.log"; fail "the fragmented message is not in the log"; }
@@ -51,11 +45,5 @@ head, vals = rows[0], rows[1]
 assert head[2:] == [f"s{i:05d}" for i in range(20000)], "names"
 assert [float(v) for v in vals[2:]] == [i * 0.5 for i in range(20000)], "values"
 PYEOF
-if ((gaps == 0 && rows == N)); then
-  offline_fit "$CFG" "$OUT/samples.csv" "$OUT/offline.json" unfrozen
-  same_model "$OUT/model.json" "$OUT/offline.json" || fail "the online model differs from odonata-fit on the exported log"
-  same="offline model identical"
-else
-  same="$gaps samples lost live, $((N - rows)) in the log: models not compared"
-fi
-pass "a Python vehicle over udpm: $learned samples learned, a 20 000-signal message in fragments intact, $same"
+vehicle_offline_equal "$CFG" "$OUT/samples.csv" "$OUT/model.json" $N
+pass "a Python vehicle over udpm: $LEARNED samples learned, a 20 000-signal message in fragments intact, $SAME"
