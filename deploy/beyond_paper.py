@@ -192,7 +192,7 @@ def damage(name, preset, args, out, learner_flags):
                     "--identifier-config", cfg_path, "--seed", str(args.seed), "--out", pipe, "--build", args.build,
                     "--keep-learning", "--forgetting", repr(forgetting), *duration],
                    check=True, stderr=open(os.path.join(d, "pipeline.stderr.txt"), "wb"))
-    track = fit_json(args.build, ["--load-model", os.path.join(pipe, "model-trained.json"), "--train",
+    track = fit_json(args.build, ["--load-model", os.path.join(pipe, "models", "model-trained.json"), "--train",
                                    os.path.join(pipe, "train.csv"), "--track", os.path.join(pipe, "validate.csv"),
                                    "--track-forgetting", repr(forgetting), "--track-window", str(int(rate)),
                                    "--track-output", track_csv])

@@ -255,6 +255,9 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       // A name from the bus: only a plain file name, written inside --models-dir.
       const std::string path =
           msg.path.empty() ? save_model_path_ : io::ConfinedPath(models_dir_, msg.path);
+      // A models directory of its own (odonata-run's models/, the board's
+      // /var/lib/odonata/models) may not exist yet before the first named save.
+      if (!msg.path.empty()) std::filesystem::create_directories(models_dir_);
       // The models directory may be a run's folder: a name from the bus never replaces a file
       // that is not a saved model (the live event log, the configuration a restart reads).
       if (!msg.path.empty() &&

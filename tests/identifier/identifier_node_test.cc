@@ -277,6 +277,10 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
   EXPECT_EQ(log_text, "LCM events");
   Control(odonata::control_t::SAVE_MODEL, 0, "saved.json");  // a saved model may be replaced
   EXPECT_EQ(bus_->stats().dropped, before_log + 1);
+  // A models directory of its own is made at the first named save (odonata-run's models/).
+  std::filesystem::remove_all(models_dir_);
+  Control(odonata::control_t::SAVE_MODEL, 0, "fresh.json");
+  EXPECT_TRUE(std::filesystem::is_regular_file(models_dir_ + "/fresh.json"));
 
   // Reset and shutdown only from allowed senders.
   const int rules = node_->core().model().total_rules();

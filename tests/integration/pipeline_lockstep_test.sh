@@ -9,6 +9,8 @@ R=$OUT/run
 for f in model.json train.csv validate.csv predictions.csv snapshots.json monitor-summary.json odonata.lcmlog.00000; do
   [[ -s $R/$f ]] || fail "missing $f"
 done
+# Named saves go to models/, never into the run folder beside the event log (issue 24 point 4).
+[[ -d $R/models ]] || fail "odonata-run gave the identifier no models/ directory"
 rows=$(($(wc -l <"$R/predictions.csv") - 1))
 ((rows >= 590)) || fail "only $rows predictions (expected 2 x 297)"
 fit=$(json_get "$R/monitor-summary.json" 'j["outputs"]["roll_rad"]["one_step"]["fit"]')
