@@ -76,6 +76,8 @@ class OnlineIdentifier {
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
   int64_t refits() const { return refitter_.refits(); }
   int64_t failed_refits() const { return refitter_.failed(); }
+  /// Of the refits landed, those that ran a model selection (ScheduledRefitter::selections).
+  int64_t selections() const { return refitter_.selections(); }
   int64_t last_index() const { return last_index_; }
 
  private:

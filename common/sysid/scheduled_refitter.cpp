@@ -42,38 +42,53 @@ void ScheduledRefitter::Keep(const Sample& s) {
 
 Series ScheduledRefitter::KeptSeries() const { return SeriesFromSamples(kept_); }
 
-void ScheduledRefitter::Start(const NarxModel& model) {
+void ScheduledRefitter::Start(const NarxModel& model, bool select) {
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
+  std::optional<Chosen> reuse;
+  if (!select) reuse = chosen_;
   // Everything the worker reads is its own copy (the cancel flag is shared, atomic).
-  pending_ =
-      std::async(std::launch::async,
-                 [spec = model.spec(), base = *base_, series = KeptSeries(),
-                  threads = schedule_.threads, cancel = cancel_]() -> std::optional<Refitted> {
-                   try {
-                     // odonata-fit's defaults, the scaling too: fitted on the samples kept. The
-                     // declared ranges are for the per-sample learner, which needs a scaling before
-                     // any data; a refit has its data, and under the ranges' scaling its choice
-                     // differed from odonata-fit's on the same file (vertical_wide: 2 rules at 87 %
-                     // free run against 3 at 97 %).
-                     OfflineFitOptions o;
-                     o.selection.simulation = DefaultSimulationStages();
-                     o.selection.threads = threads;
-                     // The consequent kind is the configuration's (readable singletons stay
-                     // singletons, and a snapshot still fits the identifier that resumes it); H̄, κ
-                     // and epochs are chosen.
-                     o.selection.consequents = {base.consequent};
-                     TrainOptions t;
-                     t.cancel = cancel.get();
-                     NarxModel fitted = FitOffline(spec, base, t, series, o).model;
-                     ConsequentTracker tracker = ConsequentTracker::Build(fitted, series);
-                     return Refitted{std::move(fitted), std::move(tracker)};
-                   } catch (const std::exception&) {
-                     // Too few samples for the hold-out and the lags, or cancelled: keep the model
-                     // learning.
-                     return std::nullopt;
-                   }
-                 });
+  pending_ = std::async(
+      std::launch::async,
+      [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
+       reuse = std::move(reuse), cancel = cancel_]() -> std::optional<Refitted> {
+        try {
+          // odonata-fit's defaults, the scaling too: fitted on the samples kept. The declared
+          // ranges are for the per-sample learner, which needs a scaling before any data; a
+          // refit has its data, and under the ranges' scaling its choice differed from
+          // odonata-fit's on the same file (vertical_wide: 2 rules at 87 % free run against 3 at
+          // 97 %).
+          OfflineFitOptions o;
+          o.selection.simulation = DefaultSimulationStages();
+          o.selection.threads = threads;
+          // The consequent kind is the configuration's (readable singletons stay singletons, and
+          // a snapshot still fits the identifier that resumes it); H̄, κ and epochs are chosen.
+          o.selection.consequents = {base.consequent};
+          TrainOptions t;
+          fuzzy::FuzzyModelConfig cfg = base;
+          if (reuse) {
+            // The settings the last selection chose, trained on the samples kept now: odonata-fit
+            // --no-select with them. The search is most of a refit's cost.
+            o.search = false;
+            o.epochs_given = true;
+            cfg = reuse->config;
+            t = reuse->train;
+            t.fit_scaling = true;
+            t.grow_rules = true;
+            t.progress = nullptr;
+          }
+          t.cancel = cancel.get();
+          OfflineFit fit = FitOffline(spec, cfg, t, series, o);
+          std::optional<Chosen> chosen;
+          if (fit.selection)
+            chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples())};
+          ConsequentTracker tracker = ConsequentTracker::Build(fit.model, series);
+          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen)};
+        } catch (const std::exception&) {
+          // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
+          return std::nullopt;
+        }
+      });
 }
 
 bool ScheduledRefitter::Land(NarxModel& model) {
@@ -87,6 +102,10 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   }
   model = std::move(refitted->model);
   tracker_ = std::move(refitted->tracker);
+  if (refitted->chosen) {
+    chosen_ = std::move(refitted->chosen);
+    ++selections_;
+  }
   ++refits_;
   return true;
 }
@@ -97,7 +116,11 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
   learned_ = learned;
   if (!schedule_.Due(learned)) return false;
   const bool landed = Land(model);
-  Start(model);
+  // A refit chooses its settings until one has chosen on a full buffer; from then on, at steady
+  // state (every `every` samples), it trains with what that selection chose: a later search
+  // would see no more samples. Counts decide, so a replay makes the same choices.
+  const bool informed = chosen_ && chosen_->samples >= static_cast<std::size_t>(schedule_.buffer);
+  Start(model, !(informed && schedule_.every > 0 && learned >= schedule_.every));
   last_started_ = learned;
   return landed;
 }
@@ -108,7 +131,7 @@ void ScheduledRefitter::BeginClosing(const NarxModel& model) {
     // The closing refit learns from every sample kept, from the refits' own settings: whatever
     // the refit in flight would have given, it replaces.
     Cancel();
-    Start(model);
+    Start(model, true);  // the closing refit is odonata-fit's defaults on every sample kept
     last_started_ = learned_;
   }
   closing_ = pending_.valid();
@@ -130,6 +153,7 @@ void ScheduledRefitter::Cancel() {
 void ScheduledRefitter::Clear() {
   Cancel();
   tracker_ = ConsequentTracker{};
+  chosen_.reset();
   closing_ = false;
   kept_.clear();
   base_.reset();

@@ -98,22 +98,34 @@ class ScheduledRefitter {
   std::size_t kept() const { return kept_.size(); }
   int64_t refits() const { return refits_; }  ///< refits landed
   int64_t failed() const { return failed_; }  ///< refits that could not fit (too few samples)
+  /// Refits landed that chose their settings (a model selection); the others trained with the
+  /// settings the last selection chose (see Start).
+  int64_t selections() const { return selections_; }
   bool in_flight() const { return pending_.valid(); }
   bool closing() const { return closing_; }
 
  private:
   Series KeptSeries() const;
-  void Start(const NarxModel& model);
+  /// `select`: run odonata-fit's selection on the samples kept; otherwise train with the settings
+  /// the last selection chose (when there is one), which costs one training instead of a search.
+  void Start(const NarxModel& model, bool select);
   void Cancel();
   bool Land(NarxModel& model);
 
   RefitSchedule schedule_;
   std::optional<fuzzy::FuzzyModelConfig> base_;  ///< the settings the refits search around
   std::deque<Sample> kept_;                      ///< oldest first
+  struct Chosen {                                // a selection's outcome, to train with again
+    fuzzy::FuzzyModelConfig config;
+    TrainOptions train;
+    std::size_t samples = 0;  // the samples it chose on
+  };
   struct Refitted {
     NarxModel model;
-    ConsequentTracker tracker;  // its prior: the refit's least-squares problem
+    ConsequentTracker tracker;     // its prior: the refit's least-squares problem
+    std::optional<Chosen> chosen;  // when this refit ran a selection
   };
+  std::optional<Chosen> chosen_;  // the last selection's settings
   std::future<std::optional<Refitted>> pending_;
   ConsequentTracker tracker_;  // the landed refit's
   /// Raised to stop the refit in flight when it will never land (Clear, the destructor).
@@ -123,6 +135,7 @@ class ScheduledRefitter {
   bool closing_ = false;       ///< the refit in flight lands at Settle()
   int64_t refits_ = 0;
   int64_t failed_ = 0;
+  int64_t selections_ = 0;
   std::function<void()> wait_hook_;
 };
 
