@@ -30,4 +30,6 @@ fit=$(json_get "$OUT/monitor.json" "j['outputs']['vz_mps']['one_step']['fit']")
 head -1 "$OUT/samples.csv" | grep -q "^seq,t_s,vz_mps,throttle,battery_v$" || fail "unexpected columns: $(head -1 "$OUT/samples.csv")"
 vehicle_offline_equal "$CFG" "$OUT/samples.csv" "$OUT/model.json" $N
 rules=$(json_get "$OUT/model.json" "len(j['models'][0]['rules'])")
-pass "own vehicle over signals_t: $LEARNED samples learned, $rules rules, live one-step FIT $fit %, $SAME"
+# The live ARX beside it, scored on the same samples (docs/identifier.md §6.4).
+live=$(json_get "$OUT/monitor.json" "'free run %.2f %% against the live ARX %.2f %%' % (j['outputs']['vz_mps']['free_run']['fit'], j['outputs']['vz_mps']['arx']['free_run']['fit'])")
+pass "own vehicle over signals_t: $LEARNED samples learned, $rules rules, live one-step FIT $fit %, $live, $SAME"
