@@ -77,6 +77,12 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   OfflineFitOptions fo;  // odonata-fit --consequent linear: the kind stays the configuration's
   fo.selection.simulation = DefaultSimulationStages();
   fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
+  // A refit's scaling: the declared regressor envelope, the outputs standardised on its samples.
+  const RegressionData d = BuildRegression(empty.spec(), train);
+  Scaling scaling = Scaling::FromData(d.x, d.y);
+  scaling.regressor_mid = empty.scaling().regressor_mid;
+  scaling.regressor_half = empty.scaling().regressor_half;
+  fo.scaling = scaling;
   const OfflineFit offline =
       FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
   EXPECT_EQ(online.model().ToJson().dump(), offline.model.ToJson().dump());
