@@ -21,9 +21,13 @@ Eigen::VectorXd ConsequentTracker::GlobalRow(const fuzzy::FuzzyModel& m,
 
 ConsequentTracker ConsequentTracker::Build(const NarxModel& model, const Series& samples,
                                            double ridge) {
+  if (samples.samples() <= model.spec().first_target()) return ConsequentTracker{};
+  return Build(model, BuildRegression(model.spec(), samples), ridge);
+}
+
+ConsequentTracker ConsequentTracker::Build(const NarxModel& model, const RegressionData& d,
+                                           double ridge) {
   ConsequentTracker t;
-  if (samples.samples() <= model.spec().first_target()) return t;
-  const RegressionData d = BuildRegression(model.spec(), samples);
   if (d.x.rows() == 0) return t;
   for (int o = 0; o < model.outputs(); ++o) {
     const fuzzy::FuzzyModel& m = model.model(o);

@@ -20,6 +20,9 @@ class ConsequentTracker {
   /// relative ridge δ = `ridge` × mean(diag ΦᵀΦ). Too few rows for the lags: an empty tracker.
   static ConsequentTracker Build(const NarxModel& model, const Series& samples,
                                  double ridge = 1e-6);
+  /// The same from the samples' regression rows (BuildRegression), when the caller has them.
+  static ConsequentTracker Build(const NarxModel& model, const RegressionData& rows,
+                                 double ridge = 1e-6);
 
   /// One RLS step of every output's consequents on raw regressor x and measured y, with each
   /// output's forgetting factor λ. Does nothing when empty, when the model's rule counts are not

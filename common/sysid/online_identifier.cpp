@@ -95,25 +95,22 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   const Eigen::Index t = n - 1;
   Eigen::VectorXd x(spec.size());
   spec.Fill(t, f, u, x);
-  rep.free_run = model_.Predict(x);
-  for (Eigen::Index o = 0; o < no; ++o) {
-    // A diverging free run holds its last value rather than poisoning everything with NaN.
-    if (!std::isfinite(rep.free_run(o))) rep.free_run(o) = t > 0 ? f(t - 1, o) : y(t, o);
-  }
+  // A diverging output holds the last value of its own history rather than poisoning
+  // everything with NaN.
+  const auto hold = [&](Eigen::VectorXd v, const Eigen::MatrixXd& past) {
+    for (Eigen::Index o = 0; o < no; ++o)
+      if (!std::isfinite(v(o))) v(o) = t > 0 ? past(t - 1, o) : y(t, o);
+    return v;
+  };
+  rep.free_run = hold(model_.Predict(x), f);
   free_history_.back() = rep.free_run;
   spec.Fill(t, fa, u, x);
-  rep.arx_free_run = arx_.Predict(x);
-  for (Eigen::Index o = 0; o < no; ++o) {
-    if (!std::isfinite(rep.arx_free_run(o))) rep.arx_free_run(o) = t > 0 ? fa(t - 1, o) : y(t, o);
-  }
+  rep.arx_free_run = hold(arx_.Predict(x), fa);
   arx_free_history_.back() = rep.arx_free_run;
 
   spec.Fill(t, y, u, x);
   rep.predicted = model_.Predict(x);
-  rep.arx_predicted = arx_.Predict(x);
-  for (Eigen::Index o = 0; o < no; ++o) {
-    if (!std::isfinite(rep.arx_predicted(o))) rep.arx_predicted(o) = t > 0 ? y(t - 1, o) : y(t, o);
-  }
+  rep.arx_predicted = hold(arx_.Predict(x), y);
   // The baseline learns what the fuzzy model learns, and nothing when frozen (a fair validation).
   if (learning_) arx_.Update(x, s.outputs);
   rep.rules.resize(no);

@@ -89,7 +89,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           std::optional<Chosen> chosen;
           if (fit.selection)
             chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples())};
-          ConsequentTracker tracker = ConsequentTracker::Build(fit.model, series);
+          ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
           return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen)};
         } catch (const std::exception&) {
           // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
