@@ -59,9 +59,11 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
-# python3 for the scripts; liblcm1 and the C++ runtime come from dpkg-shlibdeps (once); the
-# Java side only for lcm-spy.
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3")
+# python3 for the scripts, iproute2 for odonata-run's private network namespace (unshare is in
+# util-linux, which every Debian has); liblcm1 and the C++ runtime come from dpkg-shlibdeps
+# (once); the Java side only for lcm-spy. tests/install/fresh_root_test.sh installs the package
+# into a bare bookworm root, so a missing dependency fails there.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, iproute2")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 if(ODONATA_X86_64_V3)

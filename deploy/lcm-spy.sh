@@ -6,10 +6,15 @@ set -euo pipefail
 here=${BASH_SOURCE[0]%/*}
 [[ $here == "${BASH_SOURCE[0]}" ]] && here=.
 ROOT=$(cd "$here/.." && pwd)
+BUILD_DIR=${ODONATA_BUILD_DIR:-$ROOT/build}
+# As build/bin/odonata-lcm-spy (a link to this script): that build tree's jar, this source tree.
+if [[ -f $here/../CMakeCache.txt ]]; then
+  BUILD_DIR=${ODONATA_BUILD_DIR:-$ROOT}
+  ROOT=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)
+fi
 DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
 LCM_JAR=${LCM_JAR:-/usr/share/java/lcm.jar}
 JCHART2D_JAR=${JCHART2D_JAR:-/usr/share/java/jchart2d.jar}
-BUILD_DIR=${ODONATA_BUILD_DIR:-$ROOT/build}
 
 usage() {
   cat <<EOF
