@@ -54,12 +54,35 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   }
   set(PushResult::kAccepted);
   if (have_last_ && s.index != last_index_ + 1) {
-    gaps_ += s.index - last_index_ - 1;
-    history_.clear();
-    free_history_.clear();
-    arx_free_history_.clear();
-    set(PushResult::kGap);
+    const int64_t missing = s.index - last_index_ - 1;
+    gaps_ += missing;
+    if (missing <= max_gap_ && !history_.empty()) {
+      // The straight line from the newest sample to this one, in odonata-fit's own arithmetic
+      // (series_from_table.cpp BridgeRuns), so a lossy real-time run learns what odonata-fit
+      // learns from the exported log instead of warming up again for ny samples.
+      const Sample a = history_.back();
+      for (int64_t k = 1; k <= missing; ++k) {
+        const double w = double(k) / double(missing + 1);
+        Sample b;
+        b.index = a.index + k;
+        b.outputs = a.outputs + w * (s.outputs - a.outputs);
+        b.inputs = a.inputs + w * (s.inputs - a.inputs);
+        Step(b);
+        ++bridged_;
+      }
+      set(PushResult::kBridged);
+    } else {
+      history_.clear();
+      free_history_.clear();
+      arx_free_history_.clear();
+      set(PushResult::kGap);
+    }
   }
+  return Step(s);
+}
+
+std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
+  const RegressorSpec& spec = model_.spec();
   have_last_ = true;
   last_index_ = s.index;
 

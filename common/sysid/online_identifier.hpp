@@ -30,16 +30,20 @@ struct SampleReport {
   Eigen::VectorXd arx_predicted, arx_free_run;
 };
 
-enum class PushResult { kAccepted, kGap, kDuplicate, kRejected };
+/// kBridged: a short gap before the sample was filled by interpolation (OnlineIdentifier::
+/// set_max_gap); kGap: a longer one restarted the history.
+enum class PushResult { kAccepted, kBridged, kGap, kDuplicate, kRejected };
 
 class OnlineIdentifier {
  public:
   /// `refit`: when to refit the model on the samples kept (ScheduledRefitter); none by default.
   explicit OnlineIdentifier(NarxModel model, RefitSchedule refit = {});
 
-  /// Feeds sample k. A sample that does not follow the previous one (a gap) restarts the
-  /// history — regressors are never built across a gap; earlier or repeated samples and
-  /// non-finite values are rejected without touching the model.
+  /// Feeds sample k. A sample that does not follow the previous one after at most max_gap()
+  /// missing ones bridges them: they are learned as the straight line between their neighbours,
+  /// as odonata-fit bridges missing rows (docs/identifier.md §7.1), and get no report of their
+  /// own. A longer gap restarts the history — regressors are never built across it. Earlier or
+  /// repeated samples and non-finite values are rejected without touching the model.
   /// @return the report once the history holds a full regressor.
   std::optional<SampleReport> Push(const Sample& sample, PushResult* result = nullptr);
 
@@ -72,7 +76,15 @@ class OnlineIdentifier {
   /// again from nothing when the model is replaced (it is not part of a snapshot).
   const RecursiveArx& arx() const { return arx_; }
   int64_t samples_learned() const { return samples_learned_; }
+  /// Samples missing before a later one arrived (bridged or not).
   int64_t gaps() const { return gaps_; }
+  /// Of those, the samples bridged by interpolation (learned from, not reported).
+  int64_t bridged() const { return bridged_; }
+  /// The longest run of missing samples bridged (0, the default: none, every gap restarts the
+  /// history, as odonata-fit's replay of a series with breaks expects).
+  int max_gap() const { return max_gap_; }
+  /// @pre max_gap >= 0.
+  void set_max_gap(int max_gap) { max_gap_ = max_gap; }
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
   int64_t refits() const { return refitter_.refits(); }
   int64_t failed_refits() const { return refitter_.failed(); }
@@ -81,6 +93,9 @@ class OnlineIdentifier {
   int64_t last_index() const { return last_index_; }
 
  private:
+  /// Learns and predicts `s`, the sample after the history's newest.
+  std::optional<SampleReport> Step(const Sample& s);
+
   NarxModel model_;
   bool learning_ = true;
   std::deque<Sample> history_;                // consecutive samples, newest last
@@ -91,6 +106,8 @@ class OnlineIdentifier {
   bool have_last_ = false;
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
+  int64_t bridged_ = 0;
+  int max_gap_ = 0;
   ScheduledRefitter refitter_;
 };
 

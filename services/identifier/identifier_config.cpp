@@ -69,6 +69,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "snapshot_every_samples",
                                           "resume_wait_s",
                                           "decimate",
+                                          "max_gap",
                                           "refit_first",
                                           "refit_every",
                                           "refit_buffer",
@@ -146,6 +147,7 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
                               std::numeric_limits<int64_t>::max(), problem);
     c.resume_wait_s = j.value("resume_wait_s", c.resume_wait_s);
     c.decimate = IntegerField<int>(j, "decimate", c.decimate, 1, 100000, problem);
+    c.max_gap = IntegerField<int>(j, "max_gap", c.max_gap, 0, 1000, problem);
     const int64_t most = 100000000;  // 10⁸ samples: beyond any buffer a board can hold
     c.refit.first = IntegerField<int64_t>(j, "refit_first", c.refit.first, 0, most, problem);
     c.refit.every = IntegerField<int64_t>(j, "refit_every", c.refit.every, 0, most, problem);
@@ -204,6 +206,8 @@ std::string ExampleIdentifierConfig() {
   j["snapshot_every_samples"] = 100;
   j["resume_wait_s"] = 1.0;
   j["decimate"] = 1;
+  // Up to this many samples lost in a row are bridged by interpolation (odonata-fit --max-gap).
+  j["max_gap"] = 3;
   // Refit with odonata-fit's learner on the most recent refit_buffer samples after refit_first
   // learned, then 2×, 4×, … up to refit_every, then every refit_every, and once more at a freeze
   // (0: none; docs/identifier.md §6.3). odonata-fit --refit-* replays the same schedule.

@@ -27,6 +27,9 @@ struct IdentifierConfig {
   /// Learn from one sample per block of this many (io::RowDecimator, as odonata-sim --decimate
   /// and odonata-logger export --decimate cut them): 5 identifies at 20 Hz from a 100 Hz plant.
   int decimate = 1;
+  /// The longest run of missing samples (lost in real time) bridged by interpolation instead of
+  /// restarting the history, as odonata-fit --max-gap bridges missing rows (0: none).
+  int max_gap = 3;
   /// Refits of the model with odonata-fit's learner on the most recent samples, at fixed counts
   /// (docs/identifier.md §6.3): "refit_first" (0: none), "refit_every", "refit_buffer",
   /// "refit_at_freeze".

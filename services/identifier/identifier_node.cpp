@@ -37,6 +37,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       acks_(bus, config_.channels.ack),
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
+  core_.set_max_gap(config_.max_gap);
   // A landing that must wait for its refit blocks this thread; say so first, so a lockstep
   // generator waits instead of resending into a process that is not reading (docs/lcm.md §10),
   // and the monitor knows why the heartbeats pause.
@@ -184,7 +185,7 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);
   RefitLanded();
-  if (result == sysid::PushResult::kGap)
+  if (result == sysid::PushResult::kGap || result == sysid::PushResult::kBridged)
     bus_.stats().gaps = std::max(bus_.stats().gaps, core_.gaps());
   if (result == sysid::PushResult::kRejected || result == sysid::PushResult::kDuplicate) {
     ++bus_.stats().dropped;
@@ -295,7 +296,8 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"rules", static_cast<double>(m.total_rules())},
           {"max_rules", static_cast<double>(cfg.entropy.max_rules)},
           {"samples_learned", static_cast<double>(core_.samples_learned())},
-          {"gaps", static_cast<double>(core_.gaps())}};
+          {"gaps", static_cast<double>(core_.gaps())},
+          {"bridged", static_cast<double>(core_.bridged())}};
 }
 
 void IdentifierNode::RefitLanded() {

@@ -1,7 +1,8 @@
 // odonata-signal: sends an experiment's commands to odonata-plant over DIMAV_COMMAND, in lockstep
 // (each command waits for the plant's answer, resending on timeout) or in real time (a clock).
-// Exit codes: 0 all commands sent (and answered, in lockstep), 1 no plant / runtime error,
-// 2 bad arguments or input, 3 the plant diverged.
+// Exit codes (signal_node.hpp): 0 all commands sent (and answered, in lockstep), 1 no plant /
+// runtime error, 2 bad arguments or input, 3 the plant diverged, 4 a lockstep consumer left,
+// 5 stopped by a signal, 6 the plant restarted mid-run in real time.
 
 #include <unistd.h>
 
@@ -27,6 +28,11 @@ int main(int argc, char** argv) {
   CLI::App app{
       "odonata-signal: sends a preset's (or a file's) wing commands to odonata-plant. Command k "
       "carries the 24 wing commands, the preset's excitation(s), t_s and its source."};
+  app.footer(
+      "Exit codes: 0 every command sent (and answered, in lockstep); 1 no plant, or a runtime "
+      "error; 2 bad arguments or input; 3 the plant diverged; 4 a lockstep consumer left "
+      "mid-run; 5 stopped by a signal before the last command; 6 the plant restarted mid-run "
+      "(real time): the log holds the run in parts.");
   auto* preset_opt = app.add_option("--preset", preset,
                                     "experiment preset: " + odonata::experiments::PresetNames());
   app.add_option("--phase", phase, "train, select or validate (with --preset)")

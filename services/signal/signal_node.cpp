@@ -62,6 +62,13 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
                    "odonata-signal: stopped by a signal after %lld of %zu commands: the run is "
                    "not complete\n",
                    static_cast<long long>(commands_sent_), schedule_.size());
+      if (plant_restarts_ > 0) {
+        std::fprintf(stderr,
+                     "odonata-signal: %s restarted %lld time(s) during it (first at command "
+                     "%lld)\n",
+                     options_.plant.c_str(), static_cast<long long>(plant_restarts_),
+                     static_cast<long long>(first_restart_command_));
+      }
       bus_.SetExitCode(kExitInterrupted);
     }
     finished_ = true;
@@ -80,10 +87,27 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
 }
 
 void SignalNode::OnState(const odonata::plant_state_t& msg) {
-  if (finished_ || realtime_started_) return;
+  if (finished_) return;
+  if (realtime_started_) {
+    WatchRealtimeState(msg);
+    return;
+  }
   ++states_received_;
   Apply(sequencer_.OnState(msg.seq, msg.command_seq,
                            msg.status == odonata::plant_state_t::STATUS_DIVERGED));
+}
+
+void SignalNode::WatchRealtimeState(const odonata::plant_state_t& msg) {
+  // A real-time plant that was killed and started again numbers its states from 0 and flies on
+  // with the commands: the run goes on, but the log (and the identifier) hold it in two parts,
+  // which a script must not take for one whole run.
+  if (!restart_watch_.Next(msg.seq)) return;
+  if (plant_restarts_++ == 0) first_restart_command_ = next_realtime_;
+  std::fprintf(stderr,
+               "[%s] WARNING: %s restarted at command %lld (its states began again at 0): the log "
+               "holds this run in %lld parts\n",
+               bus_.options().instance.c_str(), options_.plant.c_str(),
+               static_cast<long long>(next_realtime_), static_cast<long long>(plant_restarts_ + 1));
 }
 
 void SignalNode::OnAck(const odonata::ack_t& msg) {
@@ -237,6 +261,8 @@ void SignalNode::WaitForTimeout() {
 
 void SignalNode::StartRealtime() {
   realtime_started_ = true;
+  // After a reset the plant's state 0 has been seen; without one its numbering is unknown.
+  restart_watch_ = pipeline::RestartWatch(options_.reset_plant ? 0 : -1);
   bus_.SetState("running");
   ++timer_generation_;
   timer_.expires_at(std::chrono::steady_clock::now());
@@ -249,6 +275,15 @@ void SignalNode::RealtimeTick() {
   ShowProgress(next_realtime_, false);
   if (++next_realtime_ == static_cast<int64_t>(schedule_.size())) {
     ShowProgress(next_realtime_, true);
+    if (plant_restarts_ > 0) {
+      Finish(kExitPlantRestarted,
+             "every command was sent, but " + options_.plant + " restarted " +
+                 std::to_string(plant_restarts_) + " time(s) mid-run (first at command " +
+                 std::to_string(first_restart_command_) + "): the log holds the run in " +
+                 std::to_string(plant_restarts_ + 1) +
+                 " parts (odonata-logger export --run picks one)");
+      return;
+    }
     Finish(0, "");
     return;
   }

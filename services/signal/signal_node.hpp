@@ -24,6 +24,7 @@
 #include "odonata/wing_command_t.hpp"
 #include "pipeline/command_schedule.hpp"
 #include "pipeline/lockstep_sequencer.hpp"
+#include "sequence/restart_watch.hpp"
 
 namespace odonata::signal_service {
 
@@ -39,6 +40,10 @@ inline constexpr int kExitConsumerLost = 4;
 /// Exit code when SIGINT or SIGTERM stopped the generator before its last command: the run is
 /// shorter than asked for, which a script must not take for a whole run.
 inline constexpr int kExitInterrupted = 5;
+
+/// Exit code when every command was sent in real time but the plant restarted mid-run (its
+/// states began again at 0, which nobody asked for): the log holds the run in several parts.
+inline constexpr int kExitPlantRestarted = 6;
 
 /// How the generator runs.
 struct SignalOptions {
@@ -77,6 +82,7 @@ class SignalNode {
 
  private:
   void OnState(const odonata::plant_state_t& msg);
+  void WatchRealtimeState(const odonata::plant_state_t& msg);
   void OnAck(const odonata::ack_t& msg);
   void OnHeartbeat(const odonata::heartbeat_t& msg);
   void OnControl(const odonata::control_t& msg);
@@ -109,7 +115,10 @@ class SignalNode {
   int64_t receipts_received_ = 0;  // ack_t from the consumers waited for
   int64_t control_seq_ = 0;
   bool finished_ = false;
-  std::string consumer_left_;  // a consumer that stopped mid-run (the run failed it)
+  std::string consumer_left_;             // a consumer that stopped mid-run (the run failed it)
+  pipeline::RestartWatch restart_watch_;  // real time: the plant's states, for a restart
+  int64_t plant_restarts_ = 0;
+  int64_t first_restart_command_ = -1;  // the command being sent when the first was seen
   std::optional<std::chrono::steady_clock::time_point> first_command_;  // lockstep rate
   std::chrono::steady_clock::time_point last_progress_{};
 };

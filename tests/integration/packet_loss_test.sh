@@ -80,14 +80,27 @@ def get(name):
     gaps = j["services"]["identifier"]["gaps"]
     dropped = int(open(f"{out}/rt-{name}/dropped").read().strip() or 0)
     return fit, gaps, dropped
+def learned(name):
+    # The identifier's own count in its last snapshot: the training phase's samples it learned.
+    snaps = json.load(open(f"{out}/rt-{name}/snapshots.json"))
+    snaps = snaps.get("snapshots", snaps) if isinstance(snaps, dict) else snaps
+    return max(int(s.get("samples_learned", 0)) for s in snaps)
 clean, _, _ = get("clean")
+clean_learned = learned("clean")
 for name, pct in (("one", 1), ("five", 5)):
     fit, gaps, dropped = get(name)
+    n = learned(name)
     print(f"real time, {pct} % loss: {dropped} datagrams dropped, identifier counted {gaps} lost "
-          f"samples; validation one-step FIT {fit:.2f} % (clean {clean:.2f} %)")
+          f"samples and learned {n} (clean run {clean_learned}); validation one-step FIT "
+          f"{fit:.2f} % (clean {clean:.2f} %)")
     if dropped == 0 or gaps == 0:
         print("FAIL: no loss happened or none was counted"); sys.exit(1)
     if abs(fit - clean) > 1.0:
         print(f"FAIL: FIT {fit:.2f} % is more than 1 point from the clean run's {clean:.2f} %"); sys.exit(1)
+    # Short gaps are bridged, not warmed up again (without: 617 of 1027 at 5 %). A lost state or
+    # beat state costs two samples, and two losses a sample or two apart make a gap longer than
+    # max_gap: measured 828/829 at 1 %, 758/829 at 5 %.
+    if n < (1 - 3 * pct / 100) * clean_learned:
+        print(f"FAIL: {n} samples learned at {pct} % loss, against {clean_learned} clean"); sys.exit(1)
 PYEOF
 pass "packet loss: lockstep (window 16 against 1) bit-identical at 5 % (model and log), real time within 1 point at 1 % and 5 %, losses counted"

@@ -41,6 +41,9 @@ kill -0 "$PID_signal" 2>/dev/null || fail "the generator's run ended before the 
 # Stopped before its last command, the generator says the run is not complete (exit 5).
 stop_clean "$PID_signal" "the signal generator, still running after the swaps" 5
 grep -q "stopped by a signal after" "$OUT/signal.log" || fail "the interrupted generator did not say so"
+# The plant that took over numbers its states from 0: the generator flags the split run.
+grep -q "odonata-plant restarted at command" "$OUT/signal.log" ||
+  fail "the generator did not flag the plant's restart: $(cat "$OUT/signal.log")"
 for p in "$PID_ident2" "$PID_monitor2" "$PID_logger2" "$PID_plant2"; do
   kill -0 "$p" 2>/dev/null || fail "a service died during the swaps"
 done
