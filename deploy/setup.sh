@@ -4,7 +4,7 @@
 set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
-  libeigen3-dev libboost-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libboost-dev libcli11-dev nlohmann-json3-dev libsodium-dev
   libgtest-dev libgmock-dev libbenchmark-dev libfuzzylite-dev
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre fonts-dejavu-core
   libjchart2d-java xvfb

@@ -9,8 +9,12 @@ and a NUL) in an LC02 datagram, or in LC03 fragments when the message is larger 
     pub = SignalsPublisher()                      # LCM_DEFAULT_URL, else udpm ttl=0
     pub.publish(seq=k, names=["vz_mps", "throttle"], values=[vz, throttle])
 
-Only publishing: odonata's services read signals_t; a vehicle needs to send it.
+Only publishing: odonata's services read signals_t; a vehicle needs to send it. With the
+system's shared key (SignalsPublisher(key_path=...), the file the services' --key reads) every
+message is signed as odonata's services sign theirs (docs/lcm.md §15), so an identifier with the
+key takes it.
 """
+import hashlib
 import os
 import socket
 import struct
@@ -53,6 +57,39 @@ def encode_signals(utime, seq, source, names, values):
     out += [_string(n) for n in names]
     out.append(struct.pack(f">{len(values)}d", *values))
     return b"".join(out)
+
+
+# The signature odonata's services append after the LCM payload (common/bus/message_signer.hpp):
+# magic, sender id, timestamp (µs, growing per sender), keyed BLAKE2b-256 (libsodium's
+# crypto_generichash with the key) over channel + NUL + payload + those 20 bytes.
+_SIGNATURE_MAGIC = b"OSG1"
+
+
+def load_key(path):
+    """The 32-byte key from a file of 64 hex digits that only its owner may read."""
+    if os.stat(path).st_mode & 0o077:
+        raise ValueError(f"key file {path} may be read by others than its owner: chmod 600 it")
+    text = "".join(open(path).read().split())
+    if len(text) != 64:
+        raise ValueError(f"key file {path} must hold 64 hex digits (32 bytes)")
+    return bytes.fromhex(text)
+
+
+class Signer:
+    """Signs payloads as one sender: a random id, timestamps that grow with every message."""
+
+    def __init__(self, key):
+        self.key = key
+        self.sender_id = int.from_bytes(os.urandom(8), "big")
+        self.last = 0
+
+    def sign(self, channel, payload, now_us=None):
+        now_us = time.time_ns() // 1000 if now_us is None else now_us
+        self.last = max(int(now_us), self.last + 1)
+        header = _SIGNATURE_MAGIC + struct.pack(">QQ", self.sender_id, self.last)
+        tag = hashlib.blake2b(channel.encode("ascii") + b"\0" + payload + header, key=self.key,
+                              digest_size=32).digest()
+        return payload + header + tag
 
 
 def parse_udpm_url(url):
@@ -109,12 +146,16 @@ class UdpmPublisher:
 class SignalsPublisher:
     """A vehicle's signals, by name, on VEHICLE_SIGNALS: one call per control step."""
 
-    def __init__(self, url=None, source="python-vehicle", channel=CHANNEL):
+    def __init__(self, url=None, source="python-vehicle", channel=CHANNEL, key_path=None):
         self.udpm = UdpmPublisher(url)
         self.source = source
         self.channel = channel
+        self.signer = Signer(load_key(key_path)) if key_path else None
 
     def publish(self, seq, names, values, utime=None):
         if utime is None:
             utime = time.time_ns() // 1000
-        self.udpm.publish(self.channel, encode_signals(utime, seq, self.source, names, values))
+        payload = encode_signals(utime, seq, self.source, names, values)
+        if self.signer:
+            payload = self.signer.sign(self.channel, payload)
+        self.udpm.publish(self.channel, payload)

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 #include <boost/asio/post.hpp>
@@ -27,6 +28,11 @@ BusNode::BusNode(const BusOptions& options)
       lcm_fd_(io_),
       signals_(io_, SIGINT, SIGTERM) {
   if (options_.instance.empty()) options_.instance = options_.service;
+  if (!options_.key_path.empty()) {
+    signer_ = std::make_unique<MessageSigner>(
+        LoadBusKey(options_.key_path),
+        options_.sender_id != 0 ? options_.sender_id : RandomSenderId(), started_utime_);
+  }
   if (!lcm_->good()) {
     throw std::runtime_error(
         "cannot open LCM at '" +
@@ -81,6 +87,41 @@ void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chan
   h->fn(rbuf, channel);
 }
 
+bool BusNode::SendBytes(const std::string& channel, const std::vector<uint8_t>& bytes) {
+  if (sender_ && UdpmSender::Fits(channel, bytes.size()))
+    return sender_->Send({{&channel, bytes.data(), bytes.size()}});
+  return lcm_->publish(channel, bytes.data(), static_cast<unsigned int>(bytes.size())) == 0;
+}
+
+const lcm::ReceiveBuffer* BusNode::Authenticate(const lcm::ReceiveBuffer* rbuf,
+                                                const std::string& channel) {
+  if (!signer_) return rbuf;
+  if (rbuf != &stripped_) {
+    const auto* bytes = static_cast<const uint8_t*>(rbuf->data);
+    std::array<uint8_t, kSignatureBytes> trailer{};
+    if (rbuf->data_size >= kSignatureBytes)
+      std::memcpy(trailer.data(), bytes + rbuf->data_size - kSignatureBytes, kSignatureBytes);
+    const bool same = checked_.data == rbuf->data && checked_.recv_utime == rbuf->recv_utime &&
+                      checked_.size == rbuf->data_size && checked_.trailer == trailer;
+    if (!same) {
+      std::size_t payload = 0;
+      const auto verdict = signer_->Verify(channel, bytes, rbuf->data_size, NowUtime(), &payload);
+      checked_ = {rbuf->data, rbuf->recv_utime, rbuf->data_size, trailer,
+                  verdict == MessageSigner::Verdict::kAuthentic};
+      if (!checked_.authentic) {
+        ++unauthenticated_;
+        ++stats_.dropped;
+        Report("refused message on " + channel, MessageSigner::Describe(verdict));
+      } else {
+        stripped_ = *rbuf;
+        stripped_.data_size = static_cast<uint32_t>(payload);
+      }
+    }
+    if (!checked_.authentic) return nullptr;
+  }
+  return &stripped_;
+}
+
 void BusNode::SubscribeRaw(
     const std::string& regex,
     std::function<void(const lcm::ReceiveBuffer&, const std::string&)> handler) {
@@ -89,6 +130,8 @@ void BusNode::SubscribeRaw(
   h.fn = [this, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                               const std::string& channel) {
     ++stats_.messages_in;
+    rbuf = Authenticate(rbuf, channel);
+    if (rbuf == nullptr) return;
     try {
       handler(*rbuf, channel);
     } catch (const std::exception& e) {
@@ -139,9 +182,12 @@ void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channe
       if (std::regex_match(channel, h.pattern)) matching.push_back(&h);
     it = routes_.emplace(channel, std::move(matching)).first;
   }
+  if (it->second.empty()) return;
+  const lcm::ReceiveBuffer* message = Authenticate(&rbuf, channel);
+  if (message == nullptr) return;
   for (RawHandler* h : it->second) {
     if (stopping_) return;
-    h->fn(&rbuf, channel);
+    h->fn(message, channel);
   }
 }
 

@@ -5,6 +5,7 @@
 // (memq:// in tests), or ODONATA_LCM_RECEIVE=lcm, keep LCM's own receive thread. Both paths are
 // in docs/lcm.md §9.
 
+#include <array>
 #include <chrono>
 #include <functional>
 #include <list>
@@ -22,6 +23,7 @@
 
 #include "bus/channel_config.hpp"
 #include "bus/control_gate.hpp"
+#include "bus/message_signer.hpp"
 #include "bus/safe_decode.hpp"
 #include "bus/service_stats.hpp"
 #include "bus/udpm_receiver.hpp"
@@ -41,6 +43,12 @@ struct BusOptions {
   double heartbeat_period_s = 1.0;
   /// Senders whose RESET and SHUTDOWN this process obeys (control_gate.hpp).
   std::vector<std::string> control_senders = DefaultControlSenders();
+  /// The shared key's file (message_signer.hpp; empty: no key). With a key every message this
+  /// node publishes is signed, and every message it receives must be signed with the same key
+  /// and new: the rest is counted as dropped, reported, and never reaches a handler.
+  std::string key_path;
+  /// The sender id its signatures carry (0: a random one, as a service wants).
+  uint64_t sender_id = 0;
 };
 
 class BusNode {
@@ -123,6 +131,10 @@ class BusNode {
   lcm::LCM& lcm() { return *lcm_; }
   /// True when this node reads udpm itself rather than through LCM's receive thread.
   bool own_receiver() const { return receiver_ != nullptr; }
+  /// True when it signs what it publishes and takes only what is signed (BusOptions::key_path).
+  bool signing() const { return signer_ != nullptr; }
+  /// Messages refused for their signature (counted in stats().dropped as well).
+  int64_t unauthenticated() const { return unauthenticated_; }
 
  private:
   struct RawHandler {
@@ -133,8 +145,19 @@ class BusNode {
   };
   static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel, RawHandler* h);
   void Register(RawHandler& h);
+  /// The message's bytes in `buffer`, signed when the node has a key; empty when it cannot be
+  /// encoded.
   template <class Msg>
-  const std::vector<uint8_t>& Encode(const Msg& msg, std::vector<uint8_t>& buffer);
+  std::vector<uint8_t>& Encode(const std::string& channel, const Msg& msg,
+                               std::vector<uint8_t>& buffer);
+  /// Sends encoded bytes: over the own sender when they fit one datagram, else through LCM
+  /// (which fragments, and serves other providers).
+  bool SendBytes(const std::string& channel, const std::vector<uint8_t>& bytes);
+  /// With a key: the received message without its signature when it is authentic and new, else
+  /// nullptr (counted and reported). Without a key: `rbuf` itself. LCM's receive thread hands
+  /// one message to each matching subscription in turn: the verdict on it is kept for the others.
+  const lcm::ReceiveBuffer* Authenticate(const lcm::ReceiveBuffer* rbuf,
+                                         const std::string& channel);
   void Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel);
   void WaitForLcm();
   void ArmTimer(std::shared_ptr<boost::asio::steady_timer> timer, std::chrono::microseconds period,
@@ -148,6 +171,16 @@ class BusNode {
   std::list<RawHandler> handlers_;  // stable addresses: LCM keeps raw pointers to them
   std::unique_ptr<UdpmReceiver> receiver_;
   std::unique_ptr<UdpmSender> sender_;
+  std::unique_ptr<MessageSigner> signer_;
+  int64_t unauthenticated_ = 0;
+  struct Checked {  // Authenticate()'s last verdict, for the next subscription's turn
+    const void* data = nullptr;
+    int64_t recv_utime = 0;
+    uint32_t size = 0;
+    std::array<uint8_t, kSignatureBytes> trailer{};  // the signature bytes it carried
+    bool authentic = false;
+  } checked_;
+  lcm::ReceiveBuffer stripped_{};
   std::vector<uint8_t> encoded_[2];
   // Channel name -> its handlers, so each name is matched against the regexes once; bounded, as
   // forged traffic may bring any number of names.
@@ -182,6 +215,8 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
   h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                                        const std::string&) {
     ++stats_.messages_in;
+    rbuf = Authenticate(rbuf, channel);
+    if (rbuf == nullptr) return;
     Msg msg;
     if (!SafeDecode(&msg, rbuf->data, rbuf->data_size)) {
       ++stats_.decode_errors;
@@ -201,19 +236,24 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
 }
 
 template <class Msg>
-const std::vector<uint8_t>& BusNode::Encode(const Msg& msg, std::vector<uint8_t>& buffer) {
+std::vector<uint8_t>& BusNode::Encode(const std::string& channel, const Msg& msg,
+                                      std::vector<uint8_t>& buffer) {
   const int size = msg.getEncodedSize();
   buffer.resize(static_cast<std::size_t>(size));
-  if (msg.encode(buffer.data(), 0, size) != size) buffer.clear();
+  if (msg.encode(buffer.data(), 0, size) != size)
+    buffer.clear();
+  else if (signer_)
+    signer_->Sign(channel, &buffer, NowUtime());
   return buffer;
 }
 
 template <class Msg>
 bool BusNode::Publish(const std::string& channel, const Msg& msg) {
   bool ok = false;
-  if (sender_ && UdpmSender::Fits(channel, static_cast<std::size_t>(msg.getEncodedSize()))) {
-    const auto& bytes = Encode(msg, encoded_[0]);
-    ok = !bytes.empty() && sender_->Send({{&channel, bytes.data(), bytes.size()}});
+  if (signer_ ||
+      (sender_ && UdpmSender::Fits(channel, static_cast<std::size_t>(msg.getEncodedSize())))) {
+    const auto& bytes = Encode(channel, msg, encoded_[0]);
+    ok = !bytes.empty() && SendBytes(channel, bytes);
   } else {
     ok = lcm_->publish(channel, &msg) == 0;  // other providers, and messages LCM fragments
   }
@@ -228,13 +268,15 @@ bool BusNode::Publish(const std::string& channel, const Msg& msg) {
 template <class A, class B>
 bool BusNode::PublishTogether(const std::string& channel_a, const A& a,
                               const std::string& channel_b, const B& b) {
-  if (!sender_ || !UdpmSender::Fits(channel_a, static_cast<std::size_t>(a.getEncodedSize())) ||
-      !UdpmSender::Fits(channel_b, static_cast<std::size_t>(b.getEncodedSize()))) {
+  const std::size_t extra = signer_ ? kSignatureBytes : 0;
+  if (!sender_ ||
+      !UdpmSender::Fits(channel_a, static_cast<std::size_t>(a.getEncodedSize()) + extra) ||
+      !UdpmSender::Fits(channel_b, static_cast<std::size_t>(b.getEncodedSize()) + extra)) {
     const bool first = Publish(channel_a, a);
     return Publish(channel_b, b) && first;
   }
-  const auto& bytes_a = Encode(a, encoded_[0]);
-  const auto& bytes_b = Encode(b, encoded_[1]);
+  const auto& bytes_a = Encode(channel_a, a, encoded_[0]);
+  const auto& bytes_b = Encode(channel_b, b, encoded_[1]);
   if (bytes_a.empty() || bytes_b.empty() ||
       !sender_->Send({{&channel_a, bytes_a.data(), bytes_a.size()},
                       {&channel_b, bytes_b.data(), bytes_b.size()}})) {

@@ -1,5 +1,5 @@
 #pragma once
-// --channel-suffix and --channel KEY=NAME, the same on every service.
+// --channel-suffix, --channel KEY=NAME and --key, the same on every service.
 
 #include <string>
 #include <vector>
@@ -13,6 +13,7 @@ namespace odonata::cli {
 struct ChannelOptions {
   std::string suffix;
   std::vector<std::string> names;  ///< KEY=NAME assignments
+  std::string key_path;            ///< --key: the bus's shared key (bus::BusOptions::key_path)
 
   /// Suffix first, then the explicit names (taken as given).
   /// @throws std::runtime_error for a malformed assignment or an unknown key.
@@ -27,6 +28,10 @@ inline void AddChannelOptions(CLI::App* app, ChannelOptions* options) {
                   "prediction, model, accuracy, heartbeat, control, control_reply, ack "
                   "(repeatable; applied after "
                   "--channel-suffix)");
+  app->add_option("--key", options->key_path,
+                  "shared key file (64 hex digits, readable by its owner only): sign every "
+                  "message this program publishes and refuse every one it receives that is not "
+                  "signed with this key or is not new (docs/lcm.md §15)");
 }
 
 }  // namespace odonata::cli

@@ -21,10 +21,12 @@ def main():
     ap.add_argument("--samples", type=int, default=3000, help="steps to run (default 3000)")
     ap.add_argument("--seed", type=int, default=1, help="excitation seed (default 1)")
     ap.add_argument("--lcm-url", help="LCM URL (default: LCM_DEFAULT_URL, else udpm ttl=0)")
+    ap.add_argument("--key", help="the system's shared key file: sign every message, for an identifier "
+                    "started with the same --key (docs/lcm.md §15)")
     a = ap.parse_args()
     if a.rate <= 0 or a.samples < 0:
         ap.error("--rate must be positive and --samples not negative")
-    pub = SignalsPublisher(a.lcm_url, source="python-vehicle")
+    pub = SignalsPublisher(a.lcm_url, source="python-vehicle", key_path=a.key)
     rng = random.Random(a.seed)
     dt, mass, g, k_thrust, k_drag = 0.01, 0.5, 9.81, 9.0, 0.08
     vz, battery, throttle, held = 0.0, 12.6, 0.6, 0

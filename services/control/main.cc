@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   try {
     odonata::bus::BusOptions o;
     o.lcm_url = lcm_url;
+    o.key_path = channels.key_path;
     o.service = "odonata-control";
     o.instance = sender;
     o.heartbeat_period_s = 0;  // a one-shot tool, not a peer to watch

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
     }
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
+    opts.key_path = channels.key_path;
     opts.service = "odonata-identifier";
     opts.instance = config.instance;
     opts.channels = config.channels;

@@ -157,6 +157,7 @@ int main(int argc, char** argv) {
     rec.max_event_bytes = static_cast<int64_t>(max_event_kb * 1e3);
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
+    opts.key_path = channels.key_path;
     opts.service = "odonata-logger";
     channels.ApplyTo(&opts.channels);
     opts.control_senders = control_senders;

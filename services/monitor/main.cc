@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
     o.live_table = isatty(STDOUT_FILENO) == 1;
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
+    opts.key_path = channels.key_path;
     opts.service = "odonata-monitor";
     opts.instance = instance;
     channels.ApplyTo(&opts.channels);

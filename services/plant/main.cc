@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   try {
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;
+    opts.key_path = channels.key_path;
     opts.service = odonata::plant_service::kServiceName;
     opts.instance = instance;
     channels.ApplyTo(&opts.channels);

@@ -104,6 +104,8 @@ set -a
 set +a
 export LCM_DEFAULT_URL=${LCM_DEFAULT_URL/ttl=1/ttl=0}
 "$stage/bin/odonata-make-identifier-config" --preset roll --duration 4 --output "$board/identifier.json"
+# The settings name the system's key (signed messages, docs/lcm.md §15), as a board makes it.
+(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$board/bus.key")
 for svc in plant identifier monitor logger; do
   args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-$svc.service" | sed -E 's|^ExecStart=||')
   args=${args//\/etc\/odonata/$board}
@@ -115,11 +117,14 @@ done
 up=0
 for _ in $(seq 60); do
   for p in "${PIDS[@]}"; do kill -0 "$p" 2>/dev/null || { cat "$work"/*.log; fail "a service exited at start"; }; done
-  "$stage/bin/odonata-control" get --timeout 1 >"$work/get.out" 2>&1 || true
+  "$stage/bin/odonata-control" get --timeout 1 --key "$board/bus.key" >"$work/get.out" 2>&1 || true
   n=$(grep -c ": accepted" "$work/get.out") || true
   ((${n:-0} >= 4)) && { up=1; break; }
 done
 ((up)) || { cat "$work/get.out"; fail "the four services did not all answer get within a minute"; }
+# Without the key nobody answers: an unsigned command is refused by every service.
+"$stage/bin/odonata-control" get --timeout 1 >"$work/get-unsigned.out" 2>&1 || true
+! grep -q ": accepted" "$work/get-unsigned.out" || fail "a service obeyed an unsigned get: $(cat "$work/get-unsigned.out")"
 args=$(grep '^ExecStart=' "$stage/lib/systemd/system/odonata-signal.service" | sed -E 's|^ExecStart=||')
 args=${args//\/etc\/odonata/$board}
 # shellcheck disable=SC2086

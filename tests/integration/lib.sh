@@ -150,7 +150,8 @@ PYEOF
 # most once and a lost one is counted (the last ones excepted: nothing after them shows the gap).
 vehicle_accounting() {
   local url=$1 instance=$2 n=$3
-  "$CONTROL" get --target "$instance" --lcm-url "$url" >"$OUT/get.out" 2>&1 ||
+  # BUS_KEY: the system's shared key, when its services sign (docs/lcm.md §15).
+  "$CONTROL" get --target "$instance" --lcm-url "$url" ${BUS_KEY:+--key "$BUS_KEY"} >"$OUT/get.out" 2>&1 ||
     { cat "$OUT/get.out"; fail "the identifier did not answer get"; }
   LEARNED=$(sed -nE 's/.*samples_learned=([0-9]+).*/\1/p' "$OUT/get.out")
   GAPS=$(sed -nE 's/.* gaps=([0-9]+).*/\1/p' "$OUT/get.out")

@@ -3,7 +3,8 @@
 # examples/own_vehicle/vehicle.py) is identified over udpm as the C++ one is (issue 23 point 2):
 # the identifier learns every sample, the logger records them, and odonata-fit on the exported
 # log gives the online model bit for bit. A message too large for one datagram goes out in LC03
-# fragments that odonata's receiver and the logger put back together byte for byte.
+# fragments that odonata's receiver and the logger put back together byte for byte. Everything is
+# signed with a shared key (docs/lcm.md §15): the module's signature is the services' own.
 source "$(dirname "$0")/lib.sh"
 enter_netns "$@"
 OUT=$(mktemp -d)
@@ -12,17 +13,20 @@ URL='udpm://239.255.76.67:7692?ttl=0'
 CFG=$SRC/examples/own_vehicle/identifier.json
 export PYTHONPATH=$SRC/python
 N=1500
-start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
-start ident "$IDENT" --config "$CFG" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
+BUS_KEY=$OUT/bus.key
+(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$BUS_KEY")
+start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL" --key "$BUS_KEY"
+start ident "$IDENT" --config "$CFG" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json" \
+  --key "$BUS_KEY"
 wait_up "$URL" logger own-vehicle-id
 # 400 Hz: faster than a flight loop, slow enough that no process falls behind on a busy machine.
-"$PY" "$SRC/examples/own_vehicle/vehicle.py" --samples $N --rate 400 --lcm-url "$URL" \
+"$PY" "$SRC/examples/own_vehicle/vehicle.py" --samples $N --rate 400 --lcm-url "$URL" --key "$BUS_KEY" \
   >"$OUT/vehicle.log" 2>&1 || { cat "$OUT/vehicle.log"; fail "vehicle.py failed"; }
 # One large message (20 000 signals, about 380 kB: six LC03 fragments).
-"$PY" - "$URL" >"$OUT/large.log" 2>&1 <<'PYEOF' || { cat "$OUT/large.log"; fail "the large publish failed"; }
+"$PY" - "$URL" "$BUS_KEY" >"$OUT/large.log" 2>&1 <<'PYEOF' || { cat "$OUT/large.log"; fail "the large publish failed"; }
 import sys
 from odonata_signals import SignalsPublisher, encode_signals
-pub = SignalsPublisher(sys.argv[1], source="python-large", channel="LARGE_SIGNALS")
+pub = SignalsPublisher(sys.argv[1], source="python-large", channel="LARGE_SIGNALS", key_path=sys.argv[2])
 names = [f"s{i:05d}" for i in range(20000)]
 pub.publish(0, names, [i * 0.5 for i in range(20000)], utime=1)
 print(len(pub.udpm.datagrams("LARGE_SIGNALS", encode_signals(1, 0, "python-large", names, [0.0] * 20000))))

@@ -3,6 +3,8 @@
 // values) let the test check that lcm-spy decoded the fields, not just counted the packets.
 // It also publishes bytes with a fingerprint no type has on SPY_TEST_UNKNOWN, which lcm-spy must
 // show as undecoded ("?? <fingerprint>"): the control that the check can tell the two apart.
+// Every message of odonata's types carries a signature after its payload, as a system with a
+// shared key sends them (docs/lcm.md §15): lcm-spy must decode them all the same.
 //
 // Usage: spy_publisher URL SECONDS RATE_HZ
 
@@ -17,6 +19,8 @@
 #include <thread>
 
 #include <lcm/lcm-cpp.hpp>
+#include <vector>
+
 #include <odonata/accuracy_t.hpp>
 #include <odonata/beat_state_t.hpp>
 #include <odonata/control_t.hpp>
@@ -25,6 +29,7 @@
 #include <odonata/plant_state_t.hpp>
 #include <odonata/prediction_t.hpp>
 #include <odonata/wing_command_t.hpp>
+#include "bus/message_signer.hpp"
 
 namespace {
 
@@ -32,6 +37,16 @@ int64_t NowUs() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+// Encodes, signs with a throwaway key and publishes: what a service with --key sends.
+template <class Msg>
+int PublishSigned(lcm::LCM& bus, odonata::bus::MessageSigner& signer, const std::string& channel,
+                  const Msg& msg) {
+  std::vector<uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+  if (msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0) return -1;
+  signer.Sign(channel, &bytes, NowUs());
+  return bus.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
 }
 
 }  // namespace
@@ -54,6 +69,9 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  odonata::bus::BusKey key;
+  key.bytes.fill(0x42);
+  odonata::bus::MessageSigner signer(key, 1);
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   auto next = std::chrono::steady_clock::now();
@@ -71,7 +89,7 @@ int main(int argc, char** argv) {
     cmd.excitation_names = {"u_roll"};
     cmd.excitations = {0.125};
     cmd.source = "spy-test";
-    failures += bus.publish("DIMAV_COMMAND", &cmd) != 0;
+    failures += PublishSigned(bus, signer, "DIMAV_COMMAND", cmd) != 0;
 
     odonata::plant_state_t state{};
     state.utime = NowUs();
@@ -89,7 +107,7 @@ int main(int argc, char** argv) {
     for (int w = 1; w < 4; ++w) state.fx_n[w] = 0.25 + 0.01 * w;
     for (int w = 0; w < 4; ++w) state.fz_n[w] = 0.6 + 0.05 * std::sin(2.0 * t + w);
     state.status = odonata::plant_state_t::STATUS_OK;
-    failures += bus.publish("DIMAV_STATE", &state) != 0;
+    failures += PublishSigned(bus, signer, "DIMAV_STATE", state) != 0;
 
     odonata::beat_state_t beat{};
     beat.utime = NowUs();
@@ -101,7 +119,7 @@ int main(int argc, char** argv) {
     beat.fz_total_n = 0.375;  // markers the test checks
     beat.u_roll_applied_rad = 0.125;
     beat.attitude_hold = 1;
-    failures += bus.publish("DIMAV_BEAT_STATE", &beat) != 0;
+    failures += PublishSigned(bus, signer, "DIMAV_BEAT_STATE", beat) != 0;
 
     odonata::heartbeat_t hb{};
     hb.utime = NowUs();
@@ -112,7 +130,7 @@ int main(int argc, char** argv) {
     hb.pid = static_cast<int32_t>(getpid());
     hb.state = "running";
     hb.messages_out = 4 * k;
-    failures += bus.publish("ODONATA_HEARTBEAT", &hb) != 0;
+    failures += PublishSigned(bus, signer, "ODONATA_HEARTBEAT", hb) != 0;
 
     odonata::prediction_t pred{};
     pred.utime = NowUs();
@@ -129,7 +147,7 @@ int main(int argc, char** argv) {
     pred.arx_predicted = {0.09};
     pred.arx_free_run = {0.08};
     pred.learning = 1;
-    failures += bus.publish("ODONATA_PREDICTION", &pred) != 0;
+    failures += PublishSigned(bus, signer, "ODONATA_PREDICTION", pred) != 0;
 
     odonata::accuracy_t acc{};
     acc.utime = NowUs();
@@ -147,14 +165,14 @@ int main(int argc, char** argv) {
                     &acc.window_fit_free_run_arx, &acc.total_fit_free_run_arx})
       *v = {95.5};
     acc.rules = {3};
-    failures += bus.publish("ODONATA_ACCURACY", &acc) != 0;
+    failures += PublishSigned(bus, signer, "ODONATA_ACCURACY", acc) != 0;
 
     odonata::control_t ctl{};
     ctl.utime = NowUs();
     ctl.seq = k;
     ctl.target = "spy-test";
     ctl.command = odonata::control_t::PUBLISH_SNAPSHOT;
-    failures += bus.publish("ODONATA_CONTROL", &ctl) != 0;
+    failures += PublishSigned(bus, signer, "ODONATA_CONTROL", ctl) != 0;
 
     odonata::model_snapshot_t snap{};
     snap.utime = NowUs();
@@ -185,7 +203,7 @@ int main(int argc, char** argv) {
     rules.coefficients = {{0.5}};
     rules.entropy_measure = "rule";
     snap.models = {rules};
-    failures += bus.publish("ODONATA_MODEL", &snap) != 0;
+    failures += PublishSigned(bus, signer, "ODONATA_MODEL", snap) != 0;
 
     // Eight bytes of a fingerprint no generated type has, then a payload.
     const unsigned char foreign[16] = {0xde, 0xad, 0xbe, 0xef, 0x0d, 0xd0, 0x0a, 0x7a,

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Signed messages (issue 24 point 1, docs/lcm.md §15): with a shared key, a lockstep run under
+# attack by everything a forger without the key can send — the well-formed forged kinds of the
+# issue's probe (a lone state 0, far, negative and duplicate seqs, receipts far ahead in the
+# consumers' names, freeze, shutdown, save-model and reset commands, control replies, a snapshot,
+# a heartbeat of a consumer that does not exist), each unsigned and signed with a wrong key, the
+# right key's signature a minute old, every genuine message captured and sent again, and
+# lcm-logplayer replaying an lcm-logger recording of an earlier run of the same system — ends
+# with exit 0, every forged message refused and counted, the log complete and the model, bit
+# for bit, the one the clean samples give.
+source "$(dirname "$0")/lib.sh"
+enter_netns "$@"
+OUT=$(mktemp -d)
+trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
+URL='udpm://239.255.76.67:7693?ttl=0'
+KEY=$OUT/bus.key
+(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$KEY")
+K=(--lcm-url "$URL" --key "$KEY")
+"$SRC/deploy/make-identifier-config" --preset roll --duration 10 --build "$BUILD" --output "$OUT/id.json"
+
+# Run A: the signed system, recorded with its signatures by LCM's own lcm-logger.
+start rec lcm-logger --lcm-url="$URL" "$OUT/a.lcmlog"
+start plant_a "$PLANT" --mode lockstep --preset roll "${K[@]}"
+start ident_a "$IDENT" --config "$OUT/id.json" --resume-wait 0 --instance identifier "${K[@]}"
+wait_up "$URL" odonata-plant identifier
+timeout 120 "$SIGNAL" --preset roll --phase train --duration 3 --mode lockstep "${K[@]}" \
+  >"$OUT/signal_a.log" 2>&1 || { cat "$OUT/signal_a.log"; fail "the signed run A failed"; }
+stop_clean "$PID_ident_a" "identifier (run A)"
+stop_clean "$PID_plant_a" "plant (run A)"
+kill -INT "$PID_rec" 2>/dev/null; wait "$PID_rec" 2>/dev/null || true
+[[ -s $OUT/a.lcmlog ]] || fail "lcm-logger recorded nothing of run A"
+# Run B's services start more than the boards' clock skew (2 s) after run A's last message:
+# run A's recording is then older than any of them (MessageSigner::kStartSkewUs).
+sleep 2.5
+
+start logger "$LOGGER" record -o "$OUT/log" "${K[@]}"
+start monitor "$MONITOR" --summary-json "$OUT/monitor.json" "${K[@]}"
+start plant "$PLANT" --mode lockstep --preset roll "${K[@]}"
+mkdir -p "$OUT/models"
+start ident "$IDENT" --config "$OUT/id.json" --resume-wait 0 --save-model "$OUT/model.json" \
+  --models-dir "$OUT/models" "${K[@]}"
+wait_up "$URL" logger monitor odonata-plant identifier
+start forger "$BUILD/tests/integration/forger" "$URL" 60 "$KEY"
+start replay lcm-logplayer -l "$URL" "$OUT/a.lcmlog"
+# The forger's traffic is on the bus before the run starts: the plant has refused some already.
+wait_count "$URL" odonata-plant dropped 1
+timeout 180 "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep "${K[@]}" \
+  >"$OUT/signal.log" 2>&1 || { cat "$OUT/signal.log"; fail "the signed run failed under attack"; }
+wait_up "$URL" identifier odonata-plant logger monitor -- --fresh --at-least dropped=1
+for p in "$PID_logger" "$PID_monitor" "$PID_plant" "$PID_ident"; do
+  kill -0 "$p" 2>/dev/null || fail "a service stopped under attack (a forged shutdown obeyed?)"
+done
+kill -TERM "$PID_forger" 2>/dev/null || true
+wait "$PID_forger" 2>/dev/null || true
+stop_clean "$PID_ident" identifier
+stop_clean "$PID_plant" plant
+stop_clean "$PID_monitor" monitor
+stop_clean "$PID_logger" logger
+! grep -q "ghost-identifier" "$OUT/signal.log" || fail "the generator believed a forged heartbeat"
+[[ ! -e $OUT/models/forged.json ]] || fail "a forged save-model was obeyed"
+grep -q "refused message" "$OUT/ident.log" || fail "the identifier reported no refused message"
+for s in identifier odonata-plant logger monitor; do
+  n=$(json_get "$OUT/monitor.json" "j['services']['$s']['dropped']")
+  ((n > 0)) || fail "$s counted no refused message"
+done
+"$LOGGER" export "$OUT"/log.* -o "$OUT/train.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export failed"; }
+rows=$(($(wc -l <"$OUT/train.csv") - 1))
+((rows == 1000)) || fail "the log holds $rows of 1000 samples"
+offline_fit "$OUT/id.json" "$OUT/train.csv" "$OUT/offline.json"
+same_model "$OUT/model.json" "$OUT/offline.json" || fail "the forged traffic changed the model"
+sent=$(grep "^forger:" "$OUT/forger.log" || true)
+[[ -n $sent ]] || fail "the forger said nothing: $(cat "$OUT/forger.log")"
+pass "signed run under attack ($sent; lcm-logplayer replaying run A): all refused, log complete ($rows samples), model == clean-sample model"
