@@ -132,6 +132,10 @@ TEST(BusNodeSigning, OnlyAuthenticNewMessagesReachTheHandlers) {
   std::vector<int64_t> seen;
   std::vector<uint8_t> last_raw;
   bus.Subscribe<odonata::ack_t>("ACK", [&](const odonata::ack_t& a) { seen.push_back(a.seq); });
+  // A second subscription to the same channel gets each authentic message too: the verdict on a
+  // message is taken once, not again (as a replay) for the next subscription.
+  std::vector<int64_t> seen_too;
+  bus.Subscribe<odonata::ack_t>("ACK", [&](const odonata::ack_t& a) { seen_too.push_back(a.seq); });
   bus.SubscribeRaw("RAW", [&](const lcm::ReceiveBuffer& r, const std::string&) {
     last_raw.assign(static_cast<const uint8_t*>(r.data),
                     static_cast<const uint8_t*>(r.data) + r.data_size);
@@ -158,6 +162,7 @@ TEST(BusNodeSigning, OnlyAuthenticNewMessagesReachTheHandlers) {
   bus.lcm().publish("RAW", unsigned_bytes.data(), static_cast<unsigned>(unsigned_bytes.size()));
   testing::Pump(bus, 5);
   EXPECT_EQ(seen, (std::vector<int64_t>{1, 2}));  // the first copy of 2 only
+  EXPECT_EQ(seen_too, seen);
   EXPECT_TRUE(last_raw.empty()) << "a raw subscription got an unsigned message";
   EXPECT_EQ(bus.unauthenticated(), 4);
   EXPECT_EQ(bus.stats().dropped, 4);

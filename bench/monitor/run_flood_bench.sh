@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Bounded resources under forged floods (issue 24 point 5): odonata-monitor and odonata-logger
+# (--max-mb 200) run while flood_publisher sends, for SECONDS (default 30), predictions of 1000
+# new outputs, 14 MB snapshots of new instances, heartbeats of new peers and garbage on new
+# channels, in a private network namespace. Prints the monitor's peak resident memory (VmHWM)
+# and the logger's, and the bytes the logger wrote against its budget. Targets: monitor ≤ 200 MB,
+# logger within its budget. As root:
+#   bench/monitor/run_flood_bench.sh [BUILD] [SECONDS]
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+BUILD=${1:-$ROOT/build}
+SECONDS_FLOOD=${2:-30}
+if [[ ${ODONATA_IN_NETNS:-0} != 1 ]]; then
+  export ODONATA_IN_NETNS=1
+  exec unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec "$0" "$@"' bash "$0" "$@"
+fi
+URL='udpm://239.255.76.67:7696?ttl=0'
+TMP=$(mktemp -d)
+cleanup() { kill $(jobs -p) 2>/dev/null || true; rm -rf "$TMP"; }
+trap cleanup EXIT
+BUDGET_MB=200
+"$BUILD/services/monitor/odonata-monitor" --lcm-url "$URL" --summary-json "$TMP/summary.json" \
+  >"$TMP/monitor.log" 2>&1 &
+monitor=$!
+"$BUILD/services/logger/odonata-logger" record -o "$TMP/log" --max-mb $BUDGET_MB --lcm-url "$URL" \
+  >"$TMP/logger.log" 2>&1 &
+logger=$!
+sleep 1
+"$BUILD/bench/monitor/flood_publisher" "$URL" "$SECONDS_FLOOD" >"$TMP/flood.log" &
+flood=$!
+peak() { awk '/VmHWM/ {print int($2 / 1024)}' "/proc/$1/status"; }
+while kill -0 $flood 2>/dev/null; do sleep 1; done
+kill -0 $monitor || { cat "$TMP/monitor.log"; echo "the monitor died under the flood"; exit 1; }
+kill -0 $logger || { cat "$TMP/logger.log"; echo "the logger died under the flood"; exit 1; }
+m=$(peak $monitor) l=$(peak $logger)
+kill -TERM $monitor $logger; wait $monitor $logger 2>/dev/null || true
+written=$(du -cm "$TMP"/log* | tail -1 | cut -f1)
+cat "$TMP/flood.log"
+echo "monitor: peak RSS $m MB (target <= 200 MB); summary $(du -k "$TMP/summary.json" | cut -f1) kB"
+echo "logger: peak RSS $l MB; wrote $written MB of its $BUDGET_MB MB budget"
