@@ -116,11 +116,14 @@ int main(int argc, char** argv) {
 
   // Captured genuine datagrams, sent again at once: LCM hands them over whole, signature and all.
   // Only first copies of authentic messages are kept, not the forger's own traffic coming back.
+  // Every control command it overhears is answered at once, "accepted", as the service it names
+  // (the forged replies that made odonata-control exit 0 for commands no service ran).
   struct Capture {
     MessageSigner genuine;
     std::vector<Forged> messages;
-  } capture{MessageSigner(right, 0x9e9), {}};
-  long replayed = 0, unsigned_sent = 0, mis_signed = 0, stale = 0;
+    std::vector<Forged> replies;
+  } capture{MessageSigner(right, 0x9e9), {}, {}};
+  long replayed = 0, unsigned_sent = 0, mis_signed = 0, stale = 0, forged_replies = 0;
   for (const char* ch : {"DIMAV_STATE", "DIMAV_COMMAND", "DIMAV_BEAT_STATE", "ODONATA_ACK",
                          "ODONATA_CONTROL", "ODONATA_HEARTBEAT"}) {
     lcm.subscribeFunction(
@@ -132,6 +135,21 @@ int main(int argc, char** argv) {
               c->genuine.Verify(channel, b, rbuf->data_size, odonata::bus::NowUtime(), &n) ==
                   MessageSigner::Verdict::kAuthentic)
             c->messages.push_back({channel, std::vector<uint8_t>(b, b + rbuf->data_size)});
+          odonata::control_t request;
+          if (channel == "ODONATA_CONTROL" && c->replies.size() < 1000 &&
+              request.decode(b, 0, static_cast<int>(rbuf->data_size)) >= 0 &&
+              request.sender != "odonata-run") {
+            odonata::control_reply_t r{};
+            r.utime = odonata::bus::NowUtime();
+            r.request_sender = request.sender;
+            r.request_seq = request.seq;
+            r.command = request.command;
+            r.service = "odonata-identifier";
+            r.instance = request.target.empty() ? "identifier" : request.target;
+            r.accepted = true;
+            r.reason = "done (forged)";
+            c->replies.push_back({"ODONATA_CONTROL_REPLY", Encode(r)});
+          }
         },
         &capture);
   }
@@ -147,6 +165,16 @@ int main(int argc, char** argv) {
       ++replayed;
     }
     capture.messages.clear();
+    for (const auto& r : capture.replies) {
+      auto bad = r.bytes, old = r.bytes;
+      lcm.publish(r.channel, r.bytes.data(), static_cast<unsigned>(r.bytes.size()));
+      mis_signer.Sign(r.channel, &bad, odonata::bus::NowUtime());
+      lcm.publish(r.channel, bad.data(), static_cast<unsigned>(bad.size()));
+      old_signer.Sign(r.channel, &old, odonata::bus::NowUtime() - 60'000'000);
+      lcm.publish(r.channel, old.data(), static_cast<unsigned>(old.size()));
+      ++forged_replies;
+    }
+    capture.replies.clear();
     if (std::chrono::steady_clock::now() < next_round) continue;
     next_round += std::chrono::milliseconds(5);
     const int64_t now = odonata::bus::NowUtime();
@@ -163,8 +191,10 @@ int main(int argc, char** argv) {
       ++stale;
     }
   }
-  std::printf("forger: %ld unsigned, %ld mis-signed, %ld stale-signed, %ld captured and replayed\n",
-              unsigned_sent, mis_signed, stale, replayed);
+  std::printf(
+      "forger: %ld unsigned, %ld mis-signed, %ld stale-signed, %ld captured and replayed, %ld "
+      "control commands answered\n",
+      unsigned_sent, mis_signed, stale, replayed, forged_replies);
   std::fflush(stdout);
   return 0;
 }

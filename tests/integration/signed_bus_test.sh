@@ -2,7 +2,8 @@
 # Signed messages (issue 24 point 1, docs/lcm.md §15): with a shared key, a lockstep run under
 # attack by everything a forger without the key can send — the well-formed forged kinds of the
 # issue's probe (a lone state 0, far, negative and duplicate seqs, receipts far ahead in the
-# consumers' names, freeze, shutdown, save-model and reset commands, control replies, a snapshot,
+# consumers' names, freeze, shutdown, save-model and reset commands, answers to every control
+# command it hears, a snapshot,
 # a heartbeat of a consumer that does not exist), each unsigned and signed with a wrong key, the
 # right key's signature a minute old, every genuine message captured and sent again, and
 # lcm-logplayer replaying an lcm-logger recording of an earlier run of the same system — ends
@@ -50,6 +51,13 @@ wait_up "$URL" identifier odonata-plant logger monitor -- --fresh --at-least dro
 for p in "$PID_logger" "$PID_monitor" "$PID_plant" "$PID_ident"; do
   kill -0 "$p" 2>/dev/null || fail "a service stopped under attack (a forged shutdown obeyed?)"
 done
+# A command to a service that does not exist, while the forger answers every command it hears
+# "accepted": odonata-control with the key takes no forged answer (without it, exit 0).
+if "$CONTROL" freeze --target ghost-identifier --timeout 1 "${K[@]}" >"$OUT/control.log" 2>&1; then
+  fail "odonata-control took a forged answer: $(cat "$OUT/control.log")"
+fi
+"$CONTROL" freeze --target ghost-identifier --timeout 1 --lcm-url "$URL" >"$OUT/control-unsigned.log" 2>&1 ||
+  fail "the forger's answers did not reach a keyless odonata-control: the check above proves nothing"
 kill -TERM "$PID_forger" 2>/dev/null || true
 wait "$PID_forger" 2>/dev/null || true
 stop_clean "$PID_ident" identifier
