@@ -3,9 +3,36 @@
 # settings, the flight-code inference header and the examples. README "Install on a board".
 include(GNUInstallDirs)
 
-install(TARGETS odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger
-                odonata-control odonata-fit odonata-sim odonata-export
-        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+set(_odonata_installed odonata-plant odonata-signal odonata-identifier odonata-monitor
+    odonata-logger odonata-control odonata-fit odonata-sim odonata-export)
+# A package for any x86-64 that still fits 1.5x faster where AVX2 and FMA exist (README,
+# Benchmarks): deploy/package.sh builds this tree for baseline x86-64 and a second one for
+# x86-64-v3 (ODONATA_V3_TREE); both sets of programs go to libexec/odonata/<level>/, and bin/
+# holds a launcher per program that runs the level glibc's loader says this CPU supports.
+set(ODONATA_V3_TREE "" CACHE PATH
+    "build tree of this source for x86-64-v3 whose programs to package beside this tree's")
+file(RELATIVE_PATH _odonata_levels_from_bin /p/${CMAKE_INSTALL_BINDIR}
+     /p/${CMAKE_INSTALL_LIBEXECDIR}/odonata)
+set(ODONATA_LEVELS_FROM_BIN ${_odonata_levels_from_bin})
+configure_file(${PROJECT_SOURCE_DIR}/deploy/odonata-arch-launcher.in
+               ${PROJECT_BINARY_DIR}/odonata-arch-launcher @ONLY)
+if(ODONATA_V3_TREE)
+  if(ODONATA_X86_64_V3)
+    message(FATAL_ERROR "ODONATA_V3_TREE needs this tree built for baseline x86-64 "
+                        "(-DODONATA_NATIVE_ARCH=OFF)")
+  endif()
+  install(TARGETS ${_odonata_installed}
+          RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/odonata/x86-64)
+  foreach(_p IN LISTS _odonata_installed)
+    string(REPLACE "odonata-" "" _dir ${_p})
+    install(PROGRAMS ${ODONATA_V3_TREE}/services/${_dir}/${_p}
+            DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/odonata/x86-64-v3)
+    install(PROGRAMS ${PROJECT_BINARY_DIR}/odonata-arch-launcher
+            DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME ${_p})
+  endforeach()
+else()
+  install(TARGETS ${_odonata_installed} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 # Scripts find the programs beside themselves when installed (their own folder is bin/).
 install(PROGRAMS deploy/odonata-run DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS deploy/make-identifier-config DESTINATION ${CMAKE_INSTALL_BINDIR}
@@ -66,7 +93,10 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, iproute2")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin, liblcm-java, libjchart2d-java, default-jre")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-if(ODONATA_X86_64_V3)
+if(ODONATA_V3_TREE)
+  set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+      "${CPACK_PACKAGE_DESCRIPTION_SUMMARY} (AVX2 builds chosen at run time)")
+elseif(ODONATA_X86_64_V3)
   # Built for this machine's AVX2 and FMA: a board without them would stop at an illegal
   # instruction, so the version and the description say so. deploy/package.sh builds the
   # package for any x86-64.

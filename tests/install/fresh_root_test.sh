@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# fresh_root_test.sh BUILD: the .deb installs on a machine that has nothing else. A fresh Debian
-# bookworm root (mmdebstrap, minbase variant, packages from deb.debian.org) gets odonata's .deb
-# and what it declares it depends on, nothing more; `odonata-run --preset roll` then runs from that
-# root as the README has a user run it, and its model equals the build tree's bit for bit (same
-# code, same machine, same seed). Needs root and Debian's archive, like deploy/setup.sh.
+# fresh_root_test.sh BUILD [DEB]: the .deb (cpack's from BUILD, or DEB, e.g. deploy/package.sh's)
+# installs on a machine that has nothing else. A fresh Debian bookworm root (mmdebstrap, minbase
+# variant, packages from deb.debian.org) gets odonata's .deb and what it declares it depends on,
+# nothing more; `odonata-run --preset roll` then runs from that root as the README has a user run
+# it, and its model equals the build tree's bit for bit (same code, same machine, same seed).
+# Needs root and Debian's archive, like deploy/setup.sh.
 set -euo pipefail
 build=$1
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -13,10 +14,14 @@ work=$(mktemp -d /var/tmp/odonata-fresh-root.XXXXXX)
 trap 'rm -rf --one-file-system "$work"' EXIT
 chmod 755 "$work"
 
-(cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >cpack.log 2>&1) ||
-  { cat "$work/cpack.log"; fail "cpack failed"; }
-deb=$(ls "$work"/odonata_*.deb 2>/dev/null | head -1)
-[[ -n $deb ]] || fail "cpack wrote no odonata_*.deb"
+if [[ -n ${2:-} ]]; then
+  cp "$2" "$work/" && deb=$work/$(basename "$2")
+else
+  (cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >cpack.log 2>&1) ||
+    { cat "$work/cpack.log"; fail "cpack failed"; }
+  deb=$(ls "$work"/odonata_*.deb 2>/dev/null | head -1)
+  [[ -n $deb ]] || fail "cpack wrote no odonata_*.deb"
+fi
 chmod 644 "$deb"
 
 # The hook makes the .deb visible inside the root while apt installs it with its dependencies.
