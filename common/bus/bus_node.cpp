@@ -129,9 +129,9 @@ void BusNode::SubscribeRaw(
   RawHandler& h = handlers_.back();
   h.fn = [this, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                               const std::string& channel) {
-    ++stats_.messages_in;
-    rbuf = Authenticate(rbuf, channel);
+    rbuf = Authenticate(rbuf, channel);  // refused: counted as dropped, not as a message in
     if (rbuf == nullptr) return;
+    ++stats_.messages_in;
     try {
       handler(*rbuf, channel);
     } catch (const std::exception& e) {
@@ -298,8 +298,11 @@ bool BusNode::AcceptControl(const odonata::control_t& msg) {
   }
   if (msg.utime != 0 && msg.utime < started_utime_ - kStaleControl) {
     ++stats_.dropped;
+    // In unsigned arithmetic: a forged utime near INT64_MIN must not overflow the difference.
+    const uint64_t age_us =
+        static_cast<uint64_t>(started_utime_) - static_cast<uint64_t>(msg.utime);
     stats_.last_error = "ignored " + ControlCommandName(msg.command) + " from '" + msg.sender +
-                        "' published " + std::to_string((started_utime_ - msg.utime) / 1'000'000) +
+                        "' published " + std::to_string(age_us / 1'000'000) +
                         " s before this service started (a replayed log?)";
     std::fprintf(stderr, "[%s] %s\n", options_.instance.c_str(), stats_.last_error.c_str());
     return false;

@@ -214,9 +214,9 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
   RawHandler& h = handlers_.back();
   h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                                        const std::string&) {
-    ++stats_.messages_in;
-    rbuf = Authenticate(rbuf, channel);
+    rbuf = Authenticate(rbuf, channel);  // refused: counted as dropped, not as a message in
     if (rbuf == nullptr) return;
+    ++stats_.messages_in;
     Msg msg;
     if (!SafeDecode(&msg, rbuf->data, rbuf->data_size)) {
       ++stats_.decode_errors;

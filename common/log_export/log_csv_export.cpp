@@ -215,8 +215,9 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
       ++summary.foreign;
       continue;
     }
-    std::vector<double> row{static_cast<double>(m.seq),
-                            1e-6 * static_cast<double>(m.utime - first.utime)};
+    // In doubles (exact for any utime of this era): a forged utime must not overflow an int64.
+    std::vector<double> row{static_cast<double>(m.seq), 1e-6 * (static_cast<double>(m.utime) -
+                                                                static_cast<double>(first.utime))};
     row.insert(row.end(), m.values.begin(), m.values.end());
     out.WriteRow(row);
     ++summary.rows;
