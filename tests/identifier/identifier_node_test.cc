@@ -175,19 +175,40 @@ TEST_F(IdentifierNodeTest, PredictsEveryOutputOfEverySampleFromOneRegressor) {
   EXPECT_NEAR(last.predicted[1], last.measured[1], 0.05);
 }
 
-TEST_F(IdentifierNodeTest, AMissingStateIsReportedAsAGapAndNeverBridged) {
+TEST_F(IdentifierNodeTest, AMissingStateIsAGapThatIsBridged) {
   Start();
   // The states after it wait for its resend (a lockstep window) until more than
   // kMaxStatesAfterHole of them are held: then the hole is given up.
   Run(0, 80, /*skip_state=*/30);
   EXPECT_GE(bus_->stats().gaps, 1);
+  // Sample 30 is unknown: it is learned as the line between its neighbours (max_gap, as
+  // odonata-fit bridges a missing row) but never scored; sample 31's regressor takes that y(30),
+  // so the history goes on without a warm-up.
+  EXPECT_GE(node_->core().bridged(), 1);
+  EXPECT_EQ(std::count_if(predictions_.begin(), predictions_.end(),
+                          [](const auto& p) { return p.sample == 30; }),
+            0);
+  EXPECT_EQ(std::count_if(predictions_.begin(), predictions_.end(),
+                          [](const auto& p) { return p.sample == 31; }),
+            1);
+  ASSERT_FALSE(predictions_.empty());
+  EXPECT_EQ(predictions_.back().sample, 78);  // sample 79 needs state 80
+}
+
+TEST_F(IdentifierNodeTest, WithoutBridgingAMissingStateRestartsTheHistory) {
+  IdentifierConfig c = Config();
+  c.max_gap = 0;
+  Start(std::nullopt, c);
+  Run(0, 80, /*skip_state=*/30);
+  EXPECT_GE(bus_->stats().gaps, 1);
+  EXPECT_EQ(node_->core().bridged(), 0);
   for (const auto& p : predictions_) {
     // Sample 30 is unknown, and sample 31's regressor would need y(30): neither is scored.
     EXPECT_NE(p.sample, 30);
     EXPECT_NE(p.sample, 31);
   }
   ASSERT_FALSE(predictions_.empty());
-  EXPECT_EQ(predictions_.back().sample, 78);  // sample 79 needs state 80
+  EXPECT_EQ(predictions_.back().sample, 78);
 }
 
 TEST_F(IdentifierNodeTest, AStateWithoutItsCommandWaitsAndTheCommandCompletesIt) {
@@ -500,17 +521,31 @@ TEST_F(IdentifierNodeTest, BeatAveragesComeFromBeatStateKAndTheAppliedCommandFro
   }
 }
 
-TEST_F(IdentifierNodeTest, AMissingBeatStateIsAGapAndNeverBridged) {
+TEST_F(IdentifierNodeTest, AMissingBeatStateIsAGapThatIsBridged) {
   Start(std::nullopt, BeatConfig());
   Run(0, 160, -1, /*beats=*/true, /*skip_beat=*/30);
   EXPECT_GE(bus_->stats().gaps, 2);
+  EXPECT_EQ(node_->core().bridged(), 2);
   const auto samples = Samples();
-  // Sample 29 lacks its applied command, sample 30 its averages, and sample 31's regressor
-  // would need y(30): none is scored; every other sample is.
+  // Sample 29 lacks its applied command and sample 30 its averages: both are bridged, neither is
+  // scored; sample 31's regressor takes the bridged y(30), and every other sample is scored.
+  for (int64_t k : {29, 30}) EXPECT_EQ(std::count(samples.begin(), samples.end(), k), 0);
+  for (int64_t k : {28, 31, 32}) EXPECT_EQ(std::count(samples.begin(), samples.end(), k), 1);
+  EXPECT_EQ(samples.back(), 158);  // sample 159 needs state 160
+}
+
+TEST_F(IdentifierNodeTest, WithoutBridgingAMissingBeatStateRestartsTheHistory) {
+  IdentifierConfig c = BeatConfig();
+  c.max_gap = 0;
+  Start(std::nullopt, c);
+  Run(0, 160, -1, /*beats=*/true, /*skip_beat=*/30);
+  EXPECT_GE(bus_->stats().gaps, 2);
+  const auto samples = Samples();
+  // Sample 31's regressor would need y(30): none of 29, 30, 31 is scored; every other sample is.
   for (int64_t k : {29, 30, 31}) EXPECT_EQ(std::count(samples.begin(), samples.end(), k), 0);
   EXPECT_EQ(std::count(samples.begin(), samples.end(), 28), 1);
   EXPECT_EQ(std::count(samples.begin(), samples.end(), 32), 1);
-  EXPECT_EQ(samples.back(), 158);  // sample 159 needs state 160
+  EXPECT_EQ(samples.back(), 158);
 }
 
 TEST_F(IdentifierNodeTest, WithoutBeatSignalsBeatStatesAreIgnored) {
