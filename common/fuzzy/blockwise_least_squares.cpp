@@ -20,13 +20,25 @@ void BlockwiseLeastSquares::AddRows(const Eigen::Ref<const Eigen::MatrixXd>& a,
   if (a.cols() != columns_ || a.rows() != b.size())
     throw std::invalid_argument("least squares block has the wrong shape");
   if (a.rows() == 0) return;
+  column_squares_ += a.colwise().squaredNorm().transpose();
+  rows_added_ += a.rows();
+  Fold(a, b);
+}
+
+void BlockwiseLeastSquares::AddPenalty(const Eigen::Ref<const Eigen::MatrixXd>& p) {
+  if (p.cols() != columns_)
+    throw std::invalid_argument("least squares penalty has the wrong shape");
+  if (p.rows() == 0) return;
+  Fold(p, Eigen::VectorXd::Zero(p.rows()));
+}
+
+void BlockwiseLeastSquares::Fold(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                 const Eigen::Ref<const Eigen::VectorXd>& b) {
   const Eigen::Index n1 = columns_ + 1;
   Eigen::MatrixXd stack(filled_ + a.rows(), n1);
   stack.topRows(filled_) = r_.topRows(filled_);
   stack.bottomLeftCorner(a.rows(), columns_) = a;
   stack.bottomRightCorner(a.rows(), 1) = b;
-  column_squares_ += a.colwise().squaredNorm().transpose();
-  rows_added_ += a.rows();
   // Only R is kept: Qᵀ [A b] = [R_A q; 0 ρ], and R_A θ = q is the least-squares system.
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stack);
   filled_ = std::min(stack.rows(), n1);

@@ -20,6 +20,9 @@ class BlockwiseLeastSquares {
   /// Adds rows: a is rows × columns, b has rows entries.
   void AddRows(const Eigen::Ref<const Eigen::MatrixXd>& a,
                const Eigen::Ref<const Eigen::VectorXd>& b);
+  /// Adds rows ‖P θ‖² that regularise rather than carry data (zero targets): they are not rows of
+  /// A, so the ridge's scale s stays the data's however large P is.
+  void AddPenalty(const Eigen::Ref<const Eigen::MatrixXd>& p);
 
   /// θ for relative ridge λ ≥ 0; zeros before any row was added.
   Eigen::VectorXd Solve(double relative_ridge) const;
@@ -33,6 +36,7 @@ class BlockwiseLeastSquares {
   Eigen::MatrixXd r_;  // upper-trapezoidal R of [A b], `filled_` rows in use
   Eigen::Index filled_ = 0;
   Eigen::VectorXd column_squares_;  // Σ_k A_kj², for the ridge's scale
+  void Fold(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::VectorXd>& b);
 };
 
 }  // namespace odonata::fuzzy

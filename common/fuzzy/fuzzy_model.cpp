@@ -340,6 +340,28 @@ void FuzzyModel::StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& 
   rules_.RefreshCaches();
 }
 
+int FuzzyModel::PruneUnsupported(const Eigen::Ref<const Eigen::MatrixXd>& X, double per_parameter) {
+  const int r = rules_.rules();
+  if (r < 2 || X.rows() == 0 || !(per_parameter > 0.0)) return 0;
+  Eigen::ArrayXd support = Eigen::ArrayXd::Zero(r);
+  Inference inf;
+  for (Eigen::Index k = 0; k < X.rows(); ++k) {
+    rules_.Evaluate(X.row(k).transpose(), &inf);
+    support += inf.normalized.head(r);
+  }
+  const double need = per_parameter * consequent_->LeastSquaresWidth();
+  Eigen::Index best = 0;
+  support.maxCoeff(&best);
+  int removed = 0;
+  // From the last rule down, so the indices still to visit do not move.
+  for (int j = r - 1; j >= 0; --j) {
+    if (j == best || !(support(j) < need)) continue;
+    RemoveRule(j);
+    ++removed;
+  }
+  return removed;
+}
+
 bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
                                    double deviation_ridge) {
@@ -403,7 +425,7 @@ bool FuzzyModel::RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
   const double scale = deviation_squares / static_cast<double>(m - w);
   Eigen::MatrixXd penalty = Eigen::MatrixXd::Zero(m - w, m);
   penalty.rightCols(m - w).diagonal().setConstant(std::sqrt(deviation_ridge * scale));
-  ls.AddRows(penalty, Eigen::VectorXd::Zero(m - w));
+  ls.AddPenalty(penalty);  // the plain ridge stays relative to the data's scale
   const Eigen::VectorXd sol = ls.Solve(ridge);
   if (!sol.allFinite()) return false;
   Eigen::VectorXd theta(static_cast<Eigen::Index>(r) * w);

@@ -114,6 +114,13 @@ class FuzzyModel {
                          const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10,
                          double deviation_ridge = 0.0);
 
+  /// Removes every rule whose support — its normalised firing summed over the rows of X — is
+  /// below `per_parameter` times its consequent's least-squares width (1 singleton, inputs + 1
+  /// linear): fewer effective samples than the parameters the consequent solve estimates for it
+  /// cannot determine them, and such a rule fits their noise (docs/identifier.md §6.1). The
+  /// best-supported rule always stays. @return the rules removed.
+  int PruneUnsupported(const Eigen::Ref<const Eigen::MatrixXd>& X, double per_parameter);
+
   int rules() const { return rules_.rules(); }
   int inputs() const { return config_.inputs; }
   const FuzzyModelConfig& config() const { return config_; }

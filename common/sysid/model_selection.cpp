@@ -108,6 +108,7 @@ NarxModel TrainCandidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfi
     t.fit_scaling = false;
   }
   t.progress = {};
+  t.deviation_ridge = c.deviation_ridge;
   t.epochs = epochs;
   t.holdout = holdout;
   t.holdout_free_run = horizon == 0;
@@ -244,6 +245,7 @@ SelectionResult SelectModel(
     c.linear = true;
     c.threshold = 0.0;
     c.kappa = kappas.front();
+    c.deviation_ridge = train_options.deviation_ridge;
     TrainReport report;
     const NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
                                            result.criterion_horizon, 1, &report);
@@ -279,12 +281,14 @@ SelectionResult SelectModel(
       c.consequent = sw.kind;
       c.threshold = h;
       c.kappa = sw.kappa;
+      c.deviation_ridge = train_options.deviation_ridge;
       TrainReport report;
       NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
                                        result.criterion_horizon, options.max_epochs, &report);
       c.epochs = report.kept_epoch;
       score_candidate(c, model);
-      c.at_cap = c.rules >= base.entropy.max_rules * model.outputs();
+      // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
+      c.at_cap = std::max(c.rules, report.rules_grown) >= base.entropy.max_rules * model.outputs();
       capped = c.at_cap;
       sw.models.push_back(std::move(model));
       sw.candidates.push_back(c);
@@ -298,6 +302,46 @@ SelectionResult SelectModel(
     for (auto& m : sw.models) models.push_back(std::move(m));
   }
   auto& cs = result.candidates;
+  // Without least squares (the online learner's pass) the ridge never enters a solve.
+  if (!options.deviation_ridges.empty() && options.ridge_shortlist > 0 &&
+      train_options.refine_least_squares) {
+    // The best fuzzy candidates with linear consequents, shrunk toward the global linear model
+    // by each ridge: on a noisy record the hold-out may prefer a rule base that stays near ARX
+    // where the data is thin to either extreme (docs/identifier.md §9).
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < cs.size(); ++k)
+      if (!cs[k].linear && cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1 &&
+          std::isfinite(cs[k].score))
+        order.push_back(k);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return cs[a].score < cs[b].score; });
+    if (order.size() > static_cast<std::size_t>(options.ridge_shortlist))
+      order.resize(static_cast<std::size_t>(options.ridge_shortlist));
+    std::vector<Candidate> variants;
+    for (const std::size_t k : order)
+      for (const double ridge : options.deviation_ridges) {
+        if (ridge == cs[k].deviation_ridge) continue;
+        Candidate c = cs[k];
+        c.deviation_ridge = ridge;
+        variants.push_back(c);
+      }
+    std::vector<std::optional<NarxModel>> trained(variants.size());
+    ParallelFor(variants.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+      Candidate& c = variants[i];
+      TrainReport report;
+      NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
+                                       result.criterion_horizon, options.max_epochs, &report);
+      c.epochs = report.kept_epoch;
+      score_candidate(c, model);
+      c.at_cap = std::max(c.rules, report.rules_grown) >= base.entropy.max_rules * model.outputs();
+      trained[i].emplace(std::move(model));
+    });
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      cs.push_back(variants[i]);
+      models.push_back(std::move(*trained[i]));
+      if (on_candidate) on_candidate(variants[i], done, total);
+    }
+  }
   if (!options.simulation.empty() && result.criterion_horizon != 1) {
     // Windows no longer than the horizon scored: the k-step error is what is trained for.
     std::vector<SimulationStage> stages;

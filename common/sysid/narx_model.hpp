@@ -42,6 +42,10 @@ struct TrainOptions {
   /// Ridge on each rule's deviation from one global linear model (FuzzyModel::RefineConsequents);
   /// 0: none.
   double deviation_ridge = 0.0;
+  /// With least squares, after the pass that grows rules: a rule whose support (normalised firing
+  /// summed over the training rows) is below this many times its consequent's parameter count is
+  /// removed (FuzzyModel::PruneUnsupported): the solve cannot determine it; 0: none.
+  double min_rule_support = 1.0;
   /// Derive the scaling from the training data (offline default). False keeps the scaling set
   /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
   bool fit_scaling = true;
@@ -86,6 +90,11 @@ struct EpochRecord {
 struct TrainReport {
   std::vector<EpochRecord> epochs;
   int kept_epoch = 0;  ///< the epoch whose parameters the model holds (1-based)
+  /// Rules the growing pass created (over outputs), and how many of them the data could not
+  /// support (TrainOptions::min_rule_support): a candidate that grew to the cap reached it, even
+  /// if pruning then took it below.
+  int rules_grown = 0;
+  int rules_unsupported = 0;
   /// The simulation-error schedule that reproduces the kept parameters without a hold-out.
   std::vector<SimulationStage> simulation;
 };

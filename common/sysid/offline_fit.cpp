@@ -20,6 +20,7 @@ OfflineFit FitOffline(
     topt = train;
     if (options.scaling) topt.fit_scaling = false;
     topt.simulation = c.simulation;
+    topt.deviation_ridge = c.deviation_ridge;
     if (!options.epochs_given) topt.epochs = std::max(1, c.epochs);
   };
   std::optional<SelectionResult> sel;

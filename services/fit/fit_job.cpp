@@ -132,6 +132,7 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
           {"simulation", StagesToJson(c.simulation)},
           {"entropy_threshold", c.threshold},
           {"kappa", c.kappa},
+          {"deviation_ridge", c.deviation_ridge},
           {"epochs", c.epochs},
           {"rules", c.rules},
           {"at_cap", c.at_cap},
@@ -403,6 +404,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                       {"rules", e.rules}});
     report["epoch_history"] = hist;
     report["simulation"] = StagesToJson(fit.report.simulation);
+    topt.deviation_ridge = fit.train.deviation_ridge;
     model.emplace(std::move(fit.model));
   }
   bar.Finish();
@@ -422,6 +424,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   report["consequent"] = fuzzy::ToString(fm.consequent().kind());
   report["epochs"] = o.load_model.empty() ? topt.epochs : 0;
   report["least_squares_refinement"] = o.load_model.empty() && o.train.refine_least_squares;
+  report["deviation_ridge"] = topt.deviation_ridge;
+  report["min_rule_support"] = topt.min_rule_support;
   report["seed"] = o.seed;
   // Scores per output: the first output's at the top level (as with one output), every output's
   // under per_output when there are several.
@@ -576,7 +580,7 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         << 100 * sel["relative_tolerance"].get<double>() << " % or "
         << sel["absolute_tolerance"].get<double>()
         << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
-           "free-run NDEI\n";
+           "free-run NDEI  ridge\n";
     if (sel.value("searched_rows", 0L) < sel.value("training_rows", 0L))
       out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
           << sel["training_rows"].get<long>()
@@ -587,11 +591,12 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       const bool chosen = k == sel["chosen_index"].get<std::size_t>();
       const bool best = k == sel["best_index"].get<std::size_t>();
       const bool linear = c.value("linear", false);
-      std::snprintf(line, sizeof line, "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s\n",
+      std::snprintf(line, sizeof line,
+                    "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g  %5.2g%s\n",
                     chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
                     c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
                     c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
-                    num(c["holdout_free_run_ndei"]),
+                    num(c["holdout_free_run_ndei"]), c.value("deviation_ridge", 0.0),
                     c.value("restless", false) ? "  (oscillates at rest)"
                     : best                     ? "  (best)"
                                                : "");

@@ -137,9 +137,17 @@ int main(int argc, char** argv) {
                  "else free-run when ny > 0, else one-step), free_run, one_step or k_step")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "free_run", "one_step", "k_step"}));
-  app.add_option("--deviation-ridge", o.train.deviation_ridge,
-                 "least-squares ridge on each rule's deviation from one global linear model, "
-                 "relative to the design's scale (0: none)")
+  auto* deviation_ridge =
+      app.add_option("--deviation-ridge", o.train.deviation_ridge,
+                     "least-squares ridge on each rule's deviation from one global linear model, "
+                     "relative to the design's scale (0: none); not given, the best fuzzy "
+                     "candidates are also tried with 0.01, 0.1 and 1 and the hold-out chooses")
+          ->capture_default_str()
+          ->check(CLI::NonNegativeNumber);
+  app.add_option("--min-rule-support", o.train.min_rule_support,
+                 "a rule whose summed normalised firing over the training rows is below this many "
+                 "times its consequent's parameter count is removed after the pass that grows "
+                 "rules (0: keep every rule)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_option("--cv-folds", o.selection.linear_check_folds,
@@ -252,6 +260,7 @@ int main(int argc, char** argv) {
     o.threshold_given = threshold->count() > 0;
     o.kappa_given = kappa->count() > 0;
     o.epochs_given = epochs->count() > 0;
+    if (deviation_ridge->count() > 0) o.selection.deviation_ridges.clear();
     o.selection.relative_tolerance = tolerance_percent / 100.0;
     o.selection.criterion = criterion == "auto"       ? odonata::sysid::SelectionCriterion::kAuto
                             : criterion == "free_run" ? odonata::sysid::SelectionCriterion::kFreeRun

@@ -156,6 +156,36 @@ TEST(FuzzyModel, TheDeviationRidgeShrinksRulesTowardOneGlobalLinearModel) {
   EXPECT_LT((p.head(w) - line).norm(), 1e-3);
 }
 
+// A rule that fires on fewer effective samples than its consequent has parameters cannot be
+// estimated: PruneUnsupported removes it, keeps the rules the data covers, and never the last.
+TEST(FuzzyModel, PruneUnsupportedRemovesARuleTheDataDoesNotCover) {
+  FuzzyModelConfig cfg;
+  cfg.inputs = 1;
+  cfg.entropy.threshold = 0.5;
+  cfg.entropy.kappa = 0.5;
+  cfg.entropy.sigma_max = 0.4;
+  FuzzyModel m(cfg);
+  // Rules at −0.6 and 0.6 (the data), then one at 3 (a single outlier).
+  for (const double v : {-0.6, 0.6, 3.0})
+    m.Learn(Eigen::VectorXd::Constant(1, v), v, LearnMode::kGrowAndTune);
+  ASSERT_EQ(m.rules(), 3);
+  Eigen::MatrixXd x(201, 1);
+  for (int k = 0; k < 200; ++k) x(k, 0) = -0.8 + 1.6 * k / 199.0;
+  x(200, 0) = 3.0;
+  FuzzyModel none = m, loose = m;
+  EXPECT_EQ(none.PruneUnsupported(x, 0.0), 0);
+  EXPECT_EQ(none.rules(), 3);
+  // The outlier's rule carries about one sample; a linear consequent has two parameters.
+  EXPECT_EQ(m.PruneUnsupported(x, 1.0), 1);
+  ASSERT_EQ(m.rules(), 2);
+  EXPECT_NEAR(m.rule_base().centre(0, 0), -0.6, 0.2);
+  EXPECT_NEAR(m.rule_base().centre(1, 0), 0.6, 0.2);
+  EXPECT_EQ(m.rules_pruned(), 1);
+  // A demand no rule meets still leaves the best-supported one.
+  EXPECT_EQ(loose.PruneUnsupported(x, 1e6), 2);
+  EXPECT_EQ(loose.rules(), 1);
+}
+
 TEST(FuzzyModel, PruningKeepsALongRunBelowTheCapAndKeepsLearning) {
   // A slowly drifting operating point visits new regions for ever: without pruning the rule base
   // fills up and its structure freezes; with pruning old, unused rules make room.

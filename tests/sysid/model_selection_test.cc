@@ -38,6 +38,7 @@ TEST(ModelSelection, PicksTheFewestRulesWithinTheRelativeTolerance) {
   o.kappas = {0.5, 1.0};
   o.max_epochs = 10;
   o.relative_tolerance = 0.10;
+  o.deviation_ridges.clear();
   const Series train = testing::NarendraTrain(1500);
   const SelectionResult r = SelectModel(testing::NarendraSpec(), cfg, TrainOptions{}, train, o);
   ASSERT_EQ(r.candidates.size(), 7u);  // the linear model (one rule) and the 3 × 2 grid
@@ -187,12 +188,50 @@ TEST(ModelSelection, TheResultIsTheSameWhateverTheThreadCount) {
     s.precision(17);
     for (const auto& c : r.candidates)
       s << ToString(c.consequent) << c.threshold << ' ' << c.kappa << ' ' << c.rules << ' '
-        << c.epochs << ' ' << c.score << ' ' << c.rest_deviation << ';';
+        << c.epochs << ' ' << c.score << ' ' << c.rest_deviation << ' ' << c.deviation_ridge << ';';
     s << r.chosen << ' ' << r.linear_check.fuzzy_score << ' ' << r.linear_check.linear_score;
     runs.push_back(s.str());
   }
   EXPECT_EQ(runs[0], runs[1]);
   EXPECT_EQ(runs[0], runs[2]);
+}
+
+// The best fuzzy candidates are trained again shrunk toward the global linear model, each ridge
+// a candidate of its own. A huge ridge gives every rule the global least-squares consequent:
+// whatever its premises, that model predicts as the linear one (ARX) does.
+TEST(ModelSelection, TheBestFuzzyCandidatesAreAlsoTriedShrunkTowardTheLinearModel) {
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 4;
+  o.deviation_ridges = {0.1, 1e9};
+  o.ridge_shortlist = 1;
+  o.linear_check_folds = 0;
+  const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
+                                        TrainOptions{}, testing::NarendraTrain(900), o);
+  ASSERT_EQ(r.candidates.size(), 5u);  // ARX, the two H̄, and the best one with two ridges
+  const Candidate& linear = r.candidates[0];
+  ASSERT_TRUE(linear.linear);
+  std::size_t best_plain = 1;
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_EQ(r.candidates[k].deviation_ridge, 0.0);
+    if (r.candidates[k].score < r.candidates[best_plain].score) best_plain = k;
+  }
+  const Candidate& mild = r.candidates[3];
+  const Candidate& huge = r.candidates[4];
+  for (const Candidate* c : {&mild, &huge}) {
+    EXPECT_EQ(c->threshold, r.candidates[best_plain].threshold);
+    EXPECT_EQ(c->kappa, r.candidates[best_plain].kappa);
+    EXPECT_FALSE(c->linear);
+    EXPECT_TRUE(std::isfinite(c->score));
+  }
+  EXPECT_EQ(mild.deviation_ridge, 0.1);
+  EXPECT_EQ(huge.deviation_ridge, 1e9);
+  EXPECT_NE(mild.holdout_one_step_ndei, r.candidates[best_plain].holdout_one_step_ndei);
+  EXPECT_NEAR(huge.holdout_one_step_ndei, linear.holdout_one_step_ndei,
+              1e-4 * linear.holdout_one_step_ndei);
+  EXPECT_GT(huge.rules, 1);
 }
 
 // With a horizon the candidates are scored K steps ahead, and that is the criterion.

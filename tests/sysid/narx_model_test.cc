@@ -53,6 +53,25 @@ TEST(NarxModel, OnlyTheFirstEpochGrowsRulesLaterOnesTune) {
   }
 }
 
+// After the pass that grows rules, a rule the training rows cannot support is removed before the
+// least-squares solve; the online learner (no least squares) never prunes this way.
+TEST(NarxModel, TrainingRemovesRulesTheDataCannotSupport) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.entropy.threshold = ThresholdForRadius(0.6);
+  TrainOptions keep_all;
+  keep_all.min_rule_support = 0.0;
+  TrainOptions demanding;
+  demanding.min_rule_support = 1e6;  // no rule is supported: only the best-supported one stays
+  NarxModel all(NarendraSpec(), cfg), pruned(NarendraSpec(), cfg), online(NarendraSpec(), cfg);
+  all.Train(NarendraTrain(600), keep_all);
+  pruned.Train(NarendraTrain(600), demanding);
+  demanding.refine_least_squares = false;
+  online.Train(NarendraTrain(600), demanding);
+  ASSERT_GT(all.total_rules(), 2);
+  EXPECT_EQ(pruned.total_rules(), 1);
+  EXPECT_EQ(online.total_rules(), all.total_rules());
+}
+
 TEST(NarxModel, SaveThenLoadGivesIdenticalPredictions) {
   for (auto kind : {fuzzy::ConsequentKind::kSingleton, fuzzy::ConsequentKind::kLinear}) {
     const NarxModel a = TrainedModel(kind);
