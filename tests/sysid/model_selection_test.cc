@@ -122,6 +122,26 @@ TEST(ModelSelection, WarnsAtTheGridsEdgeAndTheRuleCap) {
   EXPECT_NE(all.find("rule cap"), std::string::npos) << all;
 }
 
+// A candidate that grew to the rule cap has reached it even when its unsupported rules are then
+// removed: the higher H̄ of its sweep would grow to the cap too and are skipped.
+TEST(ModelSelection, ACandidateGrownToTheCapEndsItsSweepWhateverPruningLeaves) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.entropy.max_rules = 3;
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.5), ThresholdForRadius(0.7), ThresholdForRadius(0.5)};
+  o.kappas = {0.5};
+  o.max_epochs = 2;
+  o.deviation_ridges.clear();
+  TrainOptions t;
+  t.min_rule_support = 1e6;  // every rule but the best-supported one goes
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), cfg, t, testing::NarendraTrain(800), o);
+  ASSERT_EQ(r.candidates.size(), 2u);  // ARX and the first H̄; the other two were skipped
+  EXPECT_EQ(r.candidates[1].rules, 1);
+  EXPECT_TRUE(r.candidates[1].at_cap);
+}
+
 // A linear plant with output noise: no rule beyond the first is worth its parameters, so the
 // linear model is chosen — by the hold-out or by the cross-validation that a fuzzy winner of one
 // tail slice must also pass.
