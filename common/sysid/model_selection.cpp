@@ -237,6 +237,17 @@ SelectionResult SelectModel(
                                               : c.holdout_ahead_ndei;
     if (!std::isfinite(c.score)) c.score = std::numeric_limits<double>::infinity();
   };
+  // A fuzzy candidate trained for up to max_epochs on the fit slice, scored on the hold-out.
+  auto train_and_score = [&](Candidate& c) {
+    TrainReport report;
+    NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
+                                     result.criterion_horizon, options.max_epochs, &report);
+    c.epochs = report.kept_epoch;
+    score_candidate(c, model);
+    // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
+    c.at_cap = std::max(c.rules, report.rules_grown) >= base.entropy.max_rules * model.outputs();
+    return model;
+  };
   std::optional<std::size_t> linear_index;
   std::vector<NarxModel> models;  // each candidate's, for the simulation-error short list
   if (with_linear) {
@@ -282,13 +293,7 @@ SelectionResult SelectModel(
       c.threshold = h;
       c.kappa = sw.kappa;
       c.deviation_ridge = train_options.deviation_ridge;
-      TrainReport report;
-      NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
-                                       result.criterion_horizon, options.max_epochs, &report);
-      c.epochs = report.kept_epoch;
-      score_candidate(c, model);
-      // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
-      c.at_cap = std::max(c.rules, report.rules_grown) >= base.entropy.max_rules * model.outputs();
+      NarxModel model = train_and_score(c);
       capped = c.at_cap;
       sw.models.push_back(std::move(model));
       sw.candidates.push_back(c);
@@ -326,16 +331,8 @@ SelectionResult SelectModel(
         variants.push_back(c);
       }
     std::vector<std::optional<NarxModel>> trained(variants.size());
-    ParallelFor(variants.size(), ResolveThreads(options.threads), [&](std::size_t i) {
-      Candidate& c = variants[i];
-      TrainReport report;
-      NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
-                                       result.criterion_horizon, options.max_epochs, &report);
-      c.epochs = report.kept_epoch;
-      score_candidate(c, model);
-      c.at_cap = std::max(c.rules, report.rules_grown) >= base.entropy.max_rules * model.outputs();
-      trained[i].emplace(std::move(model));
-    });
+    ParallelFor(variants.size(), ResolveThreads(options.threads),
+                [&](std::size_t i) { trained[i].emplace(train_and_score(variants[i])); });
     for (std::size_t i = 0; i < variants.size(); ++i) {
       cs.push_back(variants[i]);
       models.push_back(std::move(*trained[i]));
