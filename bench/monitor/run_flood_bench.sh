@@ -10,14 +10,10 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=${1:-$ROOT/build}
 SECONDS_FLOOD=${2:-30}
-if [[ ${ODONATA_IN_NETNS:-0} != 1 ]]; then
-  export ODONATA_IN_NETNS=1
-  exec unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec "$0" "$@"' bash "$0" "$@"
-fi
+source "$ROOT/bench/lib.sh"
+bench_enter_netns "$@"
 URL='udpm://239.255.76.67:7696?ttl=0'
-TMP=$(mktemp -d)
-cleanup() { kill $(jobs -p) 2>/dev/null || true; rm -rf "$TMP"; }
-trap cleanup EXIT
+bench_scratch
 BUDGET_MB=200
 "$BUILD/services/monitor/odonata-monitor" --lcm-url "$URL" --summary-json "$TMP/summary.json" \
   >"$TMP/monitor.log" 2>&1 &

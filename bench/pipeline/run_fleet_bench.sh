@@ -16,15 +16,11 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=${1:-$ROOT/build}
 SECONDS_PER_RUN=${2:-10}
-if [[ ${ODONATA_IN_NETNS:-0} != 1 ]]; then
-  export ODONATA_IN_NETNS=1
-  exec unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec "$0" "$@"' bash "$0" "$@"
-fi
+source "$ROOT/bench/lib.sh"
+bench_enter_netns "$@"
 B=$BUILD/bench/pipeline/bench_pipeline
 ID=$BUILD/services/identifier/odonata-identifier
-TMP=$(mktemp -d)
-cleanup() { kill $(jobs -p) 2>/dev/null || true; rm -rf "$TMP"; }
-trap cleanup EXIT
+bench_scratch
 TICK=$(getconf CLK_TCK)
 cpu_ticks() { awk '{print $14 + $15}' "/proc/$1/stat" 2>/dev/null || echo 0; }
 samples=$((SECONDS_PER_RUN * 100))

@@ -5,15 +5,11 @@
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=${1:-$ROOT/build}
-if [[ ${ODONATA_IN_NETNS:-0} != 1 ]]; then
-  export ODONATA_IN_NETNS=1
-  exec unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec "$0" "$@"' bash "$0" "$@"
-fi
+source "$ROOT/bench/lib.sh"
+bench_enter_netns "$@"
 URL='udpm://239.255.76.67:7690?ttl=0'
 B=$BUILD/bench/pipeline/bench_pipeline
-TMP=$(mktemp -d)
-cleanup() { kill $(jobs -p) 2>/dev/null || true; rm -rf "$TMP"; }
-trap cleanup EXIT
+bench_scratch
 cat >"$TMP/id.json" <<JSON
 {"instance": "bench", "outputs": ["roll_rad"], "inputs": ["u"], "ny": 1, "nu": 1, "delay": 1,
  "consequent": "singleton", "entropy_threshold": 0.05, "max_rules": 41,
