@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "narendra_series.hpp"
+#include "online_fixtures.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -15,17 +16,8 @@
 namespace odonata::sysid {
 namespace {
 
-Sample Row(const Series& s, Eigen::Index k) {
-  return {k, s.outputs.row(k).transpose(), s.inputs.row(k).transpose()};
-}
-
-NarxModel Empty(fuzzy::ConsequentKind kind, const Series& train) {
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = kind;
-  NarxModel m(testing::NarendraSpec(), cfg);
-  m.SetScaling(ScalingFromRanges(m.spec(), RangesFromSeries(m.spec(), train)));
-  return m;
-}
+using testing::Empty;
+using testing::Row;
 
 TEST(OnlineIdentifier, ReproducesTheOfflineTrainerBitForBit) {
   const Series train = testing::NarendraTrain(1500);
@@ -93,29 +85,6 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
       LearnOnline(Empty(fuzzy::ConsequentKind::kLinear, train), refit, train, empty.scaling());
   EXPECT_EQ(replay.model.ToJson().dump(), online.model().ToJson().dump());
   EXPECT_EQ(replay.refits, 2);
-}
-
-TEST(OnlineIdentifier, RefitsLearnFarBetterThanThePerSampleLearnerAlone) {
-  const Series train = testing::NarendraTrain(1500);
-  const Series validate = testing::NarendraValidate(500);
-  RefitSchedule refit;
-  refit.first = 250;
-  refit.every = 500;
-  refit.buffer = 1000;  // the last 1000 samples only
-  refit.at_freeze = false;
-  OnlineIdentifier plain(Empty(fuzzy::ConsequentKind::kLinear, train));
-  OnlineIdentifier refitted(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
-  for (Eigen::Index k = 0; k < train.samples(); ++k) {
-    plain.Push(Row(train, k));
-    refitted.Push(Row(train, k));
-  }
-  refitted.Freeze();  // the refit in flight (begun at 1000) closes; no closing refit of its own
-  refitted.Settle();
-  const double with = refitted.model().Ndei(validate, true);
-  EXPECT_EQ(refitted.refits(), 3);  // begun at 250, 500 and 1000
-  const double without = plain.model().Ndei(validate, true);
-  std::printf("validation free-run NDEI %.4f with refits, %.4f without\n", with, without);
-  EXPECT_LT(with, 0.5 * without);
 }
 
 // At steady state, once a selection has seen a full buffer, a refit trains with the settings it

@@ -22,9 +22,9 @@ SeriesOptions Options(const std::string& time = "", int max_gap = 2) {
 }
 
 TEST(SeriesFromTable, BridgesShortRunsLinearlyAndCutsLongOnes) {
-  const auto table = io::CsvTable::Parse(
-      "u,y\n0,0\n1,\n2,nan\n3,3\n4,4\nnan,5\nnan,6\nnan,7\n8,8\n9,9\n10,10\n", "t.csv",
-      io::MissingCells::kKeepAsNaN);
+  const auto table =
+      io::CsvTable::Parse("u,y\n0,0\n1,\n2,nan\n3,3\n4,4\nnan,5\nnan,6\nnan,7\n8,8\n9,9\n10,10\n",
+                          "t.csv", io::MissingCells::kKeepAsNaN);
   SeriesReport r;
   const Series s = SeriesFromTable(table, Options(), &r);
   // Rows 1-2 of y bridged (run of 2); rows 5-7 of u (run of 3 > 2) cut.
