@@ -237,11 +237,11 @@ SelectionResult SelectModel(
                                               : c.holdout_ahead_ndei;
     if (!std::isfinite(c.score)) c.score = std::numeric_limits<double>::infinity();
   };
-  // A fuzzy candidate trained for up to max_epochs on the fit slice, scored on the hold-out.
-  auto train_and_score = [&](Candidate& c) {
+  // A fuzzy candidate trained for up to `epochs` on the fit slice, scored on the hold-out.
+  auto train_and_score = [&](Candidate& c, int epochs) {
     TrainReport report;
     NarxModel model = TrainCandidate(spec, base, train_options, options, c, fit, &holdout,
-                                     result.criterion_horizon, options.max_epochs, &report);
+                                     result.criterion_horizon, epochs, &report);
     c.epochs = report.kept_epoch;
     score_candidate(c, model);
     // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
@@ -293,7 +293,7 @@ SelectionResult SelectModel(
       c.threshold = h;
       c.kappa = sw.kappa;
       c.deviation_ridge = train_options.deviation_ridge;
-      NarxModel model = train_and_score(c);
+      NarxModel model = train_and_score(c, options.max_epochs);
       capped = c.at_cap;
       sw.models.push_back(std::move(model));
       sw.candidates.push_back(c);
@@ -331,8 +331,10 @@ SelectionResult SelectModel(
         variants.push_back(c);
       }
     std::vector<std::optional<NarxModel>> trained(variants.size());
-    ParallelFor(variants.size(), ResolveThreads(options.threads),
-                [&](std::size_t i) { trained[i].emplace(train_and_score(variants[i])); });
+    ParallelFor(variants.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+      // No more epochs than its unshrunk setting kept: the ridge damps, it does not need longer.
+      trained[i].emplace(train_and_score(variants[i], std::max(1, variants[i].epochs)));
+    });
     for (std::size_t i = 0; i < variants.size(); ++i) {
       cs.push_back(variants[i]);
       models.push_back(std::move(*trained[i]));

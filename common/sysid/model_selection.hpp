@@ -49,11 +49,12 @@ struct SelectionOptions {
   int simulation_shortlist = 3;
   /// Shrinkage toward the global linear model (TrainOptions::deviation_ridge): the
   /// `ridge_shortlist` best fuzzy candidates with linear consequents are trained again with each
-  /// of these ridges, each a candidate of its own, so the hold-out (and the cross-validation)
+  /// of these ridges (for no more epochs than they kept unshrunk), each a candidate of its own,
+  /// so the hold-out (and the cross-validation)
   /// chooses how far a noisy record's rules may leave ARX. Empty: every candidate trains with
   /// the training options' ridge (given on the command line).
   std::vector<double> deviation_ridges = {0.01, 0.1, 1.0};
-  int ridge_shortlist = 2;
+  int ridge_shortlist = 1;
   /// Threads for the independent trainings (the (consequent, κ) sweeps, the short list, the
   /// folds); 0: every core. The result does not depend on it, bit for bit.
   unsigned threads = 0;
