@@ -50,9 +50,9 @@ struct SelectionOptions {
   /// Shrinkage toward the global linear model (TrainOptions::deviation_ridge): the
   /// `ridge_shortlist` best fuzzy candidates with linear consequents are trained again with each
   /// of these ridges (for no more epochs than they kept unshrunk), each a candidate of its own,
-  /// so the hold-out (and the cross-validation)
-  /// chooses how far a noisy record's rules may leave ARX. Empty: every candidate trains with
-  /// the training options' ridge (given on the command line).
+  /// so the hold-out (and the cross-validation) chooses how far a noisy record's rules may leave
+  /// ARX. Empty: every candidate trains with the training options' ridge (given on the command
+  /// line).
   std::vector<double> deviation_ridges = {0.01, 0.1, 1.0};
   int ridge_shortlist = 1;
   /// Threads for the independent trainings (the (consequent, κ) sweeps, the short list, the

@@ -166,9 +166,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       // on a short noisy record it fits their noise. It goes before the solve.
       if (mode == fuzzy::LearnMode::kGrowAndTune) {
         report.rules_grown = total_rules();
-        if (options.min_rule_support > 0.0)
-          for (auto& m : models_)
-            report.rules_unsupported += m.PruneUnsupported(xs, options.min_rule_support);
+        for (auto& m : models_) m.PruneUnsupported(xs, options.min_rule_support);
       }
       for (int o = 0; o < outputs(); ++o)
         models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge,

@@ -90,11 +90,10 @@ struct EpochRecord {
 struct TrainReport {
   std::vector<EpochRecord> epochs;
   int kept_epoch = 0;  ///< the epoch whose parameters the model holds (1-based)
-  /// Rules the growing pass created (over outputs), and how many of them the data could not
-  /// support (TrainOptions::min_rule_support): a candidate that grew to the cap reached it, even
-  /// if pruning then took it below.
+  /// Rules the growing pass created (over outputs), before the unsupported ones were removed
+  /// (TrainOptions::min_rule_support): a candidate that grew to the cap reached it, even if
+  /// pruning then took it below.
   int rules_grown = 0;
-  int rules_unsupported = 0;
   /// The simulation-error schedule that reproduces the kept parameters without a hold-out.
   std::vector<SimulationStage> simulation;
 };

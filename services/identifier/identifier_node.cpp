@@ -197,18 +197,13 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
     refits_reported_ = core_.refits() + core_.failed_refits();
     // Frozen, it is the refit that closed learning, noticed at the next sample scored (its own
     // landing count is the last sample learned).
-    if (core_.learning())
-      std::fprintf(stderr, "%s: refit %lld landed at sample %lld: %d rules (%lld failed)\n",
-                   config_.instance.c_str(), static_cast<long long>(core_.refits()),
-                   static_cast<long long>(sample.index), core_.model().total_rules(),
-                   static_cast<long long>(core_.failed_refits()));
-    else
-      std::fprintf(stderr,
-                   "%s: refit %lld (the one that closed learning, after %lld samples learned) "
-                   "landed: %d rules (%lld failed)\n",
-                   config_.instance.c_str(), static_cast<long long>(core_.refits()),
-                   static_cast<long long>(core_.samples_learned()), core_.model().total_rules(),
-                   static_cast<long long>(core_.failed_refits()));
+    const std::string when = core_.learning() ? "landed at sample " + std::to_string(sample.index)
+                                              : "(the one that closed learning, after " +
+                                                    std::to_string(core_.samples_learned()) +
+                                                    " samples learned) landed";
+    std::fprintf(stderr, "%s: refit %lld %s: %d rules (%lld failed)\n", config_.instance.c_str(),
+                 static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
+                 static_cast<long long>(core_.failed_refits()));
   }
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,
