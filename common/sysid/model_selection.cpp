@@ -129,10 +129,11 @@ double Score(const NarxModel& model, const Series& s, int horizon) {
 
 // Blocked cross-validation of the chosen fuzzy setting against the linear model: fold k is
 // scored after training on the rest of `train`, the seam a break.
+// `linear_folds`, when given, are the linear model's fold scores from an earlier check.
 LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
                           const TrainOptions& train_options, const SelectionOptions& options,
                           const Candidate& fuzzy_c, const Candidate& linear_c, const Series& train,
-                          int horizon) {
+                          int horizon, const std::vector<double>* linear_folds = nullptr) {
   LinearCheck check;
   const Eigen::Index n = train.samples();
   const int k = options.linear_check_folds;
@@ -147,18 +148,22 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
     if (TargetRows(spec, folds.back()).size() < 2 || TargetRows(spec, rests.back()).size() < 2)
       return check;
   }
-  std::vector<double> scores(2 * static_cast<std::size_t>(k));
+  const bool linear_known =
+      linear_folds != nullptr && linear_folds->size() == static_cast<std::size_t>(k);
+  const std::size_t per_fold = linear_known ? 1 : 2;
+  std::vector<double> scores(per_fold * static_cast<std::size_t>(k));
   ParallelFor(scores.size(), ResolveThreads(options.threads), [&](std::size_t i) {
-    const std::size_t f = i / 2;
-    const bool fuzzy = i % 2 == 0;
+    const std::size_t f = i / per_fold;
+    const bool fuzzy = i % per_fold == 0;
     const Candidate& c = fuzzy ? fuzzy_c : linear_c;
     const NarxModel m = TrainCandidate(spec, base, train_options, options, c, rests[f], nullptr,
                                        horizon, fuzzy ? std::max(1, c.epochs) : 1, nullptr, true);
     scores[i] = Score(m, folds[f], horizon);
   });
   for (int f = 0; f < k; ++f) {
-    check.fuzzy_folds.push_back(scores[2 * static_cast<std::size_t>(f)]);
-    check.linear_folds.push_back(scores[2 * static_cast<std::size_t>(f) + 1]);
+    check.fuzzy_folds.push_back(scores[per_fold * static_cast<std::size_t>(f)]);
+    check.linear_folds.push_back(linear_known ? (*linear_folds)[static_cast<std::size_t>(f)]
+                                              : scores[per_fold * static_cast<std::size_t>(f) + 1]);
   }
   auto mean = [](const std::vector<double>& v) {
     double sum = 0;
@@ -404,18 +409,54 @@ SelectionResult SelectModel(
 
   if (linear_index && result.chosen != *linear_index && selection == nullptr &&
       options.linear_check_folds >= 2 && std::isfinite(cs[result.chosen].score)) {
-    result.linear_check = CrossValidate(spec, base, train_options, options, cs[result.chosen],
-                                        cs[*linear_index], train, result.criterion_horizon);
-    if (result.linear_check.done && result.linear_check.linear_chosen) {
+    // The chosen candidate first, then the others by hold-out score, until one beats ARX.
+    std::vector<std::size_t> order{result.chosen};
+    for (std::size_t k = 0; k < cs.size(); ++k)
+      if (k != result.chosen && k != *linear_index && std::isfinite(cs[k].score))
+        order.push_back(k);
+    std::stable_sort(order.begin() + 1, order.end(),
+                     [&](std::size_t a, std::size_t b) { return cs[a].score < cs[b].score; });
+    order.resize(std::min(order.size(),
+                          static_cast<std::size_t>(std::max(1, options.linear_check_candidates))));
+    std::optional<std::size_t> winner;
+    for (const std::size_t k : order) {
+      LinearCheck check = CrossValidate(
+          spec, base, train_options, options, cs[k], cs[*linear_index], train,
+          result.criterion_horizon,
+          result.linear_checks.empty() ? nullptr : &result.linear_checks.front().linear_folds);
+      if (!check.done) break;  // too short to fold: the hold-out alone decides
+      check.candidate = k;
+      result.linear_checks.push_back(check);
+      if (!check.linear_chosen) {
+        winner = k;
+        break;
+      }
+    }
+    if (!result.linear_checks.empty()) {
+      const LinearCheck& first = result.linear_checks.front();
+      result.linear_check = winner ? result.linear_checks.back() : first;
       std::ostringstream w;
-      w << "the fuzzy model (" << cs[result.chosen].rules
-        << " rules) did not beat the linear one in " << options.linear_check_folds
-        << "-fold blocked cross-validation (NDEI " << result.linear_check.fuzzy_score << " vs "
-        << result.linear_check.linear_score << "): the linear model (ARX) is chosen";
-      result.warnings.push_back(w.str());
-      result.chosen = *linear_index;
+      if (!winner) {
+        w << "the fuzzy model (" << cs[first.candidate].rules << " rules)";
+        if (result.linear_checks.size() > 1)
+          w << " and the next " << result.linear_checks.size() - 1 << " by hold-out score";
+        w << " did not beat the linear one in " << options.linear_check_folds
+          << "-fold blocked cross-validation (NDEI " << first.fuzzy_score << " vs "
+          << first.linear_score << "): the linear model (ARX) is chosen";
+        result.warnings.push_back(w.str());
+        result.chosen = *linear_index;
+      } else if (*winner != result.chosen) {
+        w << "the chosen fuzzy model (" << cs[result.chosen].rules << " rules) lost the "
+          << options.linear_check_folds << "-fold blocked cross-validation to the linear one (NDEI "
+          << first.fuzzy_score << " vs " << first.linear_score << "); the next by hold-out score, "
+          << cs[*winner].rules << " rules, won it (" << result.linear_check.fuzzy_score
+          << ") and is chosen";
+        result.warnings.push_back(w.str());
+        result.chosen = *winner;
+      }
     }
   }
+  if (result.chosen < models.size()) result.chosen_model = models[result.chosen];
 
   const Candidate& c = cs[result.chosen];
   std::ostringstream w;

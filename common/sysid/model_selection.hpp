@@ -41,6 +41,12 @@ struct SelectionOptions {
   /// by the criterion after training on the others: one tail slice is too few samples to trust
   /// on a short or drifting record (docs/identifier.md §9). < 2: no cross-validation.
   int linear_check_folds = 4;
+  /// How many fuzzy candidates may face that cross-validation: the chosen one, then, while each
+  /// loses, the next by hold-out score. One hold-out slice ranks candidates whose free runs are
+  /// fragile (the Silverbox's: three folds 4–6× better than ARX, the fourth diverged) no better
+  /// than it ranks a stable one a little behind them. Each beats ARX by the same margin or none is
+  /// kept.
+  int linear_check_candidates = 3;
   /// Simulation-error training (simulation_error_training.hpp) of the short list — the linear
   /// model and the `simulation_shortlist` best fuzzy candidates — after their one-step training,
   /// the hold-out keeping the best step; then they are scored again. Free-run criterion only;
@@ -91,6 +97,7 @@ struct Candidate {
 /// The blocked cross-validation between the chosen fuzzy setting and the linear model.
 struct LinearCheck {
   bool done = false;
+  std::size_t candidate = 0;                      ///< the fuzzy candidate checked (its index)
   std::vector<double> fuzzy_folds, linear_folds;  ///< each fold's score (criterion NDEI)
   double fuzzy_score = 0.0, linear_score = 0.0;   ///< their means (+∞ if one diverged)
   bool linear_chosen = false;                     ///< the fuzzy model did not beat it
@@ -105,7 +112,12 @@ struct SelectionResult {
   Eigen::Index fit_samples = 0;
   Eigen::Index holdout_samples = 0;
   std::vector<std::string> warnings;  ///< the search's edge, the rule cap, the epoch limit
-  LinearCheck linear_check;
+  LinearCheck linear_check;  ///< the check that decided: the winner's, or else the first one's
+  /// Every check in the order made (the fuzzy candidates that lost, then the winner if any).
+  std::vector<LinearCheck> linear_checks;
+  /// The chosen candidate's own model, as the hold-out judged it (trained on the fit slice): the
+  /// fallback when the same setting trained on every row is not the same dynamical system.
+  std::optional<NarxModel> chosen_model;
 };
 
 /// Novelty radius r (distance from the nearest rule, in its widths, per input) → H̄ with the

@@ -376,21 +376,28 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           {"best_index", sel.best},
           {"chosen_index", sel.chosen}};
       if (sel.linear_check.done) {
-        const auto& lc = sel.linear_check;
         auto nums = [](const std::vector<double>& v) {
           nlohmann::json a = nlohmann::json::array();
           for (const double x : v) a.push_back(std::isfinite(x) ? nlohmann::json(x) : nullptr);
           return a;
         };
-        report["selection"]["linear_check"] = {
-            {"folds", lc.fuzzy_folds.size()},
-            {"fuzzy_ndei",
-             std::isfinite(lc.fuzzy_score) ? nlohmann::json(lc.fuzzy_score) : nullptr},
-            {"linear_ndei",
-             std::isfinite(lc.linear_score) ? nlohmann::json(lc.linear_score) : nullptr},
-            {"fuzzy_folds", nums(lc.fuzzy_folds)},
-            {"linear_folds", nums(lc.linear_folds)},
-            {"linear_chosen", lc.linear_chosen}};
+        auto check = [&](const sysid::LinearCheck& lc) {
+          return nlohmann::json{
+              {"candidate_index", lc.candidate},
+              {"folds", lc.fuzzy_folds.size()},
+              {"fuzzy_ndei",
+               std::isfinite(lc.fuzzy_score) ? nlohmann::json(lc.fuzzy_score) : nullptr},
+              {"linear_ndei",
+               std::isfinite(lc.linear_score) ? nlohmann::json(lc.linear_score) : nullptr},
+              {"fuzzy_folds", nums(lc.fuzzy_folds)},
+              {"linear_folds", nums(lc.linear_folds)},
+              {"linear_chosen", lc.linear_chosen}};
+        };
+        // The one that decided, and every check made (the candidates that lost first).
+        report["selection"]["linear_check"] = check(sel.linear_check);
+        nlohmann::json all = nlohmann::json::array();
+        for (const auto& lc : sel.linear_checks) all.push_back(check(lc));
+        report["selection"]["linear_checks"] = all;
       }
       for (const auto& w : sel.warnings) warnings.push_back(w);
     }
@@ -604,12 +611,26 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       ++k;
     }
     if (sel.contains("linear_check")) {
-      const auto& lc = sel["linear_check"];
-      std::snprintf(line, sizeof line,
-                    "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g, ARX %.4g: %s\n",
-                    lc["folds"].get<int>(), num(lc["fuzzy_ndei"]), num(lc["linear_ndei"]),
-                    lc["linear_chosen"].get<bool>() ? "ARX kept" : "fuzzy kept");
-      out << line;
+      const nlohmann::json checks = sel.contains("linear_checks")
+                                        ? sel["linear_checks"]
+                                        : nlohmann::json::array({sel["linear_check"]});
+      for (const auto& lc : checks) {
+        const bool lost = lc["linear_chosen"].get<bool>();
+        const bool last = &lc == &checks.back();
+        std::snprintf(
+            line, sizeof line,
+            "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g (%d rules), ARX %.4g: "
+            "%s\n",
+            lc["folds"].get<int>(), num(lc["fuzzy_ndei"]),
+            lc.contains("candidate_index")
+                ? sel["candidates"][lc["candidate_index"].get<std::size_t>()].value("rules", 0)
+                : 0,
+            num(lc["linear_ndei"]),
+            !lost  ? "fuzzy kept"
+            : last ? "ARX kept"
+                   : "lost, the next by hold-out is tried");
+        out << line;
+      }
     }
   }
   auto row = [&](const char* data, const char* model, const nlohmann::json& block) {

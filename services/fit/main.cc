@@ -156,6 +156,11 @@ int main(int argc, char** argv) {
                  "or 1: the hold-out alone decides")
       ->capture_default_str()
       ->check(CLI::Range(0, 50));
+  app.add_option("--cv-candidates", o.selection.linear_check_candidates,
+                 "fuzzy candidates that may face that cross-validation: the chosen one, then, "
+                 "while each loses, the next by hold-out score (the first that wins is chosen)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
   app.add_option("--horizon", o.horizon,
                  "K: also score K steps ahead (each prediction a free run from the measured "
                  "outputs K samples before), and choose by it: for loops that integrate (rates, "

@@ -170,6 +170,57 @@ TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
   EXPECT_EQ(c.rules, 1);
   const fuzzy::FuzzyModelConfig cfg = CandidateConfig(fuzzy::FuzzyModelConfig{}, c);
   EXPECT_EQ(cfg.entropy.max_rules, 1);
+  ASSERT_TRUE(r.chosen_model.has_value()) << "the fallback model is the one chosen: ARX";
+  EXPECT_EQ(r.chosen_model->total_rules(), 1);
+}
+
+// A linear plant under noise: where a fuzzy candidate wins the hold-out by chance, it loses the
+// folds, and so do the next ones by hold-out score, each against the same linear folds; ARX is
+// chosen. With one candidate allowed, the hold-out's choice alone faces them.
+TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
+  // 400 samples, noise a third of the output's deviation: seed 1 is such a chance.
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(400, 1);
+  s.outputs.resize(400, 1);
+  double y = 0, u = 0;
+  for (int k = 0; k < 400; ++k) {
+    if (k % 8 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = y + noise(rng);
+    y = 0.8 * y + 0.3 * u;
+  }
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  EXPECT_TRUE(r.candidates[r.chosen].linear);
+  ASSERT_EQ(r.linear_checks.size(), static_cast<std::size_t>(o.linear_check_candidates));
+  for (std::size_t i = 0; i < r.linear_checks.size(); ++i) {
+    const LinearCheck& lc = r.linear_checks[i];
+    EXPECT_TRUE(lc.done && lc.linear_chosen) << "check " << i;
+    EXPECT_FALSE(r.candidates[lc.candidate].linear);
+    EXPECT_EQ(lc.linear_folds, r.linear_checks.front().linear_folds);
+    for (std::size_t j = 0; j < i; ++j) EXPECT_NE(lc.candidate, r.linear_checks[j].candidate);
+    if (i >= 2) {
+      EXPECT_GE(r.candidates[lc.candidate].score,
+                r.candidates[r.linear_checks[i - 1].candidate].score);
+    }
+  }
+  EXPECT_EQ(r.linear_check.candidate, r.linear_checks.front().candidate);
+  ASSERT_TRUE(r.chosen_model.has_value());
+  EXPECT_EQ(r.chosen_model->total_rules(), 1);
+
+  o.linear_check_candidates = 1;
+  const SelectionResult one =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  ASSERT_EQ(one.linear_checks.size(), 1u);
+  EXPECT_EQ(one.linear_checks.front().candidate, r.linear_checks.front().candidate);
+  EXPECT_TRUE(one.candidates[one.chosen].linear);
 }
 
 // Narendra's plant is far from linear: the fuzzy model wins the hold-out and the blocked
@@ -184,10 +235,20 @@ TEST(ModelSelection, ANonlinearPlantKeepsItsFuzzyModelThroughCrossValidation) {
                                         TrainOptions{}, testing::NarendraTrain(1500), o);
   EXPECT_FALSE(r.candidates[r.chosen].linear);
   ASSERT_TRUE(r.linear_check.done);
+  ASSERT_EQ(r.linear_checks.size(), 1u) << "the hold-out's choice won: no other is checked";
+  EXPECT_EQ(r.linear_check.candidate, r.chosen);
   ASSERT_EQ(r.linear_check.fuzzy_folds.size(), 4u);
   EXPECT_FALSE(r.linear_check.linear_chosen);
   for (std::size_t f = 0; f < 4; ++f)
     EXPECT_LT(r.linear_check.fuzzy_folds[f], r.linear_check.linear_folds[f]) << "fold " << f;
+  // The model kept beside the choice is the one the hold-out judged, bit for bit: FitOffline
+  // falls back on it when the setting trained on every row runs away at rest.
+  const Candidate& c = r.candidates[r.chosen];
+  ASSERT_TRUE(r.chosen_model.has_value());
+  EXPECT_EQ(r.chosen_model->total_rules(), c.rules);
+  const Series train = testing::NarendraTrain(1500);
+  const Series holdout = SliceSeries(train, r.fit_samples, r.holdout_samples);
+  EXPECT_EQ(r.chosen_model->Ndei(holdout, true), c.score);
 }
 
 // The sweeps, the short list, the rest checks and the folds train on several threads; what they
