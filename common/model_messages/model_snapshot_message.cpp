@@ -1,5 +1,6 @@
 #include "model_messages/model_snapshot_message.hpp"
 
+#include <limits>
 #include <stdexcept>
 
 #include "sysid/narx_model_state.hpp"
@@ -138,6 +139,13 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
   m.num_regressors = static_cast<int32_t>(m.regressor_mid.size());
   m.output_mean = ToVector(s.scaling.output_mean);
   m.output_std = ToVector(s.scaling.output_std);
+  const auto no = static_cast<Eigen::Index>(m.outputs.size());
+  m.output_lower = ToVector(
+      s.limits.any() ? s.limits.lower
+                     : Eigen::VectorXd::Constant(no, -std::numeric_limits<double>::infinity()));
+  m.output_upper = ToVector(
+      s.limits.any() ? s.limits.upper
+                     : Eigen::VectorXd::Constant(no, std::numeric_limits<double>::infinity()));
   for (std::size_t o = 0; o < s.models.size(); ++o)
     m.models.push_back(ToRules(m.outputs[o], s.models[o]));
   return m;
@@ -154,6 +162,8 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   s.scaling.regressor_half = FromVector(m.regressor_half);
   s.scaling.output_mean = FromVector(m.output_mean);
   s.scaling.output_std = FromVector(m.output_std);
+  s.limits.lower = FromVector(m.output_lower);
+  s.limits.upper = FromVector(m.output_upper);
   for (const auto& f : m.models) s.models.push_back(FromRules(f));
   return sysid::NarxModel::FromState(s);
 }

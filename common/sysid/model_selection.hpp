@@ -115,6 +115,11 @@ struct SelectionResult {
   LinearCheck linear_check;  ///< the check that decided: the winner's, or else the first one's
   /// Every check in the order made (the fuzzy candidates that lost, then the winner if any).
   std::vector<LinearCheck> linear_checks;
+  /// Free-run criterion: the linear model's output-error fit (Levenberg–Marquardt, "fuzzy" in
+  /// the check) against its one-step one (iRprop− from least squares, "linear") over the same
+  /// folds; the output-error fit is kept when it wins (output_error_linear).
+  LinearCheck output_error_check;
+  bool output_error_linear = false;
   /// The chosen candidate's own model, as the hold-out judged it (trained on the fit slice): the
   /// fallback when the same setting trained on every row is not the same dynamical system.
   std::optional<NarxModel> chosen_model;

@@ -97,6 +97,7 @@ double NarxModel::NdeiAhead(const Series& series, int horizon) const {
 TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   const RegressionData d = BuildRegression(spec_, train);
   if (options.fit_scaling) scaling_ = Scaling::FromData(d.x, d.y);
+  if (options.detect_output_limits) limits_ = OutputLimits::Detect(train.outputs);
   const Eigen::Index rows = d.x.rows();
   Eigen::MatrixXd xs(rows, d.x.cols());
   Eigen::MatrixXd ys(rows, d.y.cols());
@@ -247,9 +248,16 @@ Eigen::VectorXd NarxModel::Predict(const Eigen::VectorXd& regressor) const {
   const Eigen::VectorXd x = scaling_.ScaleRegressor(regressor);
   Eigen::VectorXd y(outputs());
   for (int o = 0; o < outputs(); ++o) {
-    y(o) = scaling_.UnscaleOutput(o, models_[static_cast<std::size_t>(o)].Predict(x));
+    y(o) = limits_.Apply(
+        o, scaling_.UnscaleOutput(o, models_[static_cast<std::size_t>(o)].Predict(x)));
   }
   return y;
+}
+
+void NarxModel::SetLimits(const OutputLimits& limits) {
+  const std::string p = limits.Problems(outputs());
+  if (!p.empty()) throw std::invalid_argument(p);
+  limits_ = limits.any() ? limits : OutputLimits{};
 }
 
 int NarxModel::total_rules() const {
@@ -262,6 +270,7 @@ NarxModelState NarxModel::State() const {
   NarxModelState s;
   s.spec = spec_;
   s.scaling = scaling_;
+  s.limits = limits_;
   for (const auto& m : models_) s.models.push_back(m.State());
   return s;
 }
@@ -282,6 +291,7 @@ NarxModel NarxModel::FromState(const NarxModelState& s) {
       narx.models_.push_back(fuzzy::FuzzyModel::FromState(m));
     }
     narx.SetScaling(s.scaling);
+    narx.SetLimits(s.limits);
     return narx;
   } catch (const std::invalid_argument& ex) {
     throw std::runtime_error(ex.what());
@@ -298,6 +308,7 @@ nlohmann::json NarxModel::ToJson() const {
                     {"outputs", spec_.outputs},
                     {"inputs", spec_.inputs}};
   j["scaling"] = scaling_.ToJson();
+  if (limits_.any()) j["output_limits"] = limits_.ToJson();
   nlohmann::json models = nlohmann::json::array();
   for (const auto& m : models_) models.push_back(m.ToJson());
   j["models"] = models;
@@ -326,6 +337,9 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
     }
     for (const auto& m : models) s.models.push_back(fuzzy::FuzzyModel::StateFromJson(m));
     s.scaling = Scaling::FromJson(j.at("scaling"));
+    if (j.contains("output_limits"))
+      s.limits =
+          OutputLimits::FromJson(j.at("output_limits"), static_cast<int>(s.spec.outputs.size()));
     return FromState(s);
   } catch (const nlohmann::json::exception& ex) {
     throw std::runtime_error(ex.what());

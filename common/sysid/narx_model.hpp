@@ -12,6 +12,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/output_limits.hpp"
 #include "sysid/regressor_spec.hpp"
 #include "sysid/scaling.hpp"
 
@@ -20,9 +21,14 @@ namespace odonata::sysid {
 /// One stage of simulation-error training (simulation_error_training.hpp).
 struct SimulationStage {
   int horizon = 20;  ///< samples per shooting window
-  int steps = 30;    ///< iRprop− steps at most
+  int steps = 30;    ///< iRprop− steps at most (Levenberg–Marquardt iterations with the flag)
+  /// Levenberg–Marquardt on the consequents alone (premises fixed), through the forward
+  /// sensitivities of the recursion, instead of iRprop− on every parameter: for the linear
+  /// model, whose few parameters it takes to the output-error optimum in a few iterations
+  /// (docs/identifier.md §12).
+  bool gauss_newton = false;
   bool operator==(const SimulationStage& o) const {
-    return horizon == o.horizon && steps == o.steps;
+    return horizon == o.horizon && steps == o.steps && gauss_newton == o.gauss_newton;
   }
 };
 
@@ -46,6 +52,9 @@ struct TrainOptions {
   /// summed over the training rows) is below this many times its consequent's parameter count is
   /// removed (FuzzyModel::PruneUnsupported): the solve cannot determine it; 0: none.
   double min_rule_support = 1.0;
+  /// Find the outputs' saturation limits in the training data and hold every prediction to them
+  /// (OutputLimits; the last training's data decides). False keeps the limits the model has.
+  bool detect_output_limits = true;
   /// Derive the scaling from the training data (offline default). False keeps the scaling set
   /// by SetScaling(), as the online identifier must: then offline and online agree bit for bit.
   bool fit_scaling = true;
@@ -130,6 +139,10 @@ class NarxModel {
 
   const RegressorSpec& spec() const { return spec_; }
   const Scaling& scaling() const { return scaling_; }
+  /// Saturation limits every prediction is held to (empty: none).
+  const OutputLimits& limits() const { return limits_; }
+  /// @throws std::invalid_argument when they do not fit the outputs.
+  void SetLimits(const OutputLimits& limits);
   const fuzzy::FuzzyModel& model(int output) const {
     return models_.at(static_cast<std::size_t>(output));
   }
@@ -155,6 +168,7 @@ class NarxModel {
  private:
   RegressorSpec spec_;
   Scaling scaling_;
+  OutputLimits limits_;
   std::vector<fuzzy::FuzzyModel> models_;
 };
 

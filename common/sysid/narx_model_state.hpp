@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fuzzy/fuzzy_model_state.hpp"
+#include "sysid/output_limits.hpp"
 #include "sysid/regressor_spec.hpp"
 #include "sysid/scaling.hpp"
 
@@ -14,6 +15,7 @@ namespace odonata::sysid {
 struct NarxModelState {
   RegressorSpec spec;
   Scaling scaling;
+  OutputLimits limits;                         ///< empty: none
   std::vector<fuzzy::FuzzyModelState> models;  ///< one per output, in spec.outputs order
 };
 

@@ -1,8 +1,11 @@
 #include "sysid/simulation_error_training.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include <Eigen/Cholesky>
 
 #include "sysid/rprop.hpp"
 
@@ -68,6 +71,8 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
                                     Eigen::MatrixXd(n, static_cast<Eigen::Index>(longest)));
   Eigen::MatrixXd err(no, static_cast<Eigen::Index>(longest));
   Eigen::MatrixXd delta(no, static_cast<Eigen::Index>(longest));
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> held(no, static_cast<Eigen::Index>(longest));
+  const OutputLimits& limits = model.limits();
   for (const auto& [b, e] : windows) {
     const auto len = static_cast<Eigen::Index>(e - b);
     bool diverged = false;
@@ -79,9 +84,13 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
         const double ys = model.model(o).PredictWithInputGradient(
             xs.col(s), dydx[static_cast<std::size_t>(o)].col(s));
         const double target = sc.ScaleOutput(o, series.outputs(t, o));
-        err(o, s) = ys - target;
         if (!std::isfinite(ys) || std::abs(ys) > kDiverged) diverged = true;
-        simulated(t, o) = sc.UnscaleOutput(o, ys);
+        // Held at a saturation limit, the output no longer moves with the parameters: nothing
+        // flows back through it, to them or to earlier steps.
+        const double raw_y = sc.UnscaleOutput(o, ys);
+        held(o, s) = limits.Holds(o, raw_y);
+        simulated(t, o) = limits.Apply(o, raw_y);
+        err(o, s) = (held(o, s) ? sc.ScaleOutput(o, simulated(t, o)) : ys) - target;
       }
       if (diverged) break;
     }
@@ -103,7 +112,7 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
             d += delta(p, s + k) * dydx[static_cast<std::size_t>(p)](lag_index, s + k) *
                  chain(o, k - 1);
         }
-        delta(o, s) = d;
+        delta(o, s) = held(o, s) ? 0.0 : d;
       }
       for (int o = 0; o < no; ++o) {
         model.model(o).AccumulateOutputGradient(
@@ -115,6 +124,115 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
   }
   return loss;
 }
+
+double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
+                                 Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
+  const RegressorSpec& spec = model.spec();
+  if (spec.output_lags < 1) throw std::invalid_argument("simulation error needs output lags");
+  if (horizon < 1) throw std::invalid_argument("simulation horizon must be >= 1");
+  const Scaling& sc = model.scaling();
+  const OutputLimits& limits = model.limits();
+  const int no = model.outputs();
+  const int n = spec.size();
+  const int lags = spec.output_lags;
+  std::vector<Eigen::Index> offset(static_cast<std::size_t>(no) + 1, 0);
+  for (int o = 0; o < no; ++o)
+    offset[static_cast<std::size_t>(o) + 1] =
+        offset[static_cast<std::size_t>(o)] + model.model(o).consequent().Parameters().size();
+  const Eigen::Index np = offset.back();
+  jtj = Eigen::MatrixXd::Zero(np, np);
+  jte = Eigen::VectorXd::Zero(np);
+  Eigen::MatrixXd chain(no, lags);
+  for (int o = 0; o < no; ++o)
+    for (int k = 0; k < lags; ++k) chain(o, k) = sc.output_std(o) / sc.regressor_half(o * lags + k);
+  const auto targets = TargetRows(spec, series);
+  const auto windows = Windows(targets, horizon);
+  std::size_t longest = 0;
+  for (const auto& [b, e] : windows) longest = std::max(longest, e - b);
+  // sens[s] = ∂ŷ(step s)/∂θ, outputs × parameters, scaled units.
+  std::vector<Eigen::MatrixXd> sens(longest, Eigen::MatrixXd(no, np));
+  Eigen::MatrixXd simulated = series.outputs;
+  Eigen::VectorXd raw(n), xs(n), dydx(n);
+  std::vector<Eigen::ArrayXXd> gc, gs;  // premise gradients the kernel also writes; unused
+  for (int o = 0; o < no; ++o) {
+    gc.push_back(Eigen::ArrayXXd::Zero(model.model(o).rules(), n));
+    gs.push_back(gc.back());
+  }
+  double loss = 0.0;
+  for (const auto& [b, e] : windows) {
+    const auto len = static_cast<Eigen::Index>(e - b);
+    bool diverged = false;
+    for (Eigen::Index s = 0; s < len && !diverged; ++s) {
+      const Eigen::Index t = targets[b + static_cast<std::size_t>(s)];
+      spec.Fill(t, simulated, series.inputs, raw);
+      xs = sc.ScaleRegressor(raw);
+      Eigen::MatrixXd& S = sens[static_cast<std::size_t>(s)];
+      S.setZero();
+      for (int o = 0; o < no; ++o) {
+        const auto& m = model.model(o);
+        const double ys = m.PredictWithInputGradient(xs, dydx);
+        if (!std::isfinite(ys) || std::abs(ys) > kDiverged) {
+          diverged = true;
+          break;
+        }
+        const double raw_y = sc.UnscaleOutput(o, ys);
+        const double target = sc.ScaleOutput(o, series.outputs(t, o));
+        simulated(t, o) = limits.Apply(o, raw_y);
+        const double e_o = sc.ScaleOutput(o, simulated(t, o)) - target;
+        loss += e_o * e_o;
+        if (limits.Holds(o, raw_y)) continue;  // held: no sensitivity
+        const auto k_o = static_cast<std::size_t>(o);
+        Eigen::VectorXd direct = Eigen::VectorXd::Zero(offset[k_o + 1] - offset[k_o]);
+        m.AccumulateOutputGradient(xs, 1.0, &gc[k_o], &gs[k_o], &direct);
+        S.row(o).segment(offset[k_o], direct.size()) = direct.transpose();
+        for (int k = 1; k <= lags && s - k >= 0; ++k)
+          for (int p = 0; p < no; ++p)
+            S.row(o) += dydx(p * lags + (k - 1)) * chain(p, k - 1) *
+                        sens[static_cast<std::size_t>(s - k)].row(p);
+        jtj.selfadjointView<Eigen::Lower>().rankUpdate(S.row(o).transpose());
+        jte += S.row(o).transpose() * e_o;
+      }
+    }
+    for (Eigen::Index s = 0; s < len; ++s) {
+      const Eigen::Index t = targets[b + static_cast<std::size_t>(s)];
+      simulated.row(t) = series.outputs.row(t);
+    }
+    if (diverged) return std::numeric_limits<double>::infinity();
+  }
+  jtj = jtj.selfadjointView<Eigen::Lower>();
+  return loss;
+}
+
+namespace {
+
+// Sets every output's consequent parameters from the stacked vector.
+void SetConsequents(NarxModel& model, const Eigen::VectorXd& theta) {
+  Eigen::Index at = 0;
+  for (int o = 0; o < model.outputs(); ++o) {
+    auto& c = model.mutable_model(o).mutable_consequent();
+    const Eigen::Index size = c.Parameters().size();
+    c.SetParameters(theta.segment(at, size));
+    at += size;
+  }
+}
+
+Eigen::VectorXd Consequents(const NarxModel& model) {
+  std::vector<Eigen::VectorXd> parts;
+  Eigen::Index size = 0;
+  for (int o = 0; o < model.outputs(); ++o) {
+    parts.push_back(model.model(o).consequent().Parameters());
+    size += parts.back().size();
+  }
+  Eigen::VectorXd theta(size);
+  Eigen::Index at = 0;
+  for (const auto& p : parts) {
+    theta.segment(at, p.size()) = p;
+    at += p.size();
+  }
+  return theta;
+}
+
+}  // namespace
 
 std::vector<SimulationStage> DefaultSimulationStages() {
   return {{10, 30}, {40, 30}, {160, 30}, {640, 30}};
@@ -146,6 +264,56 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
                                  static_cast<int>(std::max<std::size_t>(longest, 1)));
     if (horizon == previous_horizon) break;
     previous_horizon = horizon;
+    if (options.stages[stage].gauss_newton) {
+      // Levenberg–Marquardt on the consequents: the damping μ scales JᵀJ's diagonal, shrinks
+      // after a step that lowers the loss and grows after one that does not (undone).
+      Eigen::MatrixXd a;
+      Eigen::VectorXd b;
+      double loss = ConsequentNormalEquations(model, train, horizon, a, b);
+      if (stage == 0) report.initial_loss = loss;
+      taken.push_back({horizon, 0, true});
+      if (!std::isfinite(loss)) continue;
+      double mu = 100.0;
+      int since_improvement = 0;
+      for (int step = 1; step <= options.stages[stage].steps; ++step) {
+        Eigen::MatrixXd m = a;
+        m.diagonal().array() += mu * (a.diagonal().array() + 1e-12);
+        const Eigen::VectorXd delta = m.ldlt().solve(-b);
+        NarxModel trial = model;
+        SetConsequents(trial, Consequents(model) + delta);
+        Eigen::MatrixXd a_new;
+        Eigen::VectorXd b_new;
+        const double trial_loss = ConsequentNormalEquations(trial, train, horizon, a_new, b_new);
+        taken.back().steps = step;
+        const bool better = delta.allFinite() && trial_loss < loss;
+        if (better) {
+          const double gain = loss - trial_loss;
+          model = std::move(trial);
+          a = std::move(a_new);
+          b = std::move(b_new);
+          mu = std::max(mu / 3.0, 1e-12);
+          loss = trial_loss;
+          if (gain <= 1e-12 * loss) break;  // converged
+        } else {
+          mu *= 4.0;
+          if (mu > 1e12) break;
+        }
+        if (options.progress)
+          options.progress(static_cast<int>(stage), step, options.stages[stage].steps);
+        if (!options.holdout) continue;
+        const double h = model.NdeiAhead(*options.holdout, options.holdout_horizon);
+        report.holdout_ndei.push_back(h);
+        if (h < best_holdout) {
+          best_holdout = h;
+          kept = model;
+          report.kept = taken;
+          since_improvement = 0;
+        } else if (options.patience > 0 && ++since_improvement >= options.patience) {
+          break;
+        }
+      }
+      continue;
+    }
     SimulationGradient g;
     double best = SimulationLoss(model, train, horizon, &g);
     if (stage == 0) report.initial_loss = best;

@@ -28,6 +28,13 @@ struct SimulationGradient {
 double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
                       SimulationGradient* gradient = nullptr);
 
+/// The same loss (no gradient) and, in `jtj` and `jte`, the Gauss–Newton normal equations JᵀJ
+/// and Jᵀe of every output's consequent parameters, stacked in output order (J = ∂ŷ/∂θ along
+/// the windows, by forward sensitivities through the recursion; zero where an output is held at a
+/// limit). +∞ when a simulation leaves the finite numbers.
+double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
+                                 Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
+
 /// The default schedule: windows growing fourfold from 10 to 640 samples, 30 steps each. Short
 /// windows first: a model trained one step ahead may not survive a long simulation yet, and a
 /// short window's loss is smooth; longer ones then teach the slow modes.

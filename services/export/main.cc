@@ -1,6 +1,7 @@
 // odonata-export: writes a saved odonata model as MATLAB/Octave .fis and fuzzylite .fll files in
 // raw units (docs/model_export.md), for tools and flight code that know nothing of odonata.
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 
@@ -66,6 +67,12 @@ int main(int argc, char** argv) {
       }
       std::cout << "  " << tsk.output_name << " = f(" << order << "): " << tsk.rules.size()
                 << (tsk.linear ? " linear" : " constant") << " rules\n";
+      const auto& lim = model.limits();
+      if (lim.any() && (std::isfinite(lim.lower(o)) || std::isfinite(lim.upper(o))))
+        // The file formats have no such hold: a client evaluating them must clamp.
+        std::cout << "  note: the model holds " << out_name << " to [" << lim.lower(o) << ", "
+                  << lim.upper(o) << "], a saturation found in its training data "
+                  << "(docs/identifier.md §7.2); the exported rules do not: clamp their output\n";
     }
     if (!found) {
       std::cerr << "odonata-export: the model has no output '" << only << "'\n";

@@ -399,6 +399,16 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
         for (const auto& lc : sel.linear_checks) all.push_back(check(lc));
         report["selection"]["linear_checks"] = all;
       }
+      if (sel.output_error_check.done) {
+        const auto& oc = sel.output_error_check;
+        report["selection"]["linear_fit_check"] = {
+            {"folds", oc.fuzzy_folds.size()},
+            {"output_error_ndei",
+             std::isfinite(oc.fuzzy_score) ? nlohmann::json(oc.fuzzy_score) : nullptr},
+            {"one_step_ndei",
+             std::isfinite(oc.linear_score) ? nlohmann::json(oc.linear_score) : nullptr},
+            {"output_error_kept", sel.output_error_linear}};
+      }
       for (const auto& w : sel.warnings) warnings.push_back(w);
     }
     cfg = fit.config;
@@ -609,6 +619,15 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
                                                : "");
       out << line;
       ++k;
+    }
+    if (sel.contains("linear_fit_check")) {
+      const auto& oc = sel["linear_fit_check"];
+      std::snprintf(line, sizeof line,
+                    "    the linear model's fits, %d folds, mean NDEI: output error %.4g, one "
+                    "step %.4g: %s kept\n",
+                    oc["folds"].get<int>(), num(oc["output_error_ndei"]), num(oc["one_step_ndei"]),
+                    oc["output_error_kept"].get<bool>() ? "output error" : "one step");
+      out << line;
     }
     if (sel.contains("linear_check")) {
       const nlohmann::json checks = sel.contains("linear_checks")

@@ -127,6 +127,10 @@ int main(int argc, char** argv) {
   app.add_option("--ridge", o.train.ridge, "least-squares ridge, relative to the design's scale")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_flag_callback(
+      "--no-output-limits", [&o] { o.train.detect_output_limits = false; },
+      "do not hold predictions at an output's saturation (a value the training output holds for "
+      "5 samples in a row and on 1 % of them; docs/identifier.md §7.2)");
   app.add_flag("--no-least-squares", no_ls,
                "skip the global least-squares consequent solve after each pass (pure online "
                "learning, as the online identifier does)");

@@ -3,6 +3,7 @@
 // cannot hold (the sanitizer build aborts on such an allocation, so running these there is the
 // check), whatever the corrupted field.
 #include <gtest/gtest.h>
+#include <limits>
 
 #include <cstdint>
 #include <vector>
@@ -100,6 +101,10 @@ odonata::model_snapshot_t Snapshot() {
   m.regressor_half = {1, 1, 1};
   m.output_mean = {0, 0};
   m.output_std = {1, 1};
+  m.output_lower = {-std::numeric_limits<double>::infinity(),
+                    -std::numeric_limits<double>::infinity()};
+  m.output_upper = {std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<double>::infinity()};
   m.models = {Rules(3, 3, 4, 16), Rules(1, 3, 1, 0)};
   return m;
 }

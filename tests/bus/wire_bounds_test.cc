@@ -238,6 +238,8 @@ odonata::model_snapshot_t Snapshot(std::vector<odonata::fuzzy_rules_t> models, i
     m.outputs.push_back("y" + std::to_string(i));
     m.output_mean.push_back(0.5);
     m.output_std.push_back(2.0);
+    m.output_lower.push_back(-1.0);
+    m.output_upper.push_back(1.0);
   }
   m.num_inputs = inputs;
   m.inputs.assign(inputs, "u_roll_rad");

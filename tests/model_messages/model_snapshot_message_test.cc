@@ -4,6 +4,7 @@
 #include "model_messages/model_snapshot_message.hpp"
 
 #include <gtest/gtest.h>
+#include <limits>
 
 #include <cmath>
 #include <stdexcept>
@@ -53,6 +54,18 @@ TEST_P(SnapshotRoundTrip, AModelCrossesTheBusBitForBit) {
   ExpectSameMessage(EncodeSnapshot(back), msg);
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(model.spec().size(), -0.5, 0.7);
   EXPECT_EQ(back.Predict(x), model.Predict(x));  // bit for bit
+  EXPECT_FALSE(back.limits().any());
+
+  // A saturation limit (docs/identifier.md §7.2) crosses with the model.
+  sysid::NarxModel held = model;
+  sysid::OutputLimits limits;
+  limits.lower = Eigen::VectorXd::Constant(1, -std::numeric_limits<double>::infinity());
+  limits.upper = Eigen::VectorXd::Constant(1, 0.3);
+  held.SetLimits(limits);
+  const sysid::NarxModel held_back = DecodeSnapshot(EncodeSnapshot(held));
+  ASSERT_TRUE(held_back.limits().any());
+  EXPECT_EQ(held_back.ToJson(), held.ToJson());
+  EXPECT_EQ(held_back.limits().upper(0), 0.3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Consequents, SnapshotRoundTrip,
@@ -92,6 +105,13 @@ TEST(Snapshot, AnInvalidModelIsRefusedNamingWhatIsWrong) {
   m = good;
   m.models[0].consequent = "quadratic";
   EXPECT_NE(DecodeError(m).find("quadratic"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.output_upper[0] = std::nan("");
+  EXPECT_NE(DecodeError(m).find("NaN limit"), std::string::npos) << DecodeError(m);
+  m = good;
+  m.output_lower[0] = 1.0;
+  m.output_upper[0] = 0.0;
+  EXPECT_NE(DecodeError(m).find("lower limit is not below"), std::string::npos) << DecodeError(m);
 }
 
 TEST(ModelState, TheFileAndTheStateAreTheSameModel) {

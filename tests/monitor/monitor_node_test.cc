@@ -4,6 +4,7 @@
 #include "monitor_node.hpp"
 
 #include <gtest/gtest.h>
+#include <limits>
 
 #include <chrono>
 #include <cmath>
@@ -223,6 +224,8 @@ TEST_F(MonitorNodeTest, TheSnapshotCacheIsBoundedInBytes) {
   big.outputs = {"y"};
   big.output_mean = {0.0};
   big.output_std = {1.0};
+  big.output_lower = {-std::numeric_limits<double>::infinity()};
+  big.output_upper = {std::numeric_limits<double>::infinity()};
   const auto dropped_before = bus_->stats().dropped;
   for (int i = 0; i < 16; ++i) {
     big.instance = "forged-" + std::to_string(i);

@@ -9,6 +9,7 @@
 // Usage: spy_publisher URL SECONDS RATE_HZ
 
 #include <unistd.h>
+#include <limits>
 
 #include <chrono>
 #include <cmath>
@@ -189,6 +190,8 @@ int main(int argc, char** argv) {
     snap.regressor_half = {1.0, 1.0};
     snap.output_mean = {0.0};
     snap.output_std = {1.0};
+    snap.output_lower = {-std::numeric_limits<double>::infinity()};
+    snap.output_upper = {std::numeric_limits<double>::infinity()};
     odonata::fuzzy_rules_t rules{};
     rules.output_name = "roll_rad";
     rules.num_rules = 1;

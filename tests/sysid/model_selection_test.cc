@@ -223,6 +223,50 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
   EXPECT_TRUE(one.candidates[one.chosen].linear);
 }
 
+// A linear plant whose output is measured with noise: least squares on the noisy lags is
+// biased, the output-error fit of the linear model is not, and the folds keep it. With a K-step
+// criterion the linear model keeps its one-step fit (no such check).
+TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(1600, 1);
+  s.outputs.resize(1600, 1);
+  double x1 = 0, x2 = 0, u = 0;
+  for (int k = 0; k < 1600; ++k) {
+    if (k % 10 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = x1 + noise(rng);
+    const double next = 0.85 * x1 - 0.1 * x2 + 0.3 * u;
+    x2 = x1;
+    x1 = next;
+  }
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  o.simulation = {{10, 10}, {40, 10}};
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  ASSERT_TRUE(r.output_error_check.done);
+  EXPECT_TRUE(r.output_error_linear) << "output error " << r.output_error_check.fuzzy_score
+                                     << ", one step " << r.output_error_check.linear_score;
+  EXPECT_LT(r.output_error_check.fuzzy_score, r.output_error_check.linear_score);
+  const Candidate& linear = r.candidates.front();
+  ASSERT_TRUE(linear.linear);
+  ASSERT_FALSE(linear.simulation.empty());
+  EXPECT_TRUE(linear.simulation.back().gauss_newton);
+  EXPECT_EQ(linear.simulation.back().horizon, 40) << "the longest window of the schedule";
+
+  o.horizon = 5;
+  const SelectionResult ahead =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  EXPECT_FALSE(ahead.output_error_check.done);
+  for (const auto& st : ahead.candidates.front().simulation) EXPECT_FALSE(st.gauss_newton);
+}
+
 // Narendra's plant is far from linear: the fuzzy model wins the hold-out and the blocked
 // cross-validation alike, fold by fold.
 TEST(ModelSelection, ANonlinearPlantKeepsItsFuzzyModelThroughCrossValidation) {
