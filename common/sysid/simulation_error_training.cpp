@@ -262,7 +262,7 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
   for (std::size_t stage = 0; stage < options.stages.size(); ++stage) {
     const int horizon = std::min(options.stages[stage].horizon,
                                  static_cast<int>(std::max<std::size_t>(longest, 1)));
-    if (horizon == previous_horizon) break;
+    if (horizon == previous_horizon && !options.stages[stage].gauss_newton) break;
     previous_horizon = horizon;
     if (options.stages[stage].gauss_newton) {
       // Levenberg–Marquardt on the consequents: the damping μ scales JᵀJ's diagonal, shrinks
