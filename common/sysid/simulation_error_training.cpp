@@ -258,6 +258,24 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
     run = r > 0 && targets[r] == targets[r - 1] + 1 ? run + 1 : 1;
     longest = std::max(longest, run);
   }
+  int since_improvement = 0;  // steps of the stage since the hold-out last improved
+  // After each step of either optimiser: progress and, with a hold-out, its score (the best
+  // parameters and the schedule that reaches them kept). True when the stage's patience is out.
+  const auto after_step = [&](std::size_t stage, int step) {
+    if (options.progress)
+      options.progress(static_cast<int>(stage), step, options.stages[stage].steps);
+    if (!options.holdout) return false;
+    const double h = model.NdeiAhead(*options.holdout, options.holdout_horizon);
+    report.holdout_ndei.push_back(h);
+    if (h < best_holdout) {
+      best_holdout = h;
+      kept = model;
+      report.kept = taken;
+      since_improvement = 0;
+      return false;
+    }
+    return options.patience > 0 && ++since_improvement >= options.patience;
+  };
   int previous_horizon = 0;
   for (std::size_t stage = 0; stage < options.stages.size(); ++stage) {
     const int horizon = std::min(options.stages[stage].horizon,
@@ -274,8 +292,9 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
       taken.push_back({horizon, 0, true});
       if (!std::isfinite(loss)) continue;
       double mu = 100.0;
-      int since_improvement = 0;
+      since_improvement = 0;
       for (int step = 1; step <= options.stages[stage].steps; ++step) {
+        bool converged = false;
         Eigen::MatrixXd m = a;
         m.diagonal().array() += mu * (a.diagonal().array() + 1e-12);
         const Eigen::VectorXd delta = m.ldlt().solve(-b);
@@ -293,24 +312,11 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
           b = std::move(b_new);
           mu = std::max(mu / 3.0, 1e-12);
           loss = trial_loss;
-          if (gain <= 1e-12 * loss) break;  // converged
+          converged = gain <= 1e-12 * loss;
         } else {
           mu *= 4.0;
-          if (mu > 1e12) break;
         }
-        if (options.progress)
-          options.progress(static_cast<int>(stage), step, options.stages[stage].steps);
-        if (!options.holdout) continue;
-        const double h = model.NdeiAhead(*options.holdout, options.holdout_horizon);
-        report.holdout_ndei.push_back(h);
-        if (h < best_holdout) {
-          best_holdout = h;
-          kept = model;
-          report.kept = taken;
-          since_improvement = 0;
-        } else if (options.patience > 0 && ++since_improvement >= options.patience) {
-          break;
-        }
+        if (after_step(stage, step) || converged || mu > 1e12) break;
       }
       continue;
     }
@@ -326,7 +332,7 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
       rs[k].Reset(g.sigmas[k].rows(), g.sigmas[k].cols(), kPremiseStep);
       rq[k].Reset(g.consequents[k].size(), 1, kConsequentStep);
     }
-    int since_improvement = 0;
+    since_improvement = 0;
     for (int step = 1; step <= options.stages[stage].steps; ++step) {
       const NarxModel before = model;
       for (int o = 0; o < no; ++o) {
@@ -347,19 +353,7 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
         for (auto* r : {&rc, &rs, &rq})
           for (auto& x : *r) x.Backtrack();
       }
-      if (options.progress)
-        options.progress(static_cast<int>(stage), step, options.stages[stage].steps);
-      if (!options.holdout) continue;
-      const double h = model.NdeiAhead(*options.holdout, options.holdout_horizon);
-      report.holdout_ndei.push_back(h);
-      if (h < best_holdout) {
-        best_holdout = h;
-        kept = model;
-        report.kept = taken;
-        since_improvement = 0;
-      } else if (options.patience > 0 && ++since_improvement >= options.patience) {
-        break;
-      }
+      if (after_step(stage, step)) break;
     }
   }
   if (options.holdout) {

@@ -142,23 +142,29 @@ TEST(ModelSelection, ACandidateGrownToTheCapEndsItsSweepWhateverPruningLeaves) {
   EXPECT_TRUE(r.candidates[1].at_cap);
 }
 
-// A linear plant with output noise: no rule beyond the first is worth its parameters, so the
-// linear model is chosen — by the hold-out or by the cross-validation that a fuzzy winner of one
-// tail slice must also pass.
-TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> noise(0.0, 0.05);
+// y(k+1) = 0.8 y(k) + 0.3 u(k), measured with Gaussian noise; u steps every 8 samples.
+Series NoisyFirstOrder(int samples, unsigned seed, double noise_sd) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_sd);
   std::uniform_real_distribution<double> level(-1.0, 1.0);
   Series s;
-  s.inputs.resize(1200, 1);
-  s.outputs.resize(1200, 1);
+  s.inputs.resize(samples, 1);
+  s.outputs.resize(samples, 1);
   double y = 0, u = 0;
-  for (int k = 0; k < 1200; ++k) {
+  for (int k = 0; k < samples; ++k) {
     if (k % 8 == 0) u = level(rng);
     s.inputs(k, 0) = u;
     s.outputs(k, 0) = y + noise(rng);
     y = 0.8 * y + 0.3 * u;
   }
+  return s;
+}
+
+// A linear plant with output noise: no rule beyond the first is worth its parameters, so the
+// linear model is chosen — by the hold-out or by the cross-validation that a fuzzy winner of one
+// tail slice must also pass.
+TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
+  const Series s = NoisyFirstOrder(1200, 3, 0.05);
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
   o.kappas = {1.0};
@@ -179,19 +185,7 @@ TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
 // chosen. With one candidate allowed, the hold-out's choice alone faces them.
 TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
   // 400 samples, noise a third of the output's deviation: seed 1 is such a chance.
-  std::mt19937_64 rng(1);
-  std::normal_distribution<double> noise(0.0, 0.1);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Series s;
-  s.inputs.resize(400, 1);
-  s.outputs.resize(400, 1);
-  double y = 0, u = 0;
-  for (int k = 0; k < 400; ++k) {
-    if (k % 8 == 0) u = level(rng);
-    s.inputs(k, 0) = u;
-    s.outputs(k, 0) = y + noise(rng);
-    y = 0.8 * y + 0.3 * u;
-  }
+  const Series s = NoisyFirstOrder(400, 1, 0.1);
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
   o.kappas = {1.0};
