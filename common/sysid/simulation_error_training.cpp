@@ -32,6 +32,17 @@ std::vector<std::pair<std::size_t, std::size_t>> Windows(const std::vector<Eigen
   return w;
 }
 
+// d x_s(regressor of output o, lag k + 1) / d ŷ_s(o), outputs × lags: the output's scale over
+// the regressor's, what a simulated lag passes back (or forward) through the scaling.
+Eigen::MatrixXd LagChain(const NarxModel& model) {
+  const Scaling& sc = model.scaling();
+  const int lags = model.spec().output_lags;
+  Eigen::MatrixXd chain(model.outputs(), lags);
+  for (int o = 0; o < model.outputs(); ++o)
+    for (int k = 0; k < lags; ++k) chain(o, k) = sc.output_std(o) / sc.regressor_half(o * lags + k);
+  return chain;
+}
+
 }  // namespace
 
 double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
@@ -55,10 +66,7 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
       gradient->consequents.push_back(Eigen::VectorXd::Zero(m.consequent().Parameters().size()));
     }
   }
-  // d x_s(regressor of output o, lag k) / d ŷ_s(o): the output's scale over the regressor's.
-  Eigen::MatrixXd chain(no, lags);
-  for (int o = 0; o < no; ++o)
-    for (int k = 0; k < lags; ++k) chain(o, k) = sc.output_std(o) / sc.regressor_half(o * lags + k);
+  const Eigen::MatrixXd chain = LagChain(model);
 
   Eigen::MatrixXd simulated = series.outputs;  // raw; each window restores what it overwrote
   Eigen::VectorXd raw(n);
@@ -142,9 +150,7 @@ double ConsequentNormalEquations(const NarxModel& model, const Series& series, i
   const Eigen::Index np = offset.back();
   jtj = Eigen::MatrixXd::Zero(np, np);
   jte = Eigen::VectorXd::Zero(np);
-  Eigen::MatrixXd chain(no, lags);
-  for (int o = 0; o < no; ++o)
-    for (int k = 0; k < lags; ++k) chain(o, k) = sc.output_std(o) / sc.regressor_half(o * lags + k);
+  const Eigen::MatrixXd chain = LagChain(model);
   const auto targets = TargetRows(spec, series);
   const auto windows = Windows(targets, horizon);
   std::size_t longest = 0;
