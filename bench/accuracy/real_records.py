@@ -183,7 +183,8 @@ def fit_arx(y, u, ny, nu):
 # in order (odonata-fit --refit-*: the same OnlineIdentifier class, its default refits, frozen at
 # the end as a run is): what odonata-identifier learns live from the same samples.
 ONLINE = ["--epochs", "1", "--no-least-squares", "--no-select", "--consequent", "linear",
-          "--refit-first", "1000", "--refit-every", "6000", "--refit-buffer", "6000"]
+          "--refit-first", "1000", "--refit-every", "6000", "--refit-buffer", "6000",
+          "--refit-history", "0.5"]
 
 
 def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):

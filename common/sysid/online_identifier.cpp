@@ -197,7 +197,8 @@ OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Seri
     id.Freeze();
     id.Settle();
   }
-  return OnlineReplay{id.model(), id.refits(), id.failed_refits(), id.samples_learned()};
+  return OnlineReplay{id.model(), id.refits(), id.failed_refits(), id.samples_learned(),
+                      id.incumbents_kept()};
 }
 
 }  // namespace odonata::sysid

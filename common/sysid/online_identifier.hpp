@@ -90,6 +90,8 @@ class OnlineIdentifier {
   int64_t failed_refits() const { return refitter_.failed(); }
   /// Of the refits landed, those that ran a model selection (ScheduledRefitter::selections).
   int64_t selections() const { return refitter_.selections(); }
+  /// Of the refits landed, those that kept the last refit's model (IncumbentHoldsItsOwn).
+  int64_t incumbents_kept() const { return refitter_.incumbents_kept(); }
   int64_t last_index() const { return last_index_; }
 
  private:
@@ -120,6 +122,7 @@ struct OnlineReplay {
   int64_t refits = 0;
   int64_t failed_refits = 0;
   int64_t samples_learned = 0;
+  int64_t incumbents_kept = 0;  ///< refits that kept the last refit's model
 };
 /// `frozen` false replays an identifier stopped without a freeze: no closing refit, and the
 /// refit in flight never lands.

@@ -1,5 +1,7 @@
 #include "sysid/scheduled_refitter.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 
 #include "sysid/offline_fit.hpp"
@@ -14,6 +16,13 @@ bool RefitSchedule::Due(int64_t learned) const {
   int64_t at = first;
   while (at < learned) at *= 2;
   return at == learned;
+}
+
+int64_t RefitSchedule::HistoryBlock() const {
+  if (!(history > 0.0)) return 0;
+  const auto block =
+      static_cast<int64_t>(std::min(history, 1.0) * static_cast<double>(buffer)) / kHistoryBlocks;
+  return block >= kShortestHistoryBlock ? block : 0;
 }
 
 Series SeriesFromSamples(const std::deque<Sample>& samples) {
@@ -32,17 +41,63 @@ Series SeriesFromSamples(const std::deque<Sample>& samples) {
   return s;
 }
 
+bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& selection,
+                          const Series& series, const SelectionOptions& options) {
+  // The hold-out is the newest samples, which the incumbent (it began before them) never saw, as
+  // the chosen candidate did not (trained on the fit slice): the same test for both. A search
+  // on blocks of a longer buffer has no such slice of it.
+  if (selection.fit_samples + selection.holdout_samples != series.samples()) return false;
+  const Series holdout = SliceSeries(series, selection.fit_samples, selection.holdout_samples);
+  const double held = incumbent.NdeiAhead(holdout, selection.criterion_horizon);
+  const double chosen = selection.candidates[selection.chosen].score;
+  if (!(std::isfinite(held) && held < std::min(chosen / (1.0 + options.relative_tolerance),
+                                               chosen - options.absolute_tolerance)))
+    return false;
+  // The checks a refit's own model passes: it runs on the whole buffer without diverging and,
+  // with the free-run criterion, comes to rest where the linear model does.
+  if (!std::isfinite(incumbent.NdeiAhead(series, selection.criterion_horizon))) return false;
+  const auto linear = std::find_if(selection.candidates.begin(), selection.candidates.end(),
+                                   [](const Candidate& c) { return c.linear; });
+  if (selection.free_run_criterion && linear != selection.candidates.end() &&
+      std::isfinite(linear->rest_deviation) &&
+      Restless(RestDeviation(incumbent, series), linear->rest_deviation))
+    return false;
+  return true;
+}
+
 ScheduledRefitter::~ScheduledRefitter() { Clear(); }
 
 void ScheduledRefitter::Keep(const Sample& s) {
   if (!schedule_.enabled()) return;
-  kept_.push_back(s);
-  while (kept_.size() > static_cast<std::size_t>(schedule_.buffer)) kept_.pop_front();
+  recent_.push_back(s);
+  const int64_t block = schedule_.HistoryBlock();
+  const auto least = static_cast<std::size_t>(schedule_.RecentSamples());
+  while (kept() > static_cast<std::size_t>(schedule_.buffer)) {
+    if (block > 0 && recent_.size() <= least) {
+      stride_ *= 2;
+      archive_.erase(
+          std::remove_if(archive_.begin(), archive_.end(),
+                         [&](const Archived& a) { return (a.order / block) % stride_ != 0; }),
+          archive_.end());
+      continue;
+    }
+    // The oldest recent sample leaves the run: archived if its block is one the archive keeps.
+    const int64_t order = order_++;
+    if (block > 0 && (order / block) % stride_ == 0)
+      archive_.push_back(Archived{order, std::move(recent_.front())});
+    recent_.pop_front();
+  }
 }
 
-Series ScheduledRefitter::KeptSeries() const { return SeriesFromSamples(kept_); }
+Series ScheduledRefitter::KeptSeries() const {
+  std::deque<Sample> kept;
+  for (const Archived& a : archive_) kept.push_back(a.sample);
+  kept.insert(kept.end(), recent_.begin(), recent_.end());
+  return SeriesFromSamples(kept);
+}
 
 void ScheduledRefitter::Start(const NarxModel& model, bool select) {
+  pending_at_ = KeptSinceStart();
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
   std::optional<Chosen> reuse;
@@ -52,6 +107,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        declared = model.scaling(), reuse = std::move(reuse),
+       incumbent = select ? landed_ : std::nullopt, unseen = KeptSinceStart() - landed_at_,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
@@ -89,8 +145,12 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           std::optional<Chosen> chosen;
           if (fit.selection)
             chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples())};
+          if (incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
+              IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
+            return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept), std::nullopt,
+                            true};
           ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
-          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen)};
+          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen), false};
         } catch (const std::exception&) {
           // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
           return std::nullopt;
@@ -107,13 +167,21 @@ bool ScheduledRefitter::Land(NarxModel& model) {
     ++failed_;
     return false;
   }
+  ++refits_;
+  if (refitted->incumbent_kept) {
+    // The last refit's model as it landed, which the check judged, not as tracking has moved
+    // it since: it stays the incumbent, still unseen by the samples since it began.
+    ++incumbents_kept_;
+  } else {
+    landed_ = refitted->model;
+    landed_at_ = pending_at_;
+  }
   model = std::move(refitted->model);
   tracker_ = std::move(refitted->tracker);
   if (refitted->chosen) {
     chosen_ = std::move(refitted->chosen);
     ++selections_;
   }
-  ++refits_;
   return true;
 }
 
@@ -134,7 +202,7 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
 
 void ScheduledRefitter::BeginClosing(const NarxModel& model) {
   if (!schedule_.enabled()) return;
-  if (schedule_.at_freeze && learned_ > last_started_ && !kept_.empty()) {
+  if (schedule_.at_freeze && learned_ > last_started_ && kept() > 0) {
     // The closing refit learns from every sample kept, from the refits' own settings: whatever
     // the refit in flight would have given, it replaces.
     Cancel();
@@ -161,8 +229,13 @@ void ScheduledRefitter::Clear() {
   Cancel();
   tracker_ = ConsequentTracker{};
   chosen_.reset();
+  landed_.reset();
+  landed_at_ = pending_at_ = 0;
   closing_ = false;
-  kept_.clear();
+  recent_.clear();
+  archive_.clear();
+  order_ = 0;
+  stride_ = 1;
   base_.reset();
   last_started_ = -1;
   learned_ = 0;

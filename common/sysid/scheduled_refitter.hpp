@@ -25,6 +25,7 @@
 
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/consequent_tracker.hpp"
+#include "sysid/model_selection.hpp"
 #include "sysid/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -41,7 +42,19 @@ struct RefitSchedule {
     s.every = 6000;
     return s;
   }
-  int64_t buffer = 6000;  ///< the most recent samples kept for a refit (60 s at 100 Hz)
+  int64_t buffer = 6000;  ///< the samples kept for a refit (60 s at 100 Hz)
+  /// The share of `buffer` that may hold blocks spread over everything learned before the most
+  /// recent samples (docs/identifier.md §6.3): a long record's refit still sees its whole range of
+  /// operation, not the last minute only. 0: the most recent `buffer` samples.
+  double history = 0.5;
+  /// Blocks are history·buffer / kHistoryBlocks samples: three to six of them are kept.
+  static constexpr int64_t kHistoryBlocks = 6;
+  /// Shorter blocks would be mostly lags and windows cut short: the archive is off below this.
+  static constexpr int64_t kShortestHistoryBlock = 100;
+  /// Samples in one archived block; 0 when the archive is off.
+  int64_t HistoryBlock() const;
+  /// The fewest most recent samples the buffer keeps whole.
+  int64_t RecentSamples() const { return buffer - kHistoryBlocks * HistoryBlock(); }
   /// When learning stops (a freeze, the end of a replayed file), the refit in flight lands and
   /// one more refit on the samples kept closes learning.
   bool at_freeze = true;
@@ -60,7 +73,14 @@ struct Sample {
   Eigen::VectorXd inputs;
 };
 
-/// Keeps the samples learned and runs the refits of a schedule on them.
+/// Keeps the samples learned and runs the refits of a schedule on them. Once `buffer` samples
+/// have been learned the buffer stays full: a run of the most recent samples, at least
+/// RecentSamples() long, and before it an archive of whole blocks spread over everything older.
+/// Block b (samples b·L … b·L + L − 1 in the order learned) is archived when b is a multiple of
+/// the stride; a sample leaving the recent run is archived or dropped by its block, and when the
+/// recent run would fall below RecentSamples() the stride doubles, dropping every other archived
+/// block. The archive so stays spread evenly over the whole run, from its first sample, whatever
+/// the run's length, at a fixed cost; which samples are kept depends on counts only.
 class ScheduledRefitter {
  public:
   explicit ScheduledRefitter(RefitSchedule schedule) : schedule_(schedule) {}
@@ -95,17 +115,22 @@ class ScheduledRefitter {
   void Clear();
 
   const RefitSchedule& schedule() const { return schedule_; }
-  std::size_t kept() const { return kept_.size(); }
+  std::size_t kept() const { return recent_.size() + archive_.size(); }
+  /// Archived blocks are the multiples of this (1 until the recent run first reaches its least).
+  int64_t history_stride() const { return stride_; }
+  /// The samples a refit would learn from now, oldest first (a break at every skipped index).
+  Series KeptSeries() const;
   int64_t refits() const { return refits_; }  ///< refits landed
   int64_t failed() const { return failed_; }  ///< refits that could not fit (too few samples)
   /// Refits landed that chose their settings (a model selection); the others trained with the
   /// settings the last selection chose (see Start).
   int64_t selections() const { return selections_; }
+  /// Refits that kept the model they would have replaced (IncumbentHoldsItsOwn).
+  int64_t incumbents_kept() const { return incumbents_kept_; }
   bool in_flight() const { return pending_.valid(); }
   bool closing() const { return closing_; }
 
  private:
-  Series KeptSeries() const;
   /// `select`: run odonata-fit's selection on the samples kept; otherwise train with the settings
   /// the last selection chose (when there is one), which costs one training instead of a search.
   void Start(const NarxModel& model, bool select);
@@ -114,8 +139,15 @@ class ScheduledRefitter {
 
   RefitSchedule schedule_;
   std::optional<fuzzy::FuzzyModelConfig> base_;  ///< the settings the refits search around
-  std::deque<Sample> kept_;                      ///< oldest first
-  struct Chosen {                                // a selection's outcome, to train with again
+  std::deque<Sample> recent_;                    ///< oldest first
+  struct Archived {
+    int64_t order = 0;  // the sample's place among those kept since the start (or Clear)
+    Sample sample;
+  };
+  std::deque<Archived> archive_;  ///< oldest first, all older than recent_
+  int64_t order_ = 0;  ///< samples that have left the recent run: the order of its oldest
+  int64_t stride_ = 1;
+  struct Chosen {  // a selection's outcome, to train with again
     fuzzy::FuzzyModelConfig config;
     TrainOptions train;
     std::size_t samples = 0;  // the samples it chose on
@@ -124,7 +156,13 @@ class ScheduledRefitter {
     NarxModel model;
     ConsequentTracker tracker;     // its prior: the refit's least-squares problem
     std::optional<Chosen> chosen;  // when this refit ran a selection
+    bool incumbent_kept = false;   // the model it would replace stays (IncumbentHoldsItsOwn)
   };
+  std::optional<NarxModel> landed_;  ///< the last refit's model as it landed
+  /// Samples kept since the start (or Clear) when the refit in flight, and the one that landed
+  /// last, began: the samples since the latter are ones its model never saw.
+  int64_t pending_at_ = 0, landed_at_ = 0;
+  int64_t KeptSinceStart() const { return order_ + static_cast<int64_t>(recent_.size()); }
   std::optional<Chosen> chosen_;  // the last selection's settings
   std::future<std::optional<Refitted>> pending_;
   ConsequentTracker tracker_;  // the landed refit's
@@ -136,8 +174,18 @@ class ScheduledRefitter {
   int64_t refits_ = 0;
   int64_t failed_ = 0;
   int64_t selections_ = 0;
+  int64_t incumbents_kept_ = 0;
   std::function<void()> wait_hook_;
 };
+
+/// A selecting refit keeps the model the last refit landed (the incumbent) when, on the refit's
+/// hold-out slice — its newest samples, unseen by both — the incumbent beats the candidate the
+/// selection chose by the margin a candidate needs over a simpler one (docs/identifier.md §6.3):
+/// a selection on one buffer can fall back to the linear model because its fuzzy candidates ran
+/// away on one cross-validation fold, while the model learned from earlier buffers still
+/// predicts the newest samples three times better.
+bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& selection,
+                          const Series& series, const SelectionOptions& options);
 
 /// The series a refit learns from: the samples in order, a break wherever an index is skipped.
 Series SeriesFromSamples(const std::deque<Sample>& samples);

@@ -316,7 +316,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                                                     declared, !o.replay_unfrozen);
     report["refits"] = {{"landed", replay.refits},
                         {"failed", replay.failed_refits},
-                        {"samples_learned", replay.samples_learned}};
+                        {"samples_learned", replay.samples_learned},
+                        {"incumbents_kept", replay.incumbents_kept}};
     model.emplace(std::move(replay.model));
   } else if (!model) {
     sysid::OfflineFitOptions fo;
@@ -565,6 +566,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     c["refit_first"] = refit.first;
     c["refit_every"] = refit.every;
     c["refit_buffer"] = refit.buffer;
+    c["refit_history"] = refit.history;
     c["refit_at_freeze"] = refit.at_freeze;
     c["source"] = "signals";
     std::ofstream out(o.save_config);

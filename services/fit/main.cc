@@ -105,8 +105,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--refit-first", o.refit.first,
                  "replay the online identifier instead (its refit_* keys): every row through its "
-                 "learner, which refits with this program's defaults on the last --refit-buffer "
-                 "samples after this many are learned, then 2x, 4x, ... up to --refit-every, then "
+                 "learner, which refits with this program's defaults on --refit-buffer samples "
+                 "kept after this many are learned, then 2x, 4x, ... up to --refit-every, then "
                  "every --refit-every, and once more at the end (a freeze); 0: no refits")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{0}, int64_t{100000000}));
@@ -124,6 +124,11 @@ int main(int argc, char** argv) {
   app.add_option("--refit-buffer", o.refit.buffer, "samples kept for a refit")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{1}, int64_t{100000000}));
+  app.add_option("--refit-history", o.refit.history,
+                 "the share of --refit-buffer kept as blocks spread over the whole run (the rest: "
+                 "the most recent samples); 0: the most recent only")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--ridge", o.train.ridge, "least-squares ridge, relative to the design's scale")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

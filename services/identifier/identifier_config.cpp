@@ -73,6 +73,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "refit_first",
                                           "refit_every",
                                           "refit_buffer",
+                                          "refit_history",
                                           "refit_at_freeze",
                                           "refit_threads",
                                           "source",
@@ -152,6 +153,16 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
     c.refit.first = IntegerField<int64_t>(j, "refit_first", c.refit.first, 0, most, problem);
     c.refit.every = IntegerField<int64_t>(j, "refit_every", c.refit.every, 0, most, problem);
     c.refit.buffer = IntegerField<int64_t>(j, "refit_buffer", c.refit.buffer, 1, most, problem);
+    if (j.contains("refit_history")) {
+      const nlohmann::json& h = j.at("refit_history");
+      if (h.is_number() && h.get<double>() >= 0.0 && h.get<double>() <= 1.0)
+        c.refit.history = h.get<double>();
+      else
+        problem(
+            "\"refit_history\" must be a number in [0, 1] (the share of refit_buffer kept "
+            "spread over the run), not " +
+            h.dump());
+    }
     c.refit.at_freeze = j.value("refit_at_freeze", c.refit.at_freeze);
     c.refit.threads = IntegerField<unsigned>(j, "refit_threads", c.refit.threads, 0, 1024, problem);
     const std::string source = j.value("source", std::string("dimav"));
@@ -208,13 +219,15 @@ std::string ExampleIdentifierConfig() {
   j["decimate"] = 1;
   // Up to this many samples lost in a row are bridged by interpolation (odonata-fit --max-gap).
   j["max_gap"] = 3;
-  // Refit with odonata-fit's learner on the most recent refit_buffer samples after refit_first
-  // learned, then 2×, 4×, … up to refit_every, then every refit_every, and once more at a freeze
-  // (0: none; docs/identifier.md §6.3). odonata-fit --refit-* replays the same schedule.
+  // Refit with odonata-fit's learner on refit_buffer samples after refit_first learned, then 2×,
+  // 4×, … up to refit_every, then every refit_every, and once more at a freeze (0: none;
+  // docs/identifier.md §6.3). refit_history of the buffer keeps blocks spread over the whole run,
+  // the rest the most recent samples. odonata-fit --refit-* replays the same schedule.
   const sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
   j["refit_first"] = refit.first;
   j["refit_every"] = refit.every;
   j["refit_buffer"] = refit.buffer;
+  j["refit_history"] = refit.history;
   j["refit_at_freeze"] = refit.at_freeze;
   j["refit_threads"] = refit.threads;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.

@@ -201,9 +201,14 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
                                               : "(the one that closed learning, after " +
                                                     std::to_string(core_.samples_learned()) +
                                                     " samples learned) landed";
-    std::fprintf(stderr, "%s: refit %lld %s: %d rules (%lld failed)\n", config_.instance.c_str(),
-                 static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
-                 static_cast<long long>(core_.failed_refits()));
+    // A refit that kept the last refit's model says so: its selection lost on the newest samples.
+    const bool kept = core_.incumbents_kept() != incumbents_reported_;
+    incumbents_reported_ = core_.incumbents_kept();
+    std::fprintf(
+        stderr, "%s: refit %lld %s: %d rules%s (%lld failed)\n", config_.instance.c_str(),
+        static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
+        kept ? ", the last refit's model kept (it predicts the newest samples better)" : "",
+        static_cast<long long>(core_.failed_refits()));
   }
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,

@@ -67,8 +67,9 @@ class IdentifierNode {
   bool started_ = false;  // false while waiting for a snapshot to resume from
   SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)
   int64_t prediction_seq_ = 0;
-  int64_t refits_reported_ = 0;     ///< refits landed or failed, as last said on stderr
-  std::string state_before_refit_;  ///< the heartbeat state to go back to after "refitting"
+  int64_t refits_reported_ = 0;      ///< refits landed or failed, as last said on stderr
+  int64_t incumbents_reported_ = 0;  ///< of them, those that kept the last refit's model
+  std::string state_before_refit_;   ///< the heartbeat state to go back to after "refitting"
   int64_t snapshot_seq_ = 0;
   // Why the newest vehicle message was refused (empty once one is taken again), and how many
   // were: a configuration naming a signal the vehicle does not send must not look like a quiet

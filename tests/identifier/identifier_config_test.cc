@@ -68,5 +68,16 @@ TEST(IdentifierConfig, DecimationIsAWholeFactorOfAtLeastOne) {
   EXPECT_EQ(ParseIdentifierConfig(ExampleIdentifierConfig(), "example").decimate, 1);
 }
 
+TEST(IdentifierConfig, RefitHistoryIsAShareOfTheBuffer) {
+  for (const nlohmann::json& bad :
+       {nlohmann::json(-0.1), nlohmann::json(1.5), nlohmann::json("x"), nlohmann::json(nullptr)}) {
+    const std::string e = LoadEdited([&bad](nlohmann::json& j) { j["refit_history"] = bad; });
+    EXPECT_NE(e.find("\"refit_history\" must be a number in [0, 1]"), std::string::npos)
+        << bad.dump() << ": " << e;
+  }
+  EXPECT_EQ(LoadEdited([](nlohmann::json& j) { j["refit_history"] = 0; }), "");
+  EXPECT_EQ(ParseIdentifierConfig(ExampleIdentifierConfig(), "example").refit.history, 0.5);
+}
+
 }  // namespace
 }  // namespace odonata::identifier

@@ -133,7 +133,8 @@ cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "
        "--max-rules", str(c["max_rules"]), "--entropy-threshold", str(c["entropy_threshold"]),
        "--forgetting", str(c.get("forgetting", 1.0)), "--prune-utility", str(c.get("prune_utility", 0.0)),
        "--refit-first", str(c["refit_first"]), "--refit-every", str(c["refit_every"]),
-       "--refit-buffer", str(c["refit_buffer"]), "--refit-at-freeze", str(c["refit_at_freeze"]).lower(),
+       "--refit-buffer", str(c["refit_buffer"]), "--refit-history", str(c.get("refit_history", 0.5)),
+       "--refit-at-freeze", str(c["refit_at_freeze"]).lower(),
        "--save-model", model]
 for i in c["inputs"]:
     cmd += ["--input", i]

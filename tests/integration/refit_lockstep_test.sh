@@ -13,7 +13,9 @@ URL='udpm://239.255.76.67:7693?ttl=0'
 "$PY" - "$OUT/id.json" <<'PYEOF'
 import json, sys
 c = json.load(open(sys.argv[1]))
-c.update(refit_buffer=600)
+# 1000 samples through an 800-sample buffer, three quarters of it archive blocks of 100: the
+# buffer spreads over the run, and the service must keep the same samples as the replay.
+c.update(refit_buffer=800, refit_history=0.75)
 json.dump(c, open(sys.argv[1], "w"), indent=1)
 PYEOF
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"

@@ -134,6 +134,101 @@ TEST(RefitSchedule, SeriesFromSamplesBreaksWhereAnIndexIsSkipped) {
   EXPECT_EQ(s.outputs(3, 0), 9.0);
 }
 
+// A long run's refit keeps the most recent samples and whole blocks spread evenly over all that
+// came before them, at a fixed cost (docs/identifier.md §6.3).
+TEST(RefitSchedule, TheBufferKeepsTheRecentSamplesAndBlocksSpreadOverTheWholeRun) {
+  RefitSchedule schedule;
+  schedule.first = 1;
+  schedule.buffer = 1200;
+  schedule.history = 0.5;
+  ASSERT_EQ(schedule.HistoryBlock(), 100);
+  ASSERT_EQ(schedule.RecentSamples(), 600);
+  ScheduledRefitter refitter(schedule);
+  const auto sample = [](int64_t k) {
+    return Sample{k, Eigen::VectorXd::Constant(1, double(k)), Eigen::VectorXd::Zero(1)};
+  };
+  int64_t doublings = 0;
+  for (int64_t n = 1; n <= 20000; ++n) {
+    const int64_t stride = refitter.history_stride();
+    const std::size_t before = refitter.kept();
+    refitter.Keep(sample(n - 1));
+    // Every sample until the buffer is full, then full, short of it only just after a doubling of
+    // the stride dropped every other archived block (at most three of the six), until refilled.
+    if (refitter.history_stride() != stride) {
+      ++doublings;
+      ASSERT_GE(refitter.kept(), 1200u - 300u) << n;
+    } else {
+      ASSERT_EQ(refitter.kept(), std::min<std::size_t>(before + 1, 1200)) << n;
+    }
+    ASSERT_LE(refitter.kept(), 1200u) << n;
+    if (n % 997 != 0 && n != 20000) continue;
+    const Series s = refitter.KeptSeries();
+    const auto index = [&s](Eigen::Index r) { return static_cast<int64_t>(s.outputs(r, 0)); };
+    ASSERT_EQ(index(0), 0) << "the run's first sample is kept";
+    // From the back: at least the 600 most recent samples, in a run.
+    Eigen::Index r = s.samples() - 1;
+    while (r > 0 && index(r - 1) == index(r) - 1) --r;
+    ASSERT_GE(s.samples() - r, 600) << n;
+    ASSERT_EQ(index(s.samples() - 1), n - 1);
+    // Before them (the block the run starts in may be archived too): whole blocks
+    // b·100 … b·100 + 99 for b = 0, stride, 2·stride, … in order.
+    const int64_t st = refitter.history_stride();
+    const Eigen::Index archived = (index(r) / 100 % st == 0) ? r - index(r) % 100 : r;
+    for (Eigen::Index q = 0; q < archived; ++q)
+      ASSERT_EQ(index(q), (q / 100) * st * 100 + q % 100) << n << " row " << q;
+    // Spread over the whole run: the gap before the recent run is under two strides of blocks.
+    if (archived > 0) {
+      ASSERT_LT(index(r) - index(archived - 1), 2 * st * 100 + 1) << n;
+    }
+  }
+  EXPECT_GE(doublings, 4) << "20 000 samples over 600 archived: strides 2, 4, 8, 16";
+  // Shorter blocks than kShortestHistoryBlock: the most recent samples only, as with history 0.
+  schedule.buffer = 500;
+  EXPECT_EQ(schedule.HistoryBlock(), 0);
+  ScheduledRefitter recent_only(schedule);
+  for (int64_t k = 0; k < 10000; ++k) recent_only.Keep(sample(k));
+  const Series last = recent_only.KeptSeries();
+  ASSERT_EQ(last.samples(), 500);
+  EXPECT_TRUE(last.breaks.empty());
+  EXPECT_EQ(last.outputs(0, 0), 9500.0);
+}
+
+// A selecting refit keeps the last refit's model when it predicts the refit's newest samples
+// (its hold-out, which neither saw) better than the candidate the selection chose, by the margin
+// a candidate needs over a simpler one, and passes the checks a refit's own model passes.
+TEST(RefitSchedule, TheIncumbentStaysOnlyWhenItBeatsTheChoiceOnTheNewestSamples) {
+  const Series series = testing::NarendraTrain(1500);
+  NarxModel incumbent = Empty(fuzzy::ConsequentKind::kLinear, series);
+  TrainOptions t;
+  t.fit_scaling = false;
+  incumbent.Train(SliceSeries(series, 0, 1000), t);
+  SelectionResult selection;
+  selection.fit_samples = 1200;
+  selection.holdout_samples = 300;
+  selection.free_run_criterion = true;
+  selection.criterion_horizon = 0;
+  Candidate linear;
+  linear.linear = true;
+  linear.rules = 1;
+  linear.rest_deviation = 0.0;
+  selection.candidates = {linear};
+  selection.chosen = 0;
+  const double held = incumbent.NdeiAhead(SliceSeries(series, 1200, 300), 0);
+  ASSERT_TRUE(std::isfinite(held));
+  const SelectionOptions options;  // 5 % or 0.005 NDEI
+  selection.candidates[0].score = 2.0 * held + 0.01;
+  EXPECT_TRUE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  // Within the margin the fresher choice lands.
+  selection.candidates[0].score = std::max(1.04 * held, held + 0.004);
+  EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  selection.candidates[0].score = 0.5 * held;
+  EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  // A hold-out that is not the buffer's newest samples (a search on blocks) is no such test.
+  selection.candidates[0].score = 2.0 * held + 0.01;
+  selection.fit_samples = 1100;
+  EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+}
+
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
   const Series train = testing::NarendraTrain(800);
   OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train));
