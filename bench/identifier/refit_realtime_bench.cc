@@ -108,8 +108,12 @@ int main(int argc, char** argv) {
     if (id.refits() != landed) {
       landed = id.refits();
       landings.push_back(k);
-      std::fprintf(stderr, "  refit %lld landed at sample %d (%.0f s): %d rules, took %.0f µs\n",
-                   static_cast<long long>(landed), k, k / rate, id.model().total_rules(), us);
+      std::fprintf(stderr,
+                   "  refit %lld landed at sample %d (%.0f s): %d rules, took %.0f µs "
+                   "(%lld selections, %lld kept the last refit's model)\n",
+                   static_cast<long long>(landed), k, k / rate, id.model().total_rules(), us,
+                   static_cast<long long>(id.selections()),
+                   static_cast<long long>(id.incumbents_kept()));
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

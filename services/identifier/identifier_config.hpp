@@ -30,7 +30,7 @@ struct IdentifierConfig {
   /// The longest run of missing samples (lost in real time) bridged by interpolation instead of
   /// restarting the history, as odonata-fit --max-gap bridges missing rows (0: none).
   int max_gap = 3;
-  /// Refits of the model with odonata-fit's learner on the most recent samples, at fixed counts
+  /// Refits of the model with odonata-fit's learner on the samples it keeps, at fixed counts
   /// (docs/identifier.md §6.3): "refit_first" (0: none), "refit_every", "refit_buffer",
   /// "refit_history", "refit_at_freeze".
   sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
