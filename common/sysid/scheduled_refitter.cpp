@@ -193,7 +193,10 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
   const bool landed = Land(model);
   // A refit chooses its settings until one has chosen on a full buffer; from then on, at steady
   // state (every `every` samples), it trains with what that selection chose: a later search
-  // would see no more samples. Counts decide, so a replay makes the same choices.
+  // would see no more samples. A buffer spread over the run is short of full just after its
+  // stride doubles (with the defaults at 6000 samples), and a selection on it does not count:
+  // counted, the Silverbox's replays ended on the linear model twice in six (docs/identifier.md
+  // §6.3). Counts decide, so a replay makes the same choices.
   const bool informed = chosen_ && chosen_->samples >= static_cast<std::size_t>(schedule_.buffer);
   Start(model, !(informed && schedule_.every > 0 && learned >= schedule_.every));
   last_started_ = learned;

@@ -590,6 +590,13 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       << " consequents), entropy threshold H = " << r["entropy_threshold"].get<double>()
       << ", kappa " << r["kappa"].get<double>() << ", " << r["epochs"].get<int>() << " epochs, cap "
       << r["max_rules"].get<int>() << "\n";
+  if (r.contains("refits")) {
+    const auto& f = r["refits"];
+    out << "  the online identifier replayed: " << f["samples_learned"].get<long>()
+        << " samples learned, " << f["landed"].get<long>() << " refits landed ("
+        << f["failed"].get<long>() << " failed, " << f["incumbents_kept"].get<long>()
+        << " kept the last refit's model)\n";
+  }
   if (r.contains("selection")) {
     const auto& sel = r["selection"];
     const std::string on = sel.value("scored_on", std::string("training hold-out"));

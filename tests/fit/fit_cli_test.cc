@@ -338,6 +338,33 @@ TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
   EXPECT_NEAR(100 * (1 - std::sqrt(se / sv)), j["validate"]["one_step"]["fit"].get<double>(), 1e-6);
 }
 
+// Replaying the online identifier (--refit-*) says what its refits did, in both reports.
+TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
+  const std::string path = Dir() + "/narendra_train_400.csv";
+  {
+    std::ifstream in(Example("train.csv"));
+    std::ofstream out(path);
+    std::string line;
+    for (int k = 0; k <= 400 && std::getline(in, line); ++k) out << line << "\n";
+  }
+  const std::string args = "--train " + path +
+                           " --output y --input u --epochs 1 --no-least-squares --consequent "
+                           "linear --refit-first 100 --refit-every 200 --refit-buffer 300";
+  const ProcessResult text = Exec(args);
+  ASSERT_EQ(text.status, 0) << text.out;
+  // 100 lands at 200, where 200 begins; the freeze replaces that one with the closing refit.
+  EXPECT_NE(text.out.find("the online identifier replayed: 399 samples learned, 2 refits landed "
+                          "(0 failed, 0 kept the last refit's model)"),
+            std::string::npos)
+      << text.out;
+  const ProcessResult json = Exec(args + " --json", false);
+  ASSERT_EQ(json.status, 0) << json.out;
+  const auto refits = nlohmann::json::parse(json.out)["refits"];
+  EXPECT_EQ(refits["landed"].get<int>(), 2);
+  EXPECT_EQ(refits["incumbents_kept"].get<int>(), 0);
+  EXPECT_EQ(refits["samples_learned"].get<int>(), 399);
+}
+
 TEST(FitCli, TrackLearnsOnlineBesideAFrozenCopyAndArx) {
   // The validation file as a "changed vehicle": the online copy keeps learning on it.
   const std::string out = Dir() + "/track.csv";
