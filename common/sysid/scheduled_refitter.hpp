@@ -74,8 +74,9 @@ struct Sample {
 };
 
 /// Keeps the samples learned and runs the refits of a schedule on them. Once `buffer` samples
-/// have been learned the buffer stays full: a run of the most recent samples, at least
-/// RecentSamples() long, and before it an archive of whole blocks spread over everything older.
+/// have been learned the buffer is full, or short by up to three blocks just after a doubling
+/// (below): a run of the most recent samples, at least RecentSamples() long, and before it an
+/// archive of whole blocks spread over everything older.
 /// Block b (samples b·L … b·L + L − 1 in the order learned) is archived when b is a multiple of
 /// the stride; a sample leaving the recent run is archived or dropped by its block, and when the
 /// recent run would fall below RecentSamples() the stride doubles, dropping every other archived
