@@ -97,6 +97,11 @@ bool Restless(double rest_deviation, double linear_rest) {
   return !(rest_deviation <= std::max(kRestTolerance, 10.0 * linear_rest));
 }
 
+bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& options) {
+  return challenger < std::min(incumbent / (1.0 + options.relative_tolerance),
+                               incumbent - options.absolute_tolerance);
+}
+
 namespace {
 
 // Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
@@ -409,12 +414,9 @@ SelectionResult SelectModel(
       if (selection == nullptr && options.linear_check_folds >= 2)
         check = CrossValidate(spec, base, train_options, options, oe_candidate, cs[*linear_index],
                               train, result.criterion_horizon);
-      const auto beats = [&](double challenger, double incumbent) {
-        return challenger < std::min(incumbent / (1.0 + options.relative_tolerance),
-                                     incumbent - options.absolute_tolerance);
-      };
-      const bool oe_wins = check.done ? beats(check.fuzzy_score, check.linear_score)
-                                      : beats(oe_candidate.score, cs[*linear_index].score);
+      const bool oe_wins =
+          check.done ? BeatsByMargin(check.fuzzy_score, check.linear_score, options)
+                     : BeatsByMargin(oe_candidate.score, cs[*linear_index].score, options);
       if (check.done) {
         result.output_error_check = check;
         linear_folds = oe_wins ? check.fuzzy_folds : check.linear_folds;

@@ -141,6 +141,9 @@ double RestDeviation(const NarxModel& model, const Series& train);
 /// A model whose RestDeviation is this is not at rest where the linear model (its deviation
 /// `linear_rest`) is: a self-excited oscillation.
 bool Restless(double rest_deviation, double linear_rest);
+/// A score beats another by the margin a candidate needs over a simpler one: lower by more than
+/// options.relative_tolerance of it and by more than options.absolute_tolerance.
+bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& options);
 
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);

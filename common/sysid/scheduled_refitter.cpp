@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <vector>
 
 #include "sysid/offline_fit.hpp"
 #include "sysid/simulation_error_training.hpp"
@@ -25,20 +26,32 @@ int64_t RefitSchedule::HistoryBlock() const {
   return block >= kShortestHistoryBlock ? block : 0;
 }
 
-Series SeriesFromSamples(const std::deque<Sample>& samples) {
+namespace {
+
+// The samples in order, each copied once into the series.
+Series SeriesFromSampleRefs(const std::vector<const Sample*>& samples) {
   Series s;
   if (samples.empty()) return s;
   const auto n = static_cast<Eigen::Index>(samples.size());
-  s.outputs.resize(n, samples.front().outputs.size());
-  s.inputs.resize(n, samples.front().inputs.size());
+  s.outputs.resize(n, samples.front()->outputs.size());
+  s.inputs.resize(n, samples.front()->inputs.size());
   for (Eigen::Index r = 0; r < n; ++r) {
-    const Sample& x = samples[static_cast<std::size_t>(r)];
+    const Sample& x = *samples[static_cast<std::size_t>(r)];
     s.outputs.row(r) = x.outputs.transpose();
     s.inputs.row(r) = x.inputs.transpose();
-    if (r > 0 && x.index != samples[static_cast<std::size_t>(r - 1)].index + 1)
+    if (r > 0 && x.index != samples[static_cast<std::size_t>(r - 1)]->index + 1)
       s.breaks.push_back(r);
   }
   return s;
+}
+
+}  // namespace
+
+Series SeriesFromSamples(const std::deque<Sample>& samples) {
+  std::vector<const Sample*> refs;
+  refs.reserve(samples.size());
+  for (const Sample& x : samples) refs.push_back(&x);
+  return SeriesFromSampleRefs(refs);
 }
 
 bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& selection,
@@ -49,9 +62,8 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
   if (selection.fit_samples + selection.holdout_samples != series.samples()) return false;
   const Series holdout = SliceSeries(series, selection.fit_samples, selection.holdout_samples);
   const double held = incumbent.NdeiAhead(holdout, selection.criterion_horizon);
-  const double chosen = selection.candidates[selection.chosen].score;
-  if (!(std::isfinite(held) && held < std::min(chosen / (1.0 + options.relative_tolerance),
-                                               chosen - options.absolute_tolerance)))
+  if (!(std::isfinite(held) &&
+        BeatsByMargin(held, selection.candidates[selection.chosen].score, options)))
     return false;
   // The checks a refit's own model passes: it runs on the whole buffer without diverging and,
   // with the free-run criterion, comes to rest where the linear model does.
@@ -90,10 +102,12 @@ void ScheduledRefitter::Keep(const Sample& s) {
 }
 
 Series ScheduledRefitter::KeptSeries() const {
-  std::deque<Sample> kept;
-  for (const Archived& a : archive_) kept.push_back(a.sample);
-  kept.insert(kept.end(), recent_.begin(), recent_.end());
-  return SeriesFromSamples(kept);
+  // Built where a refit starts, on the thread that takes the samples: each copied once.
+  std::vector<const Sample*> kept;
+  kept.reserve(archive_.size() + recent_.size());
+  for (const Archived& a : archive_) kept.push_back(&a.sample);
+  for (const Sample& x : recent_) kept.push_back(&x);
+  return SeriesFromSampleRefs(kept);
 }
 
 void ScheduledRefitter::Start(const NarxModel& model, bool select) {
@@ -107,7 +121,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        declared = model.scaling(), reuse = std::move(reuse),
-       incumbent = select ? landed_ : std::nullopt, unseen = KeptSinceStart() - landed_at_,
+       incumbent = select ? landed_ : std::nullopt, unseen = pending_at_ - landed_at_,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
