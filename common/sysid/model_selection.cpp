@@ -83,9 +83,9 @@ double RestDeviation(const NarxModel& model, const Series& train) {
 
 namespace {
 
-// Levenberg–Marquardt iterations at most for the linear model's simulation error (it converges
-// in far fewer).
-constexpr int kLinearSimulationIterations = 50;
+// Levenberg–Marquardt iterations at most for a model's output-error fit (the linear model
+// converges in far fewer).
+constexpr int kOutputErrorIterations = 50;
 
 // Held at rest, a run whose last quarter still moves by more than this share of the outputs'
 // deviation has not settled.
@@ -381,28 +381,68 @@ SelectionResult SelectModel(
     const bool output_error = linear_index && result.criterion_horizon == 0;
     std::optional<NarxModel> oe_model;
     Candidate oe_candidate;
-    ParallelFor(order.size(), ResolveThreads(options.threads), [&](std::size_t i) {
-      const std::size_t k = order[i];
-      SimulationTrainOptions so;
-      so.stages = stages;
-      so.holdout = &holdout;
-      so.holdout_horizon = result.criterion_horizon;
-      if (train_options.cancel)
-        so.progress = [cancel = train_options.cancel](int, long, long) {
-          if (cancel->load()) throw TrainingCancelled();
-        };
-      if (output_error && k == *linear_index) {
-        NarxModel m = models[k];
-        SimulationTrainOptions lm = so;
-        lm.stages = {{stages.back().horizon, kLinearSimulationIterations, true}};
-        oe_candidate = cs[k];
-        oe_candidate.simulation = TrainOnSimulationError(m, fit, lm).kept;
-        score_candidate(oe_candidate, m);
-        oe_model.emplace(std::move(m));
-      }
-      cs[k].simulation = TrainOnSimulationError(models[k], fit, so).kept;
-      score_candidate(cs[k], models[k]);
-    });
+    // The fuzzy candidates with linear consequents also start again from the linear model's fit
+    // of the same windows, each a candidate of its own: on a noisy record one-step training may
+    // leave the rules where no simulation training finds the basin the linear model's free run
+    // is in; on a noise-free one its own start is the better one (docs/identifier.md §12).
+    std::vector<std::size_t> restarts;
+    if (options.restart_from_linear)
+      for (const std::size_t k : order)
+        if (!cs[k].linear && cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1)
+          restarts.push_back(k);
+    std::vector<Candidate> restarted;
+    std::vector<NarxModel> restarted_models;
+    for (const std::size_t k : restarts) {
+      restarted.push_back(cs[k]);
+      restarted_models.push_back(models[k]);
+    }
+    // A fuzzy candidate's schedule: (from the linear model's fit,) the stages, and with free run
+    // reported Levenberg–Marquardt on all its parameters over the longest windows.
+    const auto fuzzy_stages = [&](bool from_linear) {
+      std::vector<SimulationStage> st;
+      if (from_linear) st.push_back({stages.back().horizon, kOutputErrorIterations, true, true});
+      st.insert(st.end(), stages.begin(), stages.end());
+      if (output_error && options.fuzzy_output_error)
+        st.push_back({stages.back().horizon, kOutputErrorIterations, true});
+      return st;
+    };
+    ParallelFor(
+        order.size() + restarts.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+          SimulationTrainOptions so;
+          so.holdout = &holdout;
+          so.holdout_horizon = result.criterion_horizon;
+          if (train_options.cancel)
+            so.progress = [cancel = train_options.cancel](int, long, long) {
+              if (cancel->load()) throw TrainingCancelled();
+            };
+          if (i >= order.size()) {
+            const std::size_t r = i - order.size();
+            so.stages = fuzzy_stages(true);
+            restarted[r].simulation = TrainOnSimulationError(restarted_models[r], fit, so).kept;
+            score_candidate(restarted[r], restarted_models[r]);
+            return;
+          }
+          const std::size_t k = order[i];
+          so.stages = k == linear_index ? stages : fuzzy_stages(false);
+          if (output_error && k == *linear_index) {
+            NarxModel m = models[k];
+            SimulationTrainOptions lm = so;
+            lm.stages = {{stages.back().horizon, kOutputErrorIterations, true}};
+            oe_candidate = cs[k];
+            oe_candidate.simulation = TrainOnSimulationError(m, fit, lm).kept;
+            score_candidate(oe_candidate, m);
+            oe_model.emplace(std::move(m));
+          }
+          cs[k].simulation = TrainOnSimulationError(models[k], fit, so).kept;
+          score_candidate(cs[k], models[k]);
+        });
+    // A restart whose hold-out kept none of its steps is its candidate's one-step model again.
+    for (std::size_t r = 0; r < restarted.size(); ++r) {
+      if (restarted[r].simulation.empty() || !restarted[r].simulation.front().from_linear) continue;
+      cs.push_back(restarted[r]);
+      models.push_back(std::move(restarted_models[r]));
+      if (on_candidate) on_candidate(restarted[r], done, total);
+    }
     if (oe_model && oe_candidate.simulation != cs[*linear_index].simulation) {
       // One hold-out slice is too few samples to prefer one fit of the linear model over the
       // other: the blocked folds decide (without folds, the slice). The output-error fit must

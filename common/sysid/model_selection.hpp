@@ -53,6 +53,14 @@ struct SelectionOptions {
   /// empty: none.
   std::vector<SimulationStage> simulation;
   int simulation_shortlist = 3;
+  /// With the free-run criterion, the short list's fuzzy candidates also end their simulation
+  /// training with Levenberg–Marquardt on their consequents over the longest windows, as the
+  /// linear model's output-error fit does (docs/identifier.md §12).
+  bool fuzzy_output_error = true;
+  /// The short list's fuzzy candidates with linear consequents are also trained from the linear
+  /// model's fit of the longest windows (SimulationStage::from_linear), each a candidate of its
+  /// own (docs/identifier.md §12).
+  bool restart_from_linear = true;
   /// Shrinkage toward the global linear model (TrainOptions::deviation_ridge): the
   /// `ridge_shortlist` best fuzzy candidates with linear consequents are trained again with each
   /// of these ridges (for no more epochs than they kept unshrunk), each a candidate of its own,

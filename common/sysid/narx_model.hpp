@@ -27,8 +27,15 @@ struct SimulationStage {
   /// model, whose few parameters it takes to the output-error optimum in a few iterations
   /// (docs/identifier.md §12).
   bool gauss_newton = false;
+  /// With gauss_newton: every rule's consequent is first set to the global linear model's (one
+  /// shared consequent, from its one-step least squares), and the iterations move that shared
+  /// consequent only: the fuzzy model leaves this stage as the linear model's output-error fit,
+  /// a start for the stages after it (docs/identifier.md §12). Linear consequents only; on any
+  /// other model the stage does nothing.
+  bool from_linear = false;
   bool operator==(const SimulationStage& o) const {
-    return horizon == o.horizon && steps == o.steps && gauss_newton == o.gauss_newton;
+    return horizon == o.horizon && steps == o.steps && gauss_newton == o.gauss_newton &&
+           from_linear == o.from_linear;
   }
 };
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/QR>
 
 #include "sysid/rprop.hpp"
 
@@ -14,6 +15,8 @@ namespace {
 
 constexpr double kPremiseStep = 0.01;     // initial iRprop− steps, scaled units
 constexpr double kConsequentStep = 1e-3;  // smaller: a feedback coefficient near 1 is touchy
+// The most parameters a Levenberg–Marquardt stage moves (docs/identifier.md §12).
+constexpr Eigen::Index kMaxLevenbergMarquardtParameters = 256;
 // A simulated output this many standard deviations away has left the data: the loss is +∞.
 constexpr double kDiverged = 1e6;
 
@@ -41,6 +44,19 @@ Eigen::MatrixXd LagChain(const NarxModel& model) {
   for (int o = 0; o < model.outputs(); ++o)
     for (int k = 0; k < lags; ++k) chain(o, k) = sc.output_std(o) / sc.regressor_half(o * lags + k);
   return chain;
+}
+
+// Where each output's parameters start in the stacked vector: its consequents, then (with
+// `premises`) its centres and its widths, rules × inputs each, column by column.
+std::vector<Eigen::Index> ParameterOffsets(const NarxModel& model, bool premises) {
+  std::vector<Eigen::Index> offset(static_cast<std::size_t>(model.outputs()) + 1, 0);
+  for (int o = 0; o < model.outputs(); ++o) {
+    const auto& m = model.model(o);
+    Eigen::Index size = m.consequent().Parameters().size();
+    if (premises) size += 2 * Eigen::Index{m.rules()} * model.spec().size();
+    offset[static_cast<std::size_t>(o) + 1] = offset[static_cast<std::size_t>(o)] + size;
+  }
+  return offset;
 }
 
 }  // namespace
@@ -135,6 +151,16 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
 
 double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
                                  Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
+  return NormalEquations(model, series, horizon, false, jtj, jte);
+}
+
+double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
+                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
+  return NormalEquations(model, series, horizon, premises, nullptr, jtj, jte);
+}
+
+double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
+                       const Eigen::MatrixXd* tie, Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
   const RegressorSpec& spec = model.spec();
   if (spec.output_lags < 1) throw std::invalid_argument("simulation error needs output lags");
   if (horizon < 1) throw std::invalid_argument("simulation horizon must be >= 1");
@@ -143,11 +169,12 @@ double ConsequentNormalEquations(const NarxModel& model, const Series& series, i
   const int no = model.outputs();
   const int n = spec.size();
   const int lags = spec.output_lags;
-  std::vector<Eigen::Index> offset(static_cast<std::size_t>(no) + 1, 0);
-  for (int o = 0; o < no; ++o)
-    offset[static_cast<std::size_t>(o) + 1] =
-        offset[static_cast<std::size_t>(o)] + model.model(o).consequent().Parameters().size();
-  const Eigen::Index np = offset.back();
+  const std::vector<Eigen::Index> offset = ParameterOffsets(model, premises);
+  if (tie && (premises || tie->rows() != offset.back()))
+    throw std::invalid_argument("a tie maps the consequents alone");
+  // Tied, the sensitivities are taken in the shared parameters: S T follows the same linear
+  // recursion as S.
+  const Eigen::Index np = tie ? tie->cols() : offset.back();
   jtj = Eigen::MatrixXd::Zero(np, np);
   jte = Eigen::VectorXd::Zero(np);
   const Eigen::MatrixXd chain = LagChain(model);
@@ -159,7 +186,7 @@ double ConsequentNormalEquations(const NarxModel& model, const Series& series, i
   std::vector<Eigen::MatrixXd> sens(longest, Eigen::MatrixXd(no, np));
   Eigen::MatrixXd simulated = series.outputs;
   Eigen::VectorXd raw(n), xs(n), dydx(n);
-  std::vector<Eigen::ArrayXXd> gc, gs;  // premise gradients the kernel also writes; unused
+  std::vector<Eigen::ArrayXXd> gc, gs;  // ∂ŷ/∂centres, ∂ŷ/∂widths at one step (rules × inputs)
   for (int o = 0; o < no; ++o) {
     gc.push_back(Eigen::ArrayXXd::Zero(model.model(o).rules(), n));
     gs.push_back(gc.back());
@@ -188,9 +215,23 @@ double ConsequentNormalEquations(const NarxModel& model, const Series& series, i
         loss += e_o * e_o;
         if (limits.Holds(o, raw_y)) continue;  // held: no sensitivity
         const auto k_o = static_cast<std::size_t>(o);
-        Eigen::VectorXd direct = Eigen::VectorXd::Zero(offset[k_o + 1] - offset[k_o]);
+        const Eigen::Index q = m.consequent().Parameters().size();
+        Eigen::VectorXd direct = Eigen::VectorXd::Zero(q);
+        gc[k_o].setZero();
+        gs[k_o].setZero();
         m.AccumulateOutputGradient(xs, 1.0, &gc[k_o], &gs[k_o], &direct);
-        S.row(o).segment(offset[k_o], direct.size()) = direct.transpose();
+        if (tie) {
+          S.row(o) = direct.transpose() * tie->middleRows(offset[k_o], q);
+        } else {
+          S.row(o).segment(offset[k_o], q) = direct.transpose();
+        }
+        if (premises) {
+          const Eigen::Index rn = gc[k_o].size();
+          S.row(o).segment(offset[k_o] + q, rn) =
+              Eigen::Map<const Eigen::RowVectorXd>(gc[k_o].data(), rn);
+          S.row(o).segment(offset[k_o] + q + rn, rn) =
+              Eigen::Map<const Eigen::RowVectorXd>(gs[k_o].data(), rn);
+        }
         for (int k = 1; k <= lags && s - k >= 0; ++k)
           for (int p = 0; p < no; ++p)
             S.row(o) += dydx(p * lags + (k - 1)) * chain(p, k - 1) *
@@ -222,20 +263,68 @@ void SetConsequents(NarxModel& model, const Eigen::VectorXd& theta) {
   }
 }
 
-Eigen::VectorXd Consequents(const NarxModel& model) {
-  std::vector<Eigen::VectorXd> parts;
-  Eigen::Index size = 0;
-  for (int o = 0; o < model.outputs(); ++o) {
-    parts.push_back(model.model(o).consequent().Parameters());
-    size += parts.back().size();
-  }
-  Eigen::VectorXd theta(size);
+// Moves every output's parameters by the stacked step (ParameterOffsets' layout).
+void StepParameters(NarxModel& model, const Eigen::VectorXd& delta, bool premises) {
   Eigen::Index at = 0;
-  for (const auto& p : parts) {
-    theta.segment(at, p.size()) = p;
-    at += p.size();
+  for (int o = 0; o < model.outputs(); ++o) {
+    auto& m = model.mutable_model(o);
+    auto& c = m.mutable_consequent();
+    const Eigen::Index q = c.Parameters().size();
+    c.SetParameters(c.Parameters() + delta.segment(at, q));
+    at += q;
+    if (!premises) continue;
+    const Eigen::Index r = m.rules(), n = model.spec().size();
+    const Eigen::ArrayXXd dc = Eigen::Map<const Eigen::ArrayXXd>(delta.data() + at, r, n);
+    const Eigen::ArrayXXd ds = Eigen::Map<const Eigen::ArrayXXd>(delta.data() + at + r * n, r, n);
+    m.StepPremises(dc, ds);
+    at += 2 * r * n;
   }
-  return theta;
+}
+
+// Every output's consequent is linear (Takagi–Sugeno): the linear model is one of its settings.
+bool AllLinear(const NarxModel& model) {
+  for (int o = 0; o < model.outputs(); ++o)
+    if (model.model(o).consequent().kind() != fuzzy::ConsequentKind::kLinear) return false;
+  return true;
+}
+
+// T with θ = T g: every rule of every output takes the same output's shared consequent g_o
+// (inputs + 1 each, stacked in output order).
+Eigen::MatrixXd TieRules(const NarxModel& model) {
+  const Eigen::Index w = model.spec().size() + 1;
+  const std::vector<Eigen::Index> offset = ParameterOffsets(model, false);
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(offset.back(), w * model.outputs());
+  for (int o = 0; o < model.outputs(); ++o)
+    for (int j = 0; j < model.model(o).rules(); ++j)
+      t.block(offset[static_cast<std::size_t>(o)] + j * w, o * w, w, w).setIdentity();
+  return t;
+}
+
+// The global linear model's one-step least-squares consequents (T's layout), in scaled units.
+Eigen::VectorXd LinearLeastSquares(const NarxModel& model, const Series& series) {
+  const RegressionData d = BuildRegression(model.spec(), series);
+  const Eigen::Index n = model.spec().size();
+  Eigen::MatrixXd z(d.x.rows(), n + 1);
+  for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
+    z(k, 0) = 1.0;
+    z.row(k).tail(n) = model.scaling().ScaleRegressor(d.x.row(k).transpose()).transpose();
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(z);
+  Eigen::VectorXd g(model.outputs() * (n + 1));
+  for (int o = 0; o < model.outputs(); ++o) {
+    Eigen::VectorXd y(d.x.rows());
+    for (Eigen::Index k = 0; k < d.x.rows(); ++k) y(k) = model.scaling().ScaleOutput(o, d.y(k, o));
+    g.segment(o * (n + 1), n + 1) = qr.solve(y);
+  }
+  return g;
+}
+
+// Premises join the Levenberg–Marquardt step when some output has more than one rule: with one,
+// the normalised firing is 1 wherever the centre, and their columns of J would be zero.
+bool HasPremisesToFit(const NarxModel& model) {
+  for (int o = 0; o < model.outputs(); ++o)
+    if (model.model(o).rules() > 1) return true;
+  return false;
 }
 
 }  // namespace
@@ -289,13 +378,33 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
     if (horizon == previous_horizon && !options.stages[stage].gauss_newton) break;
     previous_horizon = horizon;
     if (options.stages[stage].gauss_newton) {
-      // Levenberg–Marquardt on the consequents: the damping μ scales JᵀJ's diagonal, shrinks
-      // after a step that lowers the loss and grows after one that does not (undone).
+      // Levenberg–Marquardt: the damping μ scales JᵀJ's diagonal, shrinks after a step that
+      // lowers the loss and grows after one that does not (undone). On every parameter, or, from
+      // the linear model, on the consequent every rule shares (J T for J).
+      const bool tied = options.stages[stage].from_linear;
+      if (tied && !AllLinear(model)) continue;
+      // JᵀJ costs samples × parameters² an iteration: a rule base too large for it takes the
+      // consequents alone, and one whose consequents alone are too many passes the stage.
+      const bool premises =
+          !tied && HasPremisesToFit(model) &&
+          ParameterOffsets(model, true).back() <= kMaxLevenbergMarquardtParameters;
+      if (!tied && ParameterOffsets(model, premises).back() > kMaxLevenbergMarquardtParameters)
+        continue;
+      const Eigen::MatrixXd tie = tied ? TieRules(model) : Eigen::MatrixXd();
+      const auto normal_equations = [&](const NarxModel& m, Eigen::MatrixXd& jtj,
+                                        Eigen::VectorXd& jte) {
+        return NormalEquations(m, train, horizon, premises, tied ? &tie : nullptr, jtj, jte);
+      };
+      Eigen::VectorXd shared;
+      if (tied) {
+        shared = LinearLeastSquares(model, train);
+        SetConsequents(model, tie * shared);
+      }
       Eigen::MatrixXd a;
       Eigen::VectorXd b;
-      double loss = ConsequentNormalEquations(model, train, horizon, a, b);
+      double loss = normal_equations(model, a, b);
       if (stage == 0) report.initial_loss = loss;
-      taken.push_back({horizon, 0, true});
+      taken.push_back({horizon, 0, true, tied});
       if (!std::isfinite(loss)) continue;
       double mu = 100.0;
       since_improvement = 0;
@@ -305,15 +414,20 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
         m.diagonal().array() += mu * (a.diagonal().array() + 1e-12);
         const Eigen::VectorXd delta = m.ldlt().solve(-b);
         NarxModel trial = model;
-        SetConsequents(trial, Consequents(model) + delta);
+        if (tied) {
+          SetConsequents(trial, tie * (shared + delta));
+        } else {
+          StepParameters(trial, delta, premises);
+        }
         Eigen::MatrixXd a_new;
         Eigen::VectorXd b_new;
-        const double trial_loss = ConsequentNormalEquations(trial, train, horizon, a_new, b_new);
+        const double trial_loss = normal_equations(trial, a_new, b_new);
         taken.back().steps = step;
         const bool better = delta.allFinite() && trial_loss < loss;
         if (better) {
           const double gain = loss - trial_loss;
           model = std::move(trial);
+          if (tied) shared += delta;
           a = std::move(a_new);
           b = std::move(b_new);
           mu = std::max(mu / 3.0, 1e-12);
@@ -322,7 +436,9 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
         } else {
           mu *= 4.0;
         }
-        if (after_step(stage, step) || converged || mu > 1e12) break;
+        // From the linear model, the stage is a start for the stages after it: it runs to its
+        // optimum, the hold-out still keeping its best step.
+        if ((after_step(stage, step) && !tied) || converged || mu > 1e12) break;
       }
       continue;
     }

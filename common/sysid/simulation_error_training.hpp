@@ -35,6 +35,15 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
 double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
                                  Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
 
+/// The same with `premises`: each output's parameters are its consequents, then its centres and
+/// its widths (rules × inputs, column by column), through the same premise kernel.
+double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
+                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
+/// The same in parameters g that the consequents are tied to, θ = `tie` g (rows: every
+/// output's consequent parameters; without premises): J T for J.
+double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
+                       const Eigen::MatrixXd* tie, Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
+
 /// The default schedule: windows growing fourfold from 10 to 640 samples, 30 steps each. Short
 /// windows first: a model trained one step ahead may not survive a long simulation yet, and a
 /// short window's loss is smooth; longer ones then teach the slow modes.

@@ -119,7 +119,12 @@ std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec
 
 nlohmann::json StagesToJson(const std::vector<sysid::SimulationStage>& stages) {
   nlohmann::json a = nlohmann::json::array();
-  for (const auto& st : stages) a.push_back({{"horizon", st.horizon}, {"steps", st.steps}});
+  for (const auto& st : stages) {
+    nlohmann::json j = {{"horizon", st.horizon}, {"steps", st.steps}};
+    if (st.gauss_newton) j["levenberg_marquardt"] = true;
+    if (st.from_linear) j["from_linear"] = true;
+    a.push_back(j);
+  }
   return a;
 }
 
@@ -617,6 +622,8 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       const bool chosen = k == sel["chosen_index"].get<std::size_t>();
       const bool best = k == sel["best_index"].get<std::size_t>();
       const bool linear = c.value("linear", false);
+      const bool from_linear =
+          !c["simulation"].empty() && c["simulation"].front().value("from_linear", false);
       std::snprintf(line, sizeof line,
                     "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g  %5.2g%s\n",
                     chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
@@ -624,7 +631,9 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
                     c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
                     num(c["holdout_free_run_ndei"]), c.value("deviation_ridge", 0.0),
                     c.value("restless", false) ? "  (oscillates at rest)"
+                    : best && from_linear      ? "  (best; from ARX)"
                     : best                     ? "  (best)"
+                    : from_linear              ? "  (from ARX)"
                                                : "");
       out << line;
       ++k;

@@ -393,14 +393,32 @@ TEST(ModelSelection, TheShortListTrainsOnTheSimulationError) {
   o.simulation_shortlist = 1;
   const SelectionResult trained =
       SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, train, o);
-  ASSERT_EQ(plain.candidates.size(), trained.candidates.size());
+  // The same candidates, then the short list's fuzzy one again from the linear model's fit (when
+  // its hold-out kept a step of it).
+  ASSERT_GE(trained.candidates.size(), plain.candidates.size());
+  ASSERT_LE(trained.candidates.size(), plain.candidates.size() + 1);
   int shortlisted = 0;
   for (std::size_t k = 0; k < plain.candidates.size(); ++k) {
     EXPECT_LE(trained.candidates[k].score, plain.candidates[k].score);
     if (!trained.candidates[k].simulation.empty()) ++shortlisted;
-    for (const auto& st : trained.candidates[k].simulation) EXPECT_LE(st.steps, 10);
+    for (const auto& st : trained.candidates[k].simulation) {
+      EXPECT_FALSE(st.from_linear);
+      // The schedule's stages; then, free run reported, Levenberg–Marquardt on the longest.
+      EXPECT_LE(st.steps, st.gauss_newton ? 50 : 10);
+      if (st.gauss_newton) {
+        EXPECT_EQ(st.horizon, 40);
+      }
+    }
   }
   EXPECT_LE(shortlisted, 2);  // the linear model and the best fuzzy one, when either improved
+  for (std::size_t k = plain.candidates.size(); k < trained.candidates.size(); ++k) {
+    const Candidate& c = trained.candidates[k];
+    ASSERT_FALSE(c.simulation.empty());
+    EXPECT_TRUE(c.simulation.front().from_linear && c.simulation.front().gauss_newton);
+    EXPECT_FALSE(c.linear);
+    EXPECT_EQ(c.consequent, fuzzy::ConsequentKind::kLinear);
+    EXPECT_GT(c.rules, 1);
+  }
 }
 
 TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {

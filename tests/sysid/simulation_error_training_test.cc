@@ -200,6 +200,16 @@ TEST(SimulationErrorTraining, ForwardSensitivitiesAgreeWithBackpropagationThroug
       EXPECT_LT((2.0 * jte - g.consequents[0]).norm(), 1e-8 * (1.0 + g.consequents[0].norm()))
           << "horizon " << horizon << (limited ? ", limited" : "");
       EXPECT_TRUE(jtj.isApprox(jtj.transpose()));
+      // With the premises: consequents, then centres and widths (rules × inputs, by column).
+      const double with_premises = NormalEquations(m, s, horizon, true, jtj, jte);
+      EXPECT_NEAR(with_premises, loss, 1e-9 * loss);
+      const Eigen::Index q = g.consequents[0].size(), rn = g.centres[0].size();
+      ASSERT_EQ(jte.size(), q + 2 * rn);
+      Eigen::VectorXd whole(q + 2 * rn);
+      whole << g.consequents[0], Eigen::Map<const Eigen::VectorXd>(g.centres[0].data(), rn),
+          Eigen::Map<const Eigen::VectorXd>(g.sigmas[0].data(), rn);
+      EXPECT_LT((2.0 * jte - whole).norm(), 1e-8 * (1.0 + whole.norm()))
+          << "premises, horizon " << horizon << (limited ? ", limited" : "");
     }
   }
 }
@@ -253,6 +263,71 @@ TEST(SimulationErrorTraining, LevenbergMarquardtTakesTheLinearModelToItsOutputEr
   replay.stages = r.kept;
   TrainOnSimulationError(again, noisy, replay);
   EXPECT_EQ(again.ToJson().dump(), lm.ToJson().dump());
+}
+
+// From the linear model: a rule base starts as the one-rule model's output-error fit (every rule
+// the same consequent, the same free run), and the stage after it trains every parameter.
+TEST(SimulationErrorTraining, FromTheLinearModelEveryRuleStartsAtItsOutputErrorFit) {
+  const RegressorSpec spec = Spec(2, 2);
+  const Series s = Plant(600, 7, 0.1);
+  NarxModel fuzzy = Trained(spec, s, 0.45);
+  ASSERT_GT(fuzzy.total_rules(), 1);
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  cfg.entropy.max_rules = 1;
+  cfg.entropy.threshold = 0.0;
+  // Trained on the same data: the same scaling, so the consequents mean the same in both.
+  NarxModel linear(spec, cfg);
+  linear.Train(s, TrainOptions{});
+  SimulationTrainOptions o;
+  o.stages = {{160, 50, true}};
+  TrainOnSimulationError(linear, s, o);
+  // Tied normal equations are the full ones seen through the tie: Tᵀ JᵀJ T and Tᵀ Jᵀe.
+  const Eigen::Index w = spec.size() + 1, rules = fuzzy.model(0).rules();
+  Eigen::MatrixXd tie = Eigen::MatrixXd::Zero(rules * w, w);
+  for (Eigen::Index j = 0; j < rules; ++j) tie.middleRows(j * w, w).setIdentity();
+  Eigen::MatrixXd full_jtj, tied_jtj;
+  Eigen::VectorXd full_jte, tied_jte;
+  const double full_loss = NormalEquations(fuzzy, s, 40, false, full_jtj, full_jte);
+  EXPECT_EQ(NormalEquations(fuzzy, s, 40, false, &tie, tied_jtj, tied_jte), full_loss);
+  EXPECT_TRUE(tied_jtj.isApprox(tie.transpose() * full_jtj * tie, 1e-10));
+  EXPECT_TRUE(tied_jte.isApprox(tie.transpose() * full_jte, 1e-10));
+  NarxModel started = fuzzy;
+  o.stages = {{160, 50, true, true}};
+  const SimulationTrainReport r = TrainOnSimulationError(started, s, o);
+  ASSERT_EQ(r.kept.size(), 1u);
+  EXPECT_TRUE(r.kept[0].from_linear);
+  EXPECT_EQ(started.total_rules(), fuzzy.total_rules()) << "the rule structure stays";
+  const Eigen::VectorXd theta = started.model(0).consequent().Parameters();
+  const Eigen::VectorXd shared = linear.model(0).consequent().Parameters();
+  for (Eigen::Index j = 0; j < theta.size() / shared.size(); ++j)
+    EXPECT_LT((theta.segment(j * shared.size(), shared.size()) - shared).norm(),
+              1e-6 * shared.norm())
+        << "rule " << j;
+  EXPECT_NEAR(SimulationLoss(started, s, 160), SimulationLoss(linear, s, 160),
+              1e-8 * SimulationLoss(linear, s, 160));
+  // Then Levenberg–Marquardt on every parameter lowers the loss further, premises included.
+  NarxModel whole = started;
+  o.stages = {{160, 50, true}};
+  TrainOnSimulationError(whole, s, o);
+  EXPECT_LT(SimulationLoss(whole, s, 160), 0.99 * SimulationLoss(started, s, 160));
+  double moved = 0.0;
+  for (int j = 0; j < whole.model(0).rules(); ++j)
+    for (int i = 0; i < spec.size(); ++i)
+      moved = std::max(moved, std::abs(whole.model(0).rule_base().centre(j, i) -
+                                       started.model(0).rule_base().centre(j, i)));
+  EXPECT_GT(moved, 1e-6) << "the centres move too";
+  // A singleton rule base cannot hold a linear model: the stage leaves it as it is.
+  fuzzy::FuzzyModelConfig single = cfg;
+  single.consequent = fuzzy::ConsequentKind::kSingleton;
+  single.entropy.max_rules = 8;
+  single.entropy.threshold = 0.45;
+  NarxModel singleton(spec, single);
+  singleton.Train(s, TrainOptions{});
+  NarxModel untouched = singleton;
+  o.stages = {{160, 50, true, true}};
+  TrainOnSimulationError(untouched, s, o);
+  EXPECT_EQ(untouched.ToJson().dump(), singleton.ToJson().dump());
 }
 
 TEST(SimulationErrorTraining, NeedsOutputLags) {
