@@ -320,14 +320,16 @@ void FuzzyModel::AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd
   if (r == 0 || weight == 0.0) return;
   const double yhat = EvaluateInScratch(x);
   const Eigen::ArrayXd& phi = scratch_.normalized;
-  auto g = gradient_factor_.head(r);
-  g = weight * (rule_outputs_ - yhat) * phi;
-  auto dc = grad_c_.head(r);
-  auto ds = grad_s_.head(r);
-  for (int i = 0; i < config_.inputs; ++i) {
-    PremiseGradientOfInput(i, x(i), g, dc, ds);
-    gc->col(i).head(r) += dc;
-    gs->col(i).head(r) += ds;
+  if (gc != nullptr && gs != nullptr) {
+    auto g = gradient_factor_.head(r);
+    g = weight * (rule_outputs_ - yhat) * phi;
+    auto dc = grad_c_.head(r);
+    auto ds = grad_s_.head(r);
+    for (int i = 0; i < config_.inputs; ++i) {
+      PremiseGradientOfInput(i, x(i), g, dc, ds);
+      gc->col(i).head(r) += dc;
+      gs->col(i).head(r) += ds;
+    }
   }
   *gq += consequent_->Gradient(x, phi, weight);
 }

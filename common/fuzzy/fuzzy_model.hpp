@@ -96,6 +96,7 @@ class FuzzyModel {
                                   Eigen::Ref<Eigen::VectorXd> dydx) const;
   /// Adds weight · ∂ŷ/∂θ at x to gc, gs (rules × inputs) and gq (Consequent::Parameters()
   /// layout), through the premise-gradient kernel Learn() uses; weight = ŷ − y gives ∂J/∂θ.
+  /// gc and gs null: the consequents' part alone (the kernel is skipped).
   void AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight,
                                 Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs,
                                 Eigen::VectorXd* gq) const;

@@ -187,7 +187,7 @@ double NormalEquations(const NarxModel& model, const Series& series, int horizon
   Eigen::MatrixXd simulated = series.outputs;
   Eigen::VectorXd raw(n), xs(n), dydx(n);
   std::vector<Eigen::ArrayXXd> gc, gs;  // ∂ŷ/∂centres, ∂ŷ/∂widths at one step (rules × inputs)
-  for (int o = 0; o < no; ++o) {
+  for (int o = 0; o < no && premises; ++o) {
     gc.push_back(Eigen::ArrayXXd::Zero(model.model(o).rules(), n));
     gs.push_back(gc.back());
   }
@@ -217,9 +217,12 @@ double NormalEquations(const NarxModel& model, const Series& series, int horizon
         const auto k_o = static_cast<std::size_t>(o);
         const Eigen::Index q = m.consequent().Parameters().size();
         Eigen::VectorXd direct = Eigen::VectorXd::Zero(q);
-        gc[k_o].setZero();
-        gs[k_o].setZero();
-        m.AccumulateOutputGradient(xs, 1.0, &gc[k_o], &gs[k_o], &direct);
+        if (premises) {
+          gc[k_o].setZero();
+          gs[k_o].setZero();
+        }
+        m.AccumulateOutputGradient(xs, 1.0, premises ? &gc[k_o] : nullptr,
+                                   premises ? &gs[k_o] : nullptr, &direct);
         if (tie) {
           S.row(o) = direct.transpose() * tie->middleRows(offset[k_o], q);
         } else {
