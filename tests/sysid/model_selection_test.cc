@@ -421,6 +421,52 @@ TEST(ModelSelection, TheShortListTrainsOnTheSimulationError) {
   }
 }
 
+// Output noise on a mildly nonlinear plant: the short list's fuzzy candidates are also trained
+// from the linear model's output-error fit, and those the hold-out kept a step of are candidates
+// of their own, scored on the hold-out like the rest; off, there are none.
+TEST(ModelSelection, TheShortListAlsoRestartsFromTheLinearModelsFit) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(1600, 1);
+  s.outputs.resize(1600, 1);
+  double x1 = 0, x2 = 0, u = 0;
+  for (int k = 0; k < 1600; ++k) {
+    if (k % 10 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = x1 + noise(rng);
+    const double next = 0.85 * x1 - 0.1 * x2 + 0.3 * std::tanh(1.5 * u);
+    x2 = x1;
+    x1 = next;
+  }
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  o.simulation = {{10, 10}, {40, 10}};
+  o.linear_check_folds = 0;
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  int restarts = 0;
+  for (const Candidate& c : r.candidates) {
+    if (c.simulation.empty() || !c.simulation.front().from_linear) continue;
+    ++restarts;
+    EXPECT_FALSE(c.linear);
+    EXPECT_GT(c.rules, 1);
+    EXPECT_TRUE(std::isfinite(c.score));
+    EXPECT_EQ(c.simulation.front().horizon, 40) << "the longest window of the schedule";
+  }
+  EXPECT_GE(restarts, 1);
+  o.restart_from_linear = false;
+  const SelectionResult off =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  EXPECT_EQ(off.candidates.size() + static_cast<std::size_t>(restarts), r.candidates.size());
+  for (const Candidate& c : off.candidates)
+    for (const auto& st : c.simulation) EXPECT_FALSE(st.from_linear);
+}
+
 TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {
   const Series a = testing::NarendraTrain(50), b = testing::NarendraTrain(40, 9);
   const Series c = ConcatSeries(a, b);
