@@ -275,9 +275,14 @@ void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorX
   const int r = rules_.rules();
   if (r == 0) return;
   const double yhat = EvaluateInScratch(x);
-  const Eigen::ArrayXd& phi = scratch_.normalized;
+  AddPremiseGradient(x, yhat - y, yhat, gc, gs);
+}
+
+void FuzzyModel::AddPremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight,
+                                    double yhat, Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const {
+  const int r = rules_.rules();
   auto g = gradient_factor_.head(r);
-  g = (yhat - y) * (rule_outputs_ - yhat) * phi;
+  g = weight * (rule_outputs_ - yhat) * scratch_.normalized.head(r);
   auto dc = grad_c_.head(r);
   auto ds = grad_s_.head(r);
   for (int i = 0; i < config_.inputs; ++i) {
@@ -319,19 +324,8 @@ void FuzzyModel::AccumulateOutputGradient(const Eigen::Ref<const Eigen::VectorXd
   const int r = rules_.rules();
   if (r == 0 || weight == 0.0) return;
   const double yhat = EvaluateInScratch(x);
-  const Eigen::ArrayXd& phi = scratch_.normalized;
-  if (gc != nullptr && gs != nullptr) {
-    auto g = gradient_factor_.head(r);
-    g = weight * (rule_outputs_ - yhat) * phi;
-    auto dc = grad_c_.head(r);
-    auto ds = grad_s_.head(r);
-    for (int i = 0; i < config_.inputs; ++i) {
-      PremiseGradientOfInput(i, x(i), g, dc, ds);
-      gc->col(i).head(r) += dc;
-      gs->col(i).head(r) += ds;
-    }
-  }
-  *gq += consequent_->Gradient(x, phi, weight);
+  if (gc != nullptr && gs != nullptr) AddPremiseGradient(x, weight, yhat, gc, gs);
+  *gq += consequent_->Gradient(x, scratch_.normalized, weight);
 }
 
 void FuzzyModel::StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds) {

@@ -169,6 +169,9 @@ class FuzzyModel {
   /// ŷ at x, leaving the weights in scratch_.normalized and y_j(x) in rule_outputs_ for the
   /// gradient kernels. @pre rules() ≥ 1.
   double EvaluateInScratch(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// After EvaluateInScratch(x) gave ŷ: adds weight · ∂ŷ/∂c and weight · ∂ŷ/∂σ to gc and gs.
+  void AddPremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight, double yhat,
+                          Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
   bool RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
                           const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
                           double deviation_ridge);

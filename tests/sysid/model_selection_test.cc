@@ -160,6 +160,27 @@ Series NoisyFirstOrder(int samples, unsigned seed, double noise_sd) {
   return s;
 }
 
+// 1600 samples of a damped second-order plant under held random steps, output noise σ 0.2;
+// `nonlinear`: its input through tanh(1.5 u).
+Series NoisySecondOrder(unsigned seed, bool nonlinear) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(1600, 1);
+  s.outputs.resize(1600, 1);
+  double x1 = 0, x2 = 0, u = 0;
+  for (int k = 0; k < 1600; ++k) {
+    if (k % 10 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = x1 + noise(rng);
+    const double next = 0.85 * x1 - 0.1 * x2 + 0.3 * (nonlinear ? std::tanh(1.5 * u) : u);
+    x2 = x1;
+    x1 = next;
+  }
+  return s;
+}
+
 // A linear plant with output noise: no rule beyond the first is worth its parameters, so the
 // linear model is chosen — by the hold-out or by the cross-validation that a fuzzy winner of one
 // tail slice must also pass.
@@ -221,21 +242,7 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
 // biased, the output-error fit of the linear model is not, and the folds keep it. With a K-step
 // criterion the linear model keeps its one-step fit (no such check).
 TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> noise(0.0, 0.2);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Series s;
-  s.inputs.resize(1600, 1);
-  s.outputs.resize(1600, 1);
-  double x1 = 0, x2 = 0, u = 0;
-  for (int k = 0; k < 1600; ++k) {
-    if (k % 10 == 0) u = level(rng);
-    s.inputs(k, 0) = u;
-    s.outputs(k, 0) = x1 + noise(rng);
-    const double next = 0.85 * x1 - 0.1 * x2 + 0.3 * u;
-    x2 = x1;
-    x1 = next;
-  }
+  const Series s = NoisySecondOrder(7, false);
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
   o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
@@ -425,21 +432,7 @@ TEST(ModelSelection, TheShortListTrainsOnTheSimulationError) {
 // from the linear model's output-error fit, and those the hold-out kept a step of are candidates
 // of their own, scored on the hold-out like the rest; off, there are none.
 TEST(ModelSelection, TheShortListAlsoRestartsFromTheLinearModelsFit) {
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> noise(0.0, 0.2);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Series s;
-  s.inputs.resize(1600, 1);
-  s.outputs.resize(1600, 1);
-  double x1 = 0, x2 = 0, u = 0;
-  for (int k = 0; k < 1600; ++k) {
-    if (k % 10 == 0) u = level(rng);
-    s.inputs(k, 0) = u;
-    s.outputs(k, 0) = x1 + noise(rng);
-    const double next = 0.85 * x1 - 0.1 * x2 + 0.3 * std::tanh(1.5 * u);
-    x2 = x1;
-    x1 = next;
-  }
+  const Series s = NoisySecondOrder(11, true);
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
   o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};

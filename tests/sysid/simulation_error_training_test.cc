@@ -55,6 +55,17 @@ NarxModel Trained(const RegressorSpec& spec, const Series& s, double threshold) 
   return m;
 }
 
+// The one-rule model with a linear consequent (ARX on the regressor), by one-step least squares.
+NarxModel LeastSquaresLinear(const RegressorSpec& spec, const Series& s) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  cfg.entropy.max_rules = 1;
+  cfg.entropy.threshold = 0.0;
+  NarxModel m(spec, cfg);
+  m.Train(s, TrainOptions{});
+  return m;
+}
+
 TEST(SimulationErrorTraining, GradientMatchesFiniteDifferences) {
   for (const auto kind : {fuzzy::ConsequentKind::kLinear, fuzzy::ConsequentKind::kSingleton}) {
     const RegressorSpec spec = Spec(2, 2);
@@ -240,12 +251,7 @@ TEST(SimulationErrorTraining, LevenbergMarquardtTakesTheLinearModelToItsOutputEr
   };
   const Series noisy = linear_plant(0.2);
   const Series clean = linear_plant(0.0);
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = fuzzy::ConsequentKind::kLinear;
-  cfg.entropy.max_rules = 1;
-  cfg.entropy.threshold = 0.0;
-  NarxModel least_squares(spec, cfg);
-  least_squares.Train(noisy, TrainOptions{});
+  NarxModel least_squares = LeastSquaresLinear(spec, noisy);
   NarxModel lm = least_squares;
   SimulationTrainOptions o;
   o.stages = {{640, 50, true}};
@@ -272,13 +278,8 @@ TEST(SimulationErrorTraining, FromTheLinearModelEveryRuleStartsAtItsOutputErrorF
   const Series s = Plant(600, 7, 0.1);
   NarxModel fuzzy = Trained(spec, s, 0.45);
   ASSERT_GT(fuzzy.total_rules(), 1);
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = fuzzy::ConsequentKind::kLinear;
-  cfg.entropy.max_rules = 1;
-  cfg.entropy.threshold = 0.0;
   // Trained on the same data: the same scaling, so the consequents mean the same in both.
-  NarxModel linear(spec, cfg);
-  linear.Train(s, TrainOptions{});
+  NarxModel linear = LeastSquaresLinear(spec, s);
   SimulationTrainOptions o;
   o.stages = {{160, 50, true}};
   TrainOnSimulationError(linear, s, o);
@@ -318,7 +319,7 @@ TEST(SimulationErrorTraining, FromTheLinearModelEveryRuleStartsAtItsOutputErrorF
                                        started.model(0).rule_base().centre(j, i)));
   EXPECT_GT(moved, 1e-6) << "the centres move too";
   // A singleton rule base cannot hold a linear model: the stage leaves it as it is.
-  fuzzy::FuzzyModelConfig single = cfg;
+  fuzzy::FuzzyModelConfig single;
   single.consequent = fuzzy::ConsequentKind::kSingleton;
   single.entropy.max_rules = 8;
   single.entropy.threshold = 0.45;
