@@ -385,17 +385,14 @@ SelectionResult SelectModel(
     // of the same windows, each a candidate of its own: on a noisy record one-step training may
     // leave the rules where no simulation training finds the basin the linear model's free run
     // is in; on a noise-free one its own start is the better one (docs/identifier.md §12).
-    std::vector<std::size_t> restarts;
-    if (options.restart_from_linear)
-      for (const std::size_t k : order)
-        if (!cs[k].linear && cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1)
-          restarts.push_back(k);
     std::vector<Candidate> restarted;
     std::vector<NarxModel> restarted_models;
-    for (const std::size_t k : restarts) {
-      restarted.push_back(cs[k]);
-      restarted_models.push_back(models[k]);
-    }
+    for (const std::size_t k : order)
+      if (options.restart_from_linear && !cs[k].linear &&
+          cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1) {
+        restarted.push_back(cs[k]);
+        restarted_models.push_back(models[k]);
+      }
     // A fuzzy candidate's schedule: (from the linear model's fit,) the stages, and with free run
     // reported Levenberg–Marquardt on all its parameters over the longest windows.
     const auto fuzzy_stages = [&](bool from_linear) {
@@ -407,7 +404,7 @@ SelectionResult SelectModel(
       return st;
     };
     ParallelFor(
-        order.size() + restarts.size(), ResolveThreads(options.threads), [&](std::size_t i) {
+        order.size() + restarted.size(), ResolveThreads(options.threads), [&](std::size_t i) {
           SimulationTrainOptions so;
           so.holdout = &holdout;
           so.holdout_horizon = result.criterion_horizon;

@@ -54,8 +54,9 @@ struct SelectionOptions {
   std::vector<SimulationStage> simulation;
   int simulation_shortlist = 3;
   /// With the free-run criterion, the short list's fuzzy candidates also end their simulation
-  /// training with Levenberg–Marquardt on their consequents over the longest windows, as the
-  /// linear model's output-error fit does (docs/identifier.md §12).
+  /// training with Levenberg–Marquardt on all their parameters (the consequents alone for a large
+  /// rule base) over the longest windows, as the linear model's output-error fit does
+  /// (docs/identifier.md §12).
   bool fuzzy_output_error = true;
   /// The short list's fuzzy candidates with linear consequents are also trained from the linear
   /// model's fit of the longest windows (SimulationStage::from_linear), each a candidate of its

@@ -149,18 +149,8 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
   return loss;
 }
 
-double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
-                                 Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
-  return NormalEquations(model, series, horizon, false, jtj, jte);
-}
-
 double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
-                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
-  return NormalEquations(model, series, horizon, premises, nullptr, jtj, jte);
-}
-
-double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
-                       const Eigen::MatrixXd* tie, Eigen::MatrixXd& jtj, Eigen::VectorXd& jte) {
+                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte, const Eigen::MatrixXd* tie) {
   const RegressorSpec& spec = model.spec();
   if (spec.output_lags < 1) throw std::invalid_argument("simulation error needs output lags");
   if (horizon < 1) throw std::invalid_argument("simulation horizon must be >= 1");
@@ -396,7 +386,7 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
       const Eigen::MatrixXd tie = tied ? TieRules(model) : Eigen::MatrixXd();
       const auto normal_equations = [&](const NarxModel& m, Eigen::MatrixXd& jtj,
                                         Eigen::VectorXd& jte) {
-        return NormalEquations(m, train, horizon, premises, tied ? &tie : nullptr, jtj, jte);
+        return NormalEquations(m, train, horizon, premises, jtj, jte, tied ? &tie : nullptr);
       };
       Eigen::VectorXd shared;
       if (tied) {

@@ -29,20 +29,15 @@ double SimulationLoss(const NarxModel& model, const Series& series, int horizon,
                       SimulationGradient* gradient = nullptr);
 
 /// The same loss (no gradient) and, in `jtj` and `jte`, the Gauss–Newton normal equations JᵀJ
-/// and Jᵀe of every output's consequent parameters, stacked in output order (J = ∂ŷ/∂θ along
-/// the windows, by forward sensitivities through the recursion; zero where an output is held at a
-/// limit). +∞ when a simulation leaves the finite numbers.
-double ConsequentNormalEquations(const NarxModel& model, const Series& series, int horizon,
-                                 Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
-
-/// The same with `premises`: each output's parameters are its consequents, then its centres and
-/// its widths (rules × inputs, column by column), through the same premise kernel.
+/// and Jᵀe of every output's parameters, stacked in output order (J = ∂ŷ/∂θ along the windows,
+/// by forward sensitivities through the recursion; zero where an output is held at a limit).
+/// +∞ when a simulation leaves the finite numbers. An output's parameters are its consequents
+/// and, with `premises`, then its centres and its widths (rules × inputs, column by column),
+/// through the same premise kernel. With `tie` (consequents alone): in the parameters g the
+/// consequents are tied to, θ = `tie` g, i.e. J T for J.
 double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
-                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
-/// The same in parameters g that the consequents are tied to, θ = `tie` g (rows: every
-/// output's consequent parameters; without premises): J T for J.
-double NormalEquations(const NarxModel& model, const Series& series, int horizon, bool premises,
-                       const Eigen::MatrixXd* tie, Eigen::MatrixXd& jtj, Eigen::VectorXd& jte);
+                       Eigen::MatrixXd& jtj, Eigen::VectorXd& jte,
+                       const Eigen::MatrixXd* tie = nullptr);
 
 /// The default schedule: windows growing fourfold from 10 to 640 samples, 30 steps each. Short
 /// windows first: a model trained one step ahead may not survive a long simulation yet, and a

@@ -205,7 +205,7 @@ TEST(SimulationErrorTraining, ForwardSensitivitiesAgreeWithBackpropagationThroug
       const double loss = SimulationLoss(m, s, horizon, &g);
       Eigen::MatrixXd jtj;
       Eigen::VectorXd jte;
-      const double same = ConsequentNormalEquations(m, s, horizon, jtj, jte);
+      const double same = NormalEquations(m, s, horizon, false, jtj, jte);
       EXPECT_NEAR(same, loss, 1e-9 * loss);
       ASSERT_EQ(jte.size(), g.consequents[0].size());
       EXPECT_LT((2.0 * jte - g.consequents[0]).norm(), 1e-8 * (1.0 + g.consequents[0].norm()))
@@ -290,7 +290,7 @@ TEST(SimulationErrorTraining, FromTheLinearModelEveryRuleStartsAtItsOutputErrorF
   Eigen::MatrixXd full_jtj, tied_jtj;
   Eigen::VectorXd full_jte, tied_jte;
   const double full_loss = NormalEquations(fuzzy, s, 40, false, full_jtj, full_jte);
-  EXPECT_EQ(NormalEquations(fuzzy, s, 40, false, &tie, tied_jtj, tied_jte), full_loss);
+  EXPECT_EQ(NormalEquations(fuzzy, s, 40, false, tied_jtj, tied_jte, &tie), full_loss);
   EXPECT_TRUE(tied_jtj.isApprox(tie.transpose() * full_jtj * tie, 1e-10));
   EXPECT_TRUE(tied_jte.isApprox(tie.transpose() * full_jte, 1e-10));
   NarxModel started = fuzzy;
