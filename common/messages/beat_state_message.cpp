@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "experiments/experiment_preset.hpp"
+#include "messages/finite_values.hpp"
 #include "plant/output_signals.hpp"
 
 namespace odonata::messages {
@@ -44,11 +45,6 @@ std::optional<std::size_t> AppliedIndex(const std::string& name) {
   return static_cast<std::size_t>(it - names.begin());
 }
 
-bool Finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
 }  // namespace
 
 odonata::beat_state_t ToBeatStateMessage(const pipeline::PlantSample& sample,
@@ -101,10 +97,11 @@ std::optional<double> BeatStateField(const odonata::beat_state_t& m, const std::
 bool AllFinite(const odonata::beat_state_t& m) {
   const auto applied = AppliedChannels(m);
   const double scalars[] = {m.t_s, m.window_s, m.fx_total_n, m.fz_total_n};
-  if (!Finite(scalars, 4) || !Finite(applied.data(), 4)) return false;
+  if (!FiniteValues(scalars, 4) || !FiniteValues(applied.data(), 4)) return false;
   for (const double* a : AppliedArrays(m))
-    if (!Finite(a, plant::kWingCount)) return false;
-  return Finite(m.velocity_mps, 3) && Finite(m.rate_radps, 3) && Finite(m.attitude_rad, 3);
+    if (!FiniteValues(a, plant::kWingCount)) return false;
+  return FiniteValues(m.velocity_mps, 3) && FiniteValues(m.rate_radps, 3) &&
+         FiniteValues(m.attitude_rad, 3);
 }
 
 }  // namespace odonata::messages

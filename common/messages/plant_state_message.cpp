@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "messages/finite_values.hpp"
 #include "plant/output_signals.hpp"
 
 namespace odonata::messages {
@@ -20,11 +21,6 @@ int8_t StatusCode(pipeline::SampleStatus status) {
   return odonata::plant_state_t::STATUS_OK;
 }
 
-bool Finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
 }  // namespace
 
 odonata::plant_state_t ToStateMessage(const pipeline::PlantSample& sample, int64_t utime) {
@@ -77,9 +73,9 @@ std::optional<double> StateField(const odonata::plant_state_t& m, const std::str
 }
 
 bool AllFinite(const odonata::plant_state_t& m) {
-  return std::isfinite(m.t_s) && Finite(m.velocity_mps, 3) && Finite(m.rate_radps, 3) &&
-         Finite(m.attitude_rad, 3) && Finite(m.position_m, 3) && Finite(m.fx_n, 4) &&
-         Finite(m.fz_n, 4);
+  return std::isfinite(m.t_s) && FiniteValues(m.velocity_mps, 3) && FiniteValues(m.rate_radps, 3) &&
+         FiniteValues(m.attitude_rad, 3) && FiniteValues(m.position_m, 3) &&
+         FiniteValues(m.fx_n, 4) && FiniteValues(m.fz_n, 4);
 }
 
 }  // namespace odonata::messages

@@ -2,13 +2,9 @@
 
 #include <cmath>
 
-namespace odonata::plant {
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegPerRad = 180.0 / kPi;
-constexpr double kRadPerDeg = kPi / 180.0;
-}  // namespace
+#include "plant/angle_constants.hpp"
 
+namespace odonata::plant {
 double LiftCoefficient(double alpha_rad) {
   const double alpha_deg = alpha_rad * kDegPerRad;
   return 0.225 + 1.58 * std::sin((2.13 * alpha_deg - 7.20) * kRadPerDeg);

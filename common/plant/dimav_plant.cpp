@@ -7,12 +7,11 @@
 
 #include "plant/divergence_monitor.hpp"
 #include "plant/ground_contact.hpp"
+#include "plant/angle_constants.hpp"
 #include "plant/rk4.hpp"
 
 namespace odonata::plant {
 namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-constexpr double kPi = 3.14159265358979323846;
 // Longest averaging window: a wing slower than 2 Hz is averaged over 0.5 s.
 constexpr double kMaxAveragingWindowS = 0.5;
 // Wing 1 fore-left, 2 hind-left, 3 hind-right, 4 fore-right.

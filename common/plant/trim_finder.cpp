@@ -5,12 +5,9 @@
 #include <string>
 
 #include "plant/dimav_plant.hpp"
+#include "plant/angle_constants.hpp"
 
 namespace odonata::plant {
-namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-}
-
 MeanLoad ComputeMeanLoadAtRest(const PlantConfig& config, const CommandMatrix& command,
                                int phase_samples) {
   const DimavPlant plant(config);

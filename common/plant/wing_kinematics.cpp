@@ -2,11 +2,9 @@
 
 #include <cmath>
 
-namespace odonata::plant {
-namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-}  // namespace
+#include "plant/angle_constants.hpp"
 
+namespace odonata::plant {
 WingAngles EvaluateWingAngles(double phase_rad, double freq_hz, double amp_rad,
                               double pitch_mean_rad, double pitch_amp_rad, double pitch_phase_rad) {
   const double omega_radps = kTwoPi * freq_hz;

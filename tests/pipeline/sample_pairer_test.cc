@@ -26,7 +26,7 @@ struct Beat {
 };
 
 using Pairer = SamplePairer<State, Command, Beat>;
-using Kind = Pairer::Event::Kind;
+using EventKind = Pairer::Event::Kind;
 
 State S(int64_t k) { return {k, k - 1}; }
 Command C(int64_t k, const std::string& source = "gen") { return {k, source}; }
@@ -41,13 +41,13 @@ struct Log {
   std::vector<int64_t> Samples() const {
     std::vector<int64_t> k;
     for (const auto& e : events)
-      if (e.kind == Kind::kSample) k.push_back(e.index);
+      if (e.kind == EventKind::kSample) k.push_back(e.index);
     return k;
   }
   int64_t Lost() const {
     int64_t n = 0;
     for (const auto& e : events)
-      if (e.kind == Kind::kGap) n += e.lost;
+      if (e.kind == EventKind::kGap) n += e.lost;
     return n;
   }
 };
@@ -136,7 +136,7 @@ TEST(SamplePairer, AMissingBeatStateIsAGapNeverBridged) {
   EXPECT_EQ(std::count(samples.begin(), samples.end(), 10), 0);
   EXPECT_EQ(samples.size(), static_cast<std::size_t>(n - 1 - 2));
   for (const auto& e : log.events) {
-    if (e.kind == Kind::kGap) {
+    if (e.kind == EventKind::kGap) {
       EXPECT_EQ(e.what, "missing beat state");
     }
   }
@@ -278,7 +278,7 @@ TEST(SamplePairer, APlantRestartForgetsTheOldRunWhicheverStreamRestartsFirst) {
     if (!beat_first) log.Add(p.OnBeat(B(0)));
     auto restarts = [&] {
       return std::count_if(log.events.begin(), log.events.end(),
-                           [](const auto& e) { return e.kind == Kind::kRestart; });
+                           [](const auto& e) { return e.kind == EventKind::kRestart; });
     };
     EXPECT_EQ(restarts(), 0) << "a fresh state 0 alone is only a candidate";
     const std::size_t before = log.Samples().size();
@@ -310,7 +310,7 @@ TEST(SamplePairer, ALoneFreshStateZeroMidRunChangesNothing) {
   }
   EXPECT_EQ(b.Samples(), a.Samples());
   EXPECT_EQ(b.Lost(), 0);
-  for (const auto& e : b.events) EXPECT_NE(e.kind, Kind::kRestart);
+  for (const auto& e : b.events) EXPECT_NE(e.kind, EventKind::kRestart);
   EXPECT_EQ(forged.newest_held_state(), clean.newest_held_state());
 }
 
@@ -322,7 +322,7 @@ TEST(SamplePairer, ARepeatedFreshStateZeroConfirmsTheRestart) {
   log.Add(p.OnState(State{0, -1}));
   log.Add(p.OnState(State{0, -1}));
   EXPECT_EQ(std::count_if(log.events.begin(), log.events.end(),
-                          [](const auto& e) { return e.kind == Kind::kRestart; }),
+                          [](const auto& e) { return e.kind == EventKind::kRestart; }),
             1);
   const std::size_t before = log.Samples().size();
   log.Add(p.OnCommand(C(0)));

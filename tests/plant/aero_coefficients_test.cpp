@@ -4,11 +4,10 @@
 
 #include <cmath>
 
+#include "plant/angle_constants.hpp"
+
 namespace odonata::plant {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
 
 // docs/plant.md §3 check points, quoted to two decimals.
 TEST(AeroCoefficients, MatchesPlantMdCheckPoints) {

@@ -10,13 +10,13 @@
 
 #include <cmath>
 
+#include "plant/angle_constants.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/trim_finder.hpp"
 
 namespace odonata::plant {
 namespace {
 
-constexpr double kRadPerDeg = M_PI / 180.0;
 constexpr double kTolerance = 0.25;
 
 class PlantBehaviour : public ::testing::Test {
