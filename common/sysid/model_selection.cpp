@@ -139,10 +139,13 @@ double Score(const NarxModel& model, const Series& s, int horizon) {
 // Blocked cross-validation of the chosen fuzzy setting against the linear model: fold k is
 // scored after training on the rest of `train`, the seam a break.
 // `linear_folds`, when given, are the linear model's fold scores from an earlier check.
+// `second_look`: the fuzzy candidate is not the hold-out's choice, so the folds alone must show
+// that it beats the linear model (below).
 LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
                           const TrainOptions& train_options, const SelectionOptions& options,
                           const Candidate& fuzzy_c, const Candidate& linear_c, const Series& train,
-                          int horizon, const std::vector<double>* linear_folds = nullptr) {
+                          int horizon, const std::vector<double>* linear_folds = nullptr,
+                          bool second_look = false) {
   LinearCheck check;
   const Eigen::Index n = train.samples();
   const int k = options.linear_check_folds;
@@ -183,8 +186,30 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
   check.fuzzy_score = mean(check.fuzzy_folds);
   check.linear_score = mean(check.linear_folds);
   // As in the choice among candidates: a difference below the absolute tolerance (half a FIT
-  // point) does not pay for the rules.
-  check.linear_chosen = !(check.fuzzy_score + options.absolute_tolerance < check.linear_score);
+  // point) does not pay for the rules. For a second look, nor does one below its own standard
+  // error over the folds (the one-standard-error rule, paired since both settings see the same
+  // folds): the hold-out preferred another candidate, and each further look is one more chance
+  // for a lucky fold to decide a mean of a few short folds (docs/identifier.md §9).
+  check.margin = options.absolute_tolerance;
+  if (!second_look) {
+    check.linear_chosen = !(check.fuzzy_score + check.margin < check.linear_score);
+    return check;
+  }
+  double sum = 0, sum_sq = 0;
+  bool finite = true;
+  for (int f = 0; f < k; ++f) {
+    const double d = check.linear_folds[static_cast<std::size_t>(f)] -
+                     check.fuzzy_folds[static_cast<std::size_t>(f)];
+    finite = finite && std::isfinite(d);
+    sum += d;
+    sum_sq += d * d;
+  }
+  if (finite) {
+    const double mean_d = sum / k;
+    const double variance = std::max(0.0, (sum_sq - k * mean_d * mean_d) / (k - 1));
+    check.margin = std::max(check.margin, std::sqrt(variance / k));
+  }
+  check.linear_chosen = !(check.fuzzy_score + check.margin < check.linear_score);
   return check;
 }
 
@@ -508,7 +533,8 @@ SelectionResult SelectModel(
     for (const std::size_t k : order) {
       LinearCheck check =
           CrossValidate(spec, base, train_options, options, cs[k], cs[*linear_index], train,
-                        result.criterion_horizon, linear_folds.empty() ? nullptr : &linear_folds);
+                        result.criterion_horizon, linear_folds.empty() ? nullptr : &linear_folds,
+                        k != result.chosen);
       if (check.done) linear_folds = check.linear_folds;
       if (!check.done) break;  // too short to fold: the hold-out alone decides
       check.candidate = k;

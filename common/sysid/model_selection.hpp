@@ -109,7 +109,10 @@ struct LinearCheck {
   std::size_t candidate = 0;                      ///< the fuzzy candidate checked (its index)
   std::vector<double> fuzzy_folds, linear_folds;  ///< each fold's score (criterion NDEI)
   double fuzzy_score = 0.0, linear_score = 0.0;   ///< their means (+∞ if one diverged)
-  bool linear_chosen = false;                     ///< the fuzzy model did not beat it
+  /// What the fuzzy mean must beat the linear one by: the absolute tolerance, or the standard
+  /// error of the folds' paired differences when larger.
+  double margin = 0.0;
+  bool linear_chosen = false;  ///< the fuzzy model did not beat it
 };
 
 struct SelectionResult {

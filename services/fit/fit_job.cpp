@@ -397,6 +397,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                std::isfinite(lc.linear_score) ? nlohmann::json(lc.linear_score) : nullptr},
               {"fuzzy_folds", nums(lc.fuzzy_folds)},
               {"linear_folds", nums(lc.linear_folds)},
+              {"margin", lc.margin},
               {"linear_chosen", lc.linear_chosen}};
         };
         // The one that decided, and every check made (the candidates that lost first).
@@ -656,13 +657,13 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         const bool last = &lc == &checks.back();
         std::snprintf(
             line, sizeof line,
-            "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g (%d rules), ARX %.4g: "
-            "%s\n",
+            "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g (%d rules), ARX %.4g, "
+            "margin needed %.2g: %s\n",
             lc["folds"].get<int>(), num(lc["fuzzy_ndei"]),
             lc.contains("candidate_index")
                 ? sel["candidates"][lc["candidate_index"].get<std::size_t>()].value("rules", 0)
                 : 0,
-            num(lc["linear_ndei"]),
+            num(lc["linear_ndei"]), lc.value("margin", 0.0),
             !lost  ? "fuzzy kept"
             : last ? "ARX kept"
                    : "lost, the next by hold-out is tried");

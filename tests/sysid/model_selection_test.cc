@@ -202,8 +202,9 @@ TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
 }
 
 // A linear plant under noise: where a fuzzy candidate wins the hold-out by chance, it loses the
-// folds, and so do the next ones by hold-out score, each against the same linear folds; ARX is
-// chosen. With one candidate allowed, the hold-out's choice alone faces them.
+// folds, and so do the next ones by hold-out score, each against the same linear folds and by a
+// margin that grows with the folds' spread; ARX is chosen. With one candidate allowed, the
+// hold-out's choice alone faces them.
 TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
   // 400 samples, noise a third of the output's deviation: seed 1 is such a chance.
   const Series s = NoisyFirstOrder(400, 1, 0.1);
@@ -227,6 +228,22 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
     }
   }
   EXPECT_EQ(r.linear_check.candidate, r.linear_checks.front().candidate);
+  // The hold-out's choice needs the absolute tolerance; a second look, also the standard error
+  // of the folds' paired differences (the one-standard-error rule).
+  EXPECT_EQ(r.linear_checks.front().margin, o.absolute_tolerance);
+  bool error_decides = false;
+  for (std::size_t i = 1; i < r.linear_checks.size(); ++i) {
+    const LinearCheck& lc = r.linear_checks[i];
+    const std::size_t k = lc.fuzzy_folds.size();
+    Eigen::ArrayXd d(static_cast<Eigen::Index>(k));
+    for (std::size_t f = 0; f < k; ++f)
+      d(static_cast<Eigen::Index>(f)) = lc.linear_folds[f] - lc.fuzzy_folds[f];
+    const double se = std::sqrt((d - d.mean()).square().sum() / double(k - 1) / double(k));
+    EXPECT_NEAR(lc.margin, std::max(o.absolute_tolerance, se), 1e-12) << "check " << i;
+    EXPECT_EQ(lc.linear_chosen, !(lc.fuzzy_score + lc.margin < lc.linear_score));
+    error_decides = error_decides || se > o.absolute_tolerance;
+  }
+  EXPECT_TRUE(error_decides) << "the folds of this record vary by more than the tolerance";
   ASSERT_TRUE(r.chosen_model.has_value());
   EXPECT_EQ(r.chosen_model->total_rules(), 1);
 
