@@ -313,32 +313,6 @@ TEST(ModelSelection, ANonlinearPlantKeepsItsFuzzyModelThroughCrossValidation) {
   EXPECT_EQ(r.chosen_model->Ndei(holdout, true), c.score);
 }
 
-// The sweeps, the short list, the rest checks and the folds train on several threads; what they
-// give must not depend on how many (issue 22: identical models for --threads 1 and 2).
-TEST(ModelSelection, TheResultIsTheSameWhateverTheThreadCount) {
-  SelectionOptions o;
-  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1), ThresholdForRadius(0.75)};
-  o.kappas = {0.5, 1.0};
-  o.max_epochs = 6;
-  o.simulation = {{10, 4}, {40, 4}};
-  const Series train = testing::NarendraTrain(800);
-  std::vector<std::string> runs;
-  for (unsigned threads : {1u, 2u, 5u}) {
-    o.threads = threads;
-    const SelectionResult r =
-        SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, train, o);
-    std::ostringstream s;
-    s.precision(17);
-    for (const auto& c : r.candidates)
-      s << ToString(c.consequent) << c.threshold << ' ' << c.kappa << ' ' << c.rules << ' '
-        << c.epochs << ' ' << c.score << ' ' << c.rest_deviation << ' ' << c.deviation_ridge << ';';
-    s << r.chosen << ' ' << r.linear_check.fuzzy_score << ' ' << r.linear_check.linear_score;
-    runs.push_back(s.str());
-  }
-  EXPECT_EQ(runs[0], runs[1]);
-  EXPECT_EQ(runs[0], runs[2]);
-}
-
 // The best fuzzy candidates are trained again shrunk toward the global linear model, each ridge
 // a candidate of its own. A huge ridge gives every rule the global least-squares consequent:
 // whatever its premises, that model predicts as the linear one (ARX) does.

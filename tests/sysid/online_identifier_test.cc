@@ -87,28 +87,6 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   EXPECT_EQ(replay.refits, 2);
 }
 
-// At steady state, once a selection has seen a full buffer, a refit trains with the settings it
-// chose instead of searching again (most of a refit's cost); the closing refit chooses. Counts
-// decide, so odonata-fit's replay makes the same choices and lands the same model.
-TEST(OnlineIdentifier, SteadyStateRefitsReuseTheLastSelection) {
-  const Series train = testing::NarendraTrain(1000);
-  RefitSchedule refit;
-  refit.first = 100;
-  refit.every = 200;  // begun at 100, 200, 400 (the buffer full), then 600 and 800
-  refit.buffer = 400;
-  OnlineIdentifier online(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
-  for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
-  EXPECT_EQ(online.refits(), 4);      // 100, 200, 400 and 600 landed; 800 is in flight
-  EXPECT_EQ(online.selections(), 3);  // 100, 200 and 400 searched; 600 reused 400's choice
-  online.Freeze();
-  online.Settle();
-  EXPECT_EQ(online.selections(), 4) << "the closing refit searches";
-  const OnlineReplay replay =
-      LearnOnline(Empty(fuzzy::ConsequentKind::kLinear, train), refit, train,
-                  Empty(fuzzy::ConsequentKind::kLinear, train).scaling());
-  EXPECT_EQ(replay.model.ToJson().dump(), online.model().ToJson().dump());
-}
-
 TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
   const Series train = testing::NarendraTrain(40);
   RefitSchedule refit;
