@@ -102,6 +102,21 @@ bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& 
                                incumbent - options.absolute_tolerance);
 }
 
+double PairedStandardError(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::size_t k = a.size();
+  if (k < 2 || b.size() != k) return 0.0;
+  double sum = 0, sum_sq = 0;
+  for (std::size_t f = 0; f < k; ++f) {
+    const double d = b[f] - a[f];
+    if (!std::isfinite(d)) return 0.0;
+    sum += d;
+    sum_sq += d * d;
+  }
+  const double n = static_cast<double>(k);
+  const double mean = sum / n;
+  return std::sqrt(std::max(0.0, (sum_sq - n * mean * mean) / (n - 1)) / n);
+}
+
 namespace {
 
 // Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
@@ -191,24 +206,9 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
   // folds): the hold-out preferred another candidate, and each further look is one more chance
   // for a lucky fold to decide a mean of a few short folds (docs/identifier.md §9).
   check.margin = options.absolute_tolerance;
-  if (!second_look) {
-    check.linear_chosen = !(check.fuzzy_score + check.margin < check.linear_score);
-    return check;
-  }
-  double sum = 0, sum_sq = 0;
-  bool finite = true;
-  for (int f = 0; f < k; ++f) {
-    const double d = check.linear_folds[static_cast<std::size_t>(f)] -
-                     check.fuzzy_folds[static_cast<std::size_t>(f)];
-    finite = finite && std::isfinite(d);
-    sum += d;
-    sum_sq += d * d;
-  }
-  if (finite) {
-    const double mean_d = sum / k;
-    const double variance = std::max(0.0, (sum_sq - k * mean_d * mean_d) / (k - 1));
-    check.margin = std::max(check.margin, std::sqrt(variance / k));
-  }
+  if (second_look)
+    check.margin =
+        std::max(check.margin, PairedStandardError(check.fuzzy_folds, check.linear_folds));
   check.linear_chosen = !(check.fuzzy_score + check.margin < check.linear_score);
   return check;
 }

@@ -157,6 +157,11 @@ bool Restless(double rest_deviation, double linear_rest);
 /// options.relative_tolerance of it and by more than options.absolute_tolerance.
 bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& options);
 
+/// The standard error of the mean of the paired differences b − a over folds: what a mean
+/// difference between two settings scored on the same folds must exceed to be more than
+/// chance. 0 with fewer than two folds or a non-finite score (the means decide alone).
+double PairedStandardError(const std::vector<double>& a, const std::vector<double>& b);
+
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);
 /// `a` then `b`, with a break between them (no regressor or free run crosses the seam).

@@ -381,12 +381,12 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           {"candidates", cands},
           {"best_index", sel.best},
           {"chosen_index", sel.chosen}};
+      auto nums = [](const std::vector<double>& v) {
+        nlohmann::json a = nlohmann::json::array();
+        for (const double x : v) a.push_back(std::isfinite(x) ? nlohmann::json(x) : nullptr);
+        return a;
+      };
       if (sel.linear_check.done) {
-        auto nums = [](const std::vector<double>& v) {
-          nlohmann::json a = nlohmann::json::array();
-          for (const double x : v) a.push_back(std::isfinite(x) ? nlohmann::json(x) : nullptr);
-          return a;
-        };
         auto check = [&](const sysid::LinearCheck& lc) {
           return nlohmann::json{
               {"candidate_index", lc.candidate},
@@ -414,6 +414,9 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
              std::isfinite(oc.fuzzy_score) ? nlohmann::json(oc.fuzzy_score) : nullptr},
             {"one_step_ndei",
              std::isfinite(oc.linear_score) ? nlohmann::json(oc.linear_score) : nullptr},
+            {"output_error_folds", nums(oc.fuzzy_folds)},
+            {"one_step_folds", nums(oc.linear_folds)},
+            {"standard_error", sysid::PairedStandardError(oc.fuzzy_folds, oc.linear_folds)},
             {"output_error_kept", sel.output_error_linear}};
       }
       for (const auto& w : sel.warnings) warnings.push_back(w);

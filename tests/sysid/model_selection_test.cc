@@ -201,6 +201,15 @@ TEST(ModelSelection, TheLinearModelIsChosenWhenTheFuzzyOneDoesNotBeatIt) {
   EXPECT_EQ(r.chosen_model->total_rules(), 1);
 }
 
+// The standard error of paired fold differences: differences 1, 2, 3, 4 have a sample deviation
+// of 1.29, so 0.645 over four folds; a diverged fold or a single fold leaves the means alone.
+TEST(ModelSelection, PairedStandardErrorOfFoldDifferences) {
+  EXPECT_NEAR(PairedStandardError({1, 2, 3, 4}, {2, 4, 6, 8}), std::sqrt(5.0 / 3.0 / 4.0), 1e-15);
+  EXPECT_EQ(PairedStandardError({1, 2, 3}, {2, 3, 4}), 0.0) << "equal differences";
+  EXPECT_EQ(PairedStandardError({1, std::numeric_limits<double>::infinity()}, {1, 2}), 0.0);
+  EXPECT_EQ(PairedStandardError({1}, {2}), 0.0);
+}
+
 // A linear plant under noise: where a fuzzy candidate wins the hold-out by chance, it loses the
 // folds, and so do the next ones by hold-out score, each against the same linear folds and by a
 // margin that grows with the folds' spread; ARX is chosen. With one candidate allowed, the
