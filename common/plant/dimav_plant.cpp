@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "plant/angle_constants.hpp"
 #include "plant/divergence_monitor.hpp"
 #include "plant/ground_contact.hpp"
-#include "plant/angle_constants.hpp"
 #include "plant/rk4.hpp"
 
 namespace odonata::plant {

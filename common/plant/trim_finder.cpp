@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "plant/dimav_plant.hpp"
 #include "plant/angle_constants.hpp"
+#include "plant/dimav_plant.hpp"
 
 namespace odonata::plant {
 MeanLoad ComputeMeanLoadAtRest(const PlantConfig& config, const CommandMatrix& command,
