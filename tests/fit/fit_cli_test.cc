@@ -1,7 +1,5 @@
 // odonata-fit run as a real process: its JSON contract and every bad-input case of issue 2.
 
-#include <sys/wait.h>
-
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -12,54 +10,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fit_process.hpp"
+
 namespace {
 
-struct ProcessResult {
-  int status = -1;
-  std::string out;  // stdout and stderr together
-};
-
-ProcessResult Exec(const std::string& args, bool merge_stderr = true, bool raw = false) {
-  // raw: `args` is the whole shell command (its own program and redirections).
-  const std::string cmd =
-      raw ? args
-          : std::string(ODONATA_FIT_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
-  ProcessResult r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  return r;
-}
-
-std::string Dir() { return ::testing::TempDir(); }
-
-std::string Write(const std::string& name, const std::string& text) {
-  const std::string path = Dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::string Example(const std::string& f) {
-  return std::string(ODONATA_EXAMPLES_DIR) + "/narendra/" + f;
-}
-
-// The example's first 1000 training rows: enough for a selection with a hold-out and folds, and
-// a fifth of the full file's cost for the tests about the CLI's contract rather than its
-// accuracy (each whole-file selection took 1–2 minutes under the sanitizers).
-std::string ShortTrain() {
-  // One file per test: ctest runs the tests as parallel processes over the same folder.
-  const std::string path = Dir() + "/narendra_train_1000_" +
-                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
-  std::ifstream in(Example("train.csv"));
-  std::ofstream out(path);
-  std::string line;
-  for (int k = 0; k <= 1000 && std::getline(in, line); ++k) out << line << "\n";
-  return path;
-}
+using namespace odonata::fit_process;
 
 TEST(FitCli, HelpDescribesTheContract) {
   const ProcessResult r = Exec("--help");
@@ -228,77 +183,6 @@ TEST(FitCli, SemicolonSeparatedFilesWithDecimalCommas) {
   EXPECT_EQ(Exec("--train " + sp + args + " --decimal ,").status, 2);  // ',' twice
 }
 
-// Into a log (stderr not a terminal), a long fit says where it is, with the time left once its
-// pace is known; with --json into a pipe it says nothing. The quiet time is 0 here, so any fit
-// is "long".
-TEST(FitCli, ProgressLinesInALogAndSilenceWithJson) {
-  const std::string args = "--train " + ShortTrain() +
-                           " --output y --input u --consequent linear --select-kappas 1 "
-                           "--select-thresholds 0.3,0.45 --max-epochs 3";
-  const ProcessResult text = Exec("env ODONATA_PROGRESS_AFTER_S=0 " + std::string(ODONATA_FIT_EXE) +
-                                      " " + args + " 2>&1 >/dev/null",
-                                  false, true);
-  ASSERT_EQ(text.status, 0) << text.out;
-  EXPECT_NE(text.out.find("odonata-fit: selecting linear"), std::string::npos) << text.out;
-  EXPECT_EQ(text.out.find("\r"), std::string::npos) << "no bar redrawn into a log";
-  const ProcessResult json = Exec("env ODONATA_PROGRESS_AFTER_S=0 " + std::string(ODONATA_FIT_EXE) +
-                                      " " + args + " --json 2>&1 >/dev/null",
-                                  false, true);
-  ASSERT_EQ(json.status, 0) << json.out;
-  EXPECT_EQ(json.out.find("odonata-fit: selecting"), std::string::npos)
-      << "progress with --json into a pipe: " << json.out;
-}
-
-// Choices carried across (issue 21 point 4): the configuration odonata-fit writes is one
-// odonata-identifier accepts as it is, with the settings the selection chose.
-TEST(FitCli, SavedConfigurationIsOneTheIdentifierTakesAsItIs) {
-  const std::string cfg = Dir() + "/saved_identifier.json";
-  const ProcessResult fit =
-      Exec("--train " + ShortTrain() +
-               " --output y --input u --consequent linear --select-kappas 0.5 "
-               "--select-thresholds 0.3,0.45 --max-epochs 3 --json --save-config " +
-               cfg,
-           false);
-  ASSERT_EQ(fit.status, 0) << fit.out;
-  const auto report = nlohmann::json::parse(fit.out);
-  std::ifstream in(cfg);
-  const auto c = nlohmann::json::parse(in);
-  EXPECT_EQ(c["outputs"], nlohmann::json::array({"y"}));
-  EXPECT_EQ(c["inputs"], nlohmann::json::array({"u"}));
-  EXPECT_EQ(c["kappa"].get<double>(), 0.5);
-  EXPECT_EQ(c["entropy_threshold"].get<double>(), report["entropy_threshold"].get<double>());
-  EXPECT_TRUE(c["ranges"].contains("y") && c["ranges"].contains("u")) << c.dump();
-  const ProcessResult check =
-      Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1", false,
-           true);
-  ASSERT_EQ(check.status, 0) << check.out;
-  EXPECT_NE(check.out.find("identifies y from u (ny 1, nu 1, delay 1), linear consequents"),
-            std::string::npos)
-      << check.out;
-  // A broken one is refused, naming the key.
-  std::ofstream(cfg) << R"({"outputs": ["y"], "inputs": ["u"], "kapa": 1})";
-  const ProcessResult bad =
-      Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1", false,
-           true);
-  EXPECT_NE(bad.status, 0) << bad.out;
-  EXPECT_NE(bad.out.find("kapa"), std::string::npos) << bad.out;
-}
-
-TEST(FitCli, SelectionNeverReadsTheValidationFile) {
-  // The same training file with two different validation files: the same choice, same model.
-  const std::string base = "--train " + ShortTrain() +
-                           " --output y --input u --consequent linear --select-kappas 0.5,1 "
-                           "--select-thresholds 0.3,0.45 --max-epochs 4 --json --validate ";
-  const ProcessResult a = Exec(base + Example("validate.csv"), false);
-  const ProcessResult b = Exec(base + Example("train.csv"), false);
-  ASSERT_EQ(a.status, 0) << a.out;
-  ASSERT_EQ(b.status, 0) << b.out;
-  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
-  EXPECT_EQ(ja["selection"], jb["selection"]);
-  EXPECT_EQ(ja["rule_text"], jb["rule_text"]);
-  EXPECT_EQ(ja["train"], jb["train"]);
-}
-
 TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
   const std::string out = Dir() + "/pred.csv";
   const ProcessResult r =
@@ -339,33 +223,6 @@ TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
     sv += (y[k] - mean) * (y[k] - mean);
   }
   EXPECT_NEAR(100 * (1 - std::sqrt(se / sv)), j["validate"]["one_step"]["fit"].get<double>(), 1e-6);
-}
-
-// Replaying the online identifier (--refit-*) says what its refits did, in both reports.
-TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
-  const std::string path = Dir() + "/narendra_train_400.csv";
-  {
-    std::ifstream in(Example("train.csv"));
-    std::ofstream out(path);
-    std::string line;
-    for (int k = 0; k <= 400 && std::getline(in, line); ++k) out << line << "\n";
-  }
-  const std::string args = "--train " + path +
-                           " --output y --input u --epochs 1 --no-least-squares --consequent "
-                           "linear --refit-first 100 --refit-every 200 --refit-buffer 300";
-  const ProcessResult text = Exec(args);
-  ASSERT_EQ(text.status, 0) << text.out;
-  // 100 lands at 200, where 200 begins; the freeze replaces that one with the closing refit.
-  EXPECT_NE(text.out.find("the online identifier replayed: 399 samples learned, 2 refits landed "
-                          "(0 failed, 0 kept the last refit's model)"),
-            std::string::npos)
-      << text.out;
-  const ProcessResult json = Exec(args + " --json", false);
-  ASSERT_EQ(json.status, 0) << json.out;
-  const auto refits = nlohmann::json::parse(json.out)["refits"];
-  EXPECT_EQ(refits["landed"].get<int>(), 2);
-  EXPECT_EQ(refits["incumbents_kept"].get<int>(), 0);
-  EXPECT_EQ(refits["samples_learned"].get<int>(), 399);
 }
 
 TEST(FitCli, TrackLearnsOnlineBesideAFrozenCopyAndArx) {
