@@ -3,10 +3,10 @@
 # Both suites run even when the first fails, and the last line gives both counts; the exit code is
 # non-zero when anything failed.
 #
-# The Release suite uses about one core of two on average (its multi-process tests wait on their
-# services), so the sanitizer build runs beside it at a lower priority and fills the idle core:
-# the tests keep their CPU, and the whole command ends minutes sooner. The tests pass beside CPU
-# hogs anyway (README, Robustness).
+# The Release suite keeps about one core of two busy on average (its multi-process tests wait on
+# their services), so the sanitizer build runs beside it and uses the idle core: the whole command
+# ends minutes sooner. The tests pass beside CPU hogs anyway (README, Robustness). The build is
+# not niced: on a machine that other jobs keep busy, a niced build would get almost no CPU.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 "$ROOT/deploy/setup.sh" || { echo "run-tests: setup failed" >&2; exit 1; }
@@ -36,12 +36,12 @@ release="Release: BUILD FAILED"
 release_built=0
 "$ROOT/deploy/build.sh" release && release_built=1
 
-# The sanitizer build, in the background and niced, its output into a log (printed if it fails).
+# The sanitizer build, in the background, its output into a log (printed if it fails).
 mkdir -p "$ROOT/build-sanitize"
 sanitize_log="$ROOT/build-sanitize/build.log"
 echo "run-tests: building the ASan+UBSan tree in the background (log: $sanitize_log)"
 set -m  # its own process group, so that the compilers it starts can be stopped with it
-nice -n 15 "$ROOT/deploy/build.sh" sanitize >"$sanitize_log" 2>&1 &
+"$ROOT/deploy/build.sh" sanitize >"$sanitize_log" 2>&1 &
 sanitize_build=$!
 set +m
 # Whatever ends this script (a failure, Ctrl-C), the background build does not outlive it.
