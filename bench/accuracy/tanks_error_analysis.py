@@ -14,12 +14,13 @@ Two figures, for the explanation only; nothing here chooses a setting:
 """
 import argparse
 import csv
-import itertools
 import os
 import sys
 
 import numpy as np
 from scipy.optimize import least_squares
+
+from real_records import load, monomials
 
 FULL = 10.0  # V: the lower tank's level sensor at overflow
 
@@ -54,9 +55,10 @@ def error_shares(predictions, n):
 def polynomial_narx(train, test, degree):
     """Trains a polynomial NARX (2, 2) on the simulation error of `train` and scores its free run
     on `train` and `test` (the same file for the in-sample figure)."""
-    u, y = read_columns(train, ["u", "y"])
-    uv, yv = read_columns(test, ["u", "y"])
-    terms = [c for d in range(degree + 1) for c in itertools.combinations_with_replacement(range(4), d)]
+    y, u = load(train, "y", ["u"])
+    yv, uv = load(test, "y", ["u"])
+    u, uv = u[:, 0], uv[:, 0]
+    terms = monomials(4, degree)
     # Each term as `degree` indices into [regressor…, 1]: one product per term, one call per step.
     index = np.array([list(c) + [4] * (degree - len(c)) for c in terms])
     ym, ys, um, us = y.mean(), y.std(), u.mean(), u.std()

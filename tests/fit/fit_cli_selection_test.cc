@@ -87,14 +87,7 @@ TEST(FitCli, SelectionNeverReadsTheValidationFile) {
 
 // Replaying the online identifier (--refit-*) says what its refits did, in both reports.
 TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
-  const std::string path = Dir() + "/narendra_train_400.csv";
-  {
-    std::ifstream in(Example("train.csv"));
-    std::ofstream out(path);
-    std::string line;
-    for (int k = 0; k <= 400 && std::getline(in, line); ++k) out << line << "\n";
-  }
-  const std::string args = "--train " + path +
+  const std::string args = "--train " + TrainHead(400) +
                            " --output y --input u --epochs 1 --no-least-squares --consequent "
                            "linear --refit-first 100 --refit-every 200 --refit-buffer 300";
   const ProcessResult text = Exec(args);

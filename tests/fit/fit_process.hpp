@@ -46,18 +46,21 @@ inline std::string Example(const std::string& f) {
   return std::string(ODONATA_EXAMPLES_DIR) + "/narendra/" + f;
 }
 
-// The example's first 1000 training rows: enough for a selection with a hold-out and folds, and
-// a fifth of the full file's cost for the tests about the CLI's contract rather than its
-// accuracy (each whole-file selection took 1–2 minutes under the sanitizers).
-inline std::string ShortTrain() {
-  // One file per test: ctest runs the tests as parallel processes over the same folder.
-  const std::string path = Dir() + "/narendra_train_1000_" +
+// The example's first `rows` training rows, in a file of the running test's own (ctest runs the
+// tests as parallel processes over the same folder).
+inline std::string TrainHead(int rows) {
+  const std::string path = Dir() + "/narendra_train_" + std::to_string(rows) + "_" +
                            ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
   std::ifstream in(Example("train.csv"));
   std::ofstream out(path);
   std::string line;
-  for (int k = 0; k <= 1000 && std::getline(in, line); ++k) out << line << "\n";
+  for (int k = 0; k <= rows && std::getline(in, line); ++k) out << line << "\n";
   return path;
 }
+
+// 1000 rows: enough for a selection with a hold-out and folds, and a fifth of the full file's
+// cost for the tests about the CLI's contract rather than its accuracy (each whole-file selection
+// took 1–2 minutes under the sanitizers).
+inline std::string ShortTrain() { return TrainHead(1000); }
 
 }  // namespace odonata::fit_process
