@@ -101,6 +101,9 @@ struct Candidate {
   /// It does not come to rest where the linear model does: a self-excited oscillation the
   /// hold-out may not show (score +∞).
   bool restless = false;
+  /// K-step criterion: one step ahead on the hold-out it is worse than the linear model by more
+  /// than the candidates' margin (SelectionResult::one_step_bound; score +∞).
+  bool one_step_lost = false;
 };
 
 /// The blocked cross-validation between the chosen fuzzy setting and the linear model.
@@ -123,6 +126,10 @@ struct SelectionResult {
   int criterion_horizon = 0;  ///< what the score is: 0 free run, 1 one step, K steps ahead
   Eigen::Index fit_samples = 0;
   Eigen::Index holdout_samples = 0;
+  /// K-step criterion: the one-step hold-out NDEI no candidate may exceed — the linear model's
+  /// (one-step least squares) plus the candidates' margin; +∞ in free run, one step ahead (the
+  /// score itself) or without a linear candidate.
+  double one_step_bound = std::numeric_limits<double>::infinity();
   std::vector<std::string> warnings;  ///< the search's edge, the rule cap, the epoch limit
   LinearCheck linear_check;  ///< the check that decided: the winner's, or else the first one's
   /// Every check in the order made (the fuzzy candidates that lost, then the winner if any).

@@ -195,7 +195,9 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       rec.holdout_ndei = options.holdout_horizon > 0
                              ? NdeiAhead(*options.holdout, options.holdout_horizon)
                              : Ndei(*options.holdout, options.holdout_free_run);
-      if (rec.accepted && rec.holdout_ndei < best_holdout) {
+      if (rec.accepted && rec.holdout_ndei < best_holdout &&
+          (std::isinf(options.holdout_one_step_bound) ||
+           Ndei(*options.holdout, false) <= options.holdout_one_step_bound)) {
         best_holdout = rec.holdout_ndei;
         best_holdout_epoch = rec.epoch;
         kept_holdout = models_;
@@ -222,6 +224,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     if (options.holdout != nullptr && (options.holdout_free_run || options.holdout_horizon > 1)) {
       so.holdout = options.holdout;
       so.holdout_horizon = options.holdout_horizon;
+      so.one_step_bound = options.holdout_one_step_bound;
     }
     report.simulation = TrainOnSimulationError(*this, train, so).kept;
   }

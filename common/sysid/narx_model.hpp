@@ -76,6 +76,11 @@ struct TrainOptions {
   /// > 0: the hold-out is scored this many steps ahead instead (integrating loops, whose free
   /// run drifts for any model).
   int holdout_horizon = 0;
+  /// With a hold-out scored ahead or in free run: a pass (or a simulation step) is kept only while
+  /// its one-step hold-out NDEI is at most this. The selection sets it for a K-step score, from
+  /// the linear model's (docs/identifier.md §9): a loop scored K steps ahead is reported one step
+  /// ahead too.
+  double holdout_one_step_bound = std::numeric_limits<double>::infinity();
   /// With a hold-out: stop after this many passes without a hold-out improvement (0: never).
   int patience = 0;
   /// After the one-step passes: iRprop− steps on the multiple-shooting simulation error, stage

@@ -355,7 +355,8 @@ SimulationTrainReport TrainOnSimulationError(NarxModel& model, const Series& tra
     if (!options.holdout) return false;
     const double h = model.NdeiAhead(*options.holdout, options.holdout_horizon);
     report.holdout_ndei.push_back(h);
-    if (h < best_holdout) {
+    if (h < best_holdout && (std::isinf(options.one_step_bound) ||
+                             model.NdeiAhead(*options.holdout, 1) <= options.one_step_bound)) {
       best_holdout = h;
       kept = model;
       report.kept = taken;

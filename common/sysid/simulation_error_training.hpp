@@ -7,6 +7,7 @@
 // same kernel the one-step learner uses; iRprop− steps on it, a step that raises the loss is
 // undone. One-step least squares stays the starting point.
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -51,6 +52,9 @@ struct SimulationTrainOptions {
   /// never). Without one, every stage takes exactly its steps.
   const Series* holdout = nullptr;
   int holdout_horizon = 0;  ///< the hold-out's score: free run (0) or this many steps ahead
+  /// With a hold-out: a step is kept only while its one-step hold-out NDEI is at most this
+  /// (TrainOptions::holdout_one_step_bound).
+  double one_step_bound = std::numeric_limits<double>::infinity();
   int patience = 8;
   ProgressCallback progress;  ///< (stage, step, steps) after each step
 };

@@ -145,7 +145,8 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
           {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
           {"score", num(c.score)},
           {"rest_deviation", num(c.rest_deviation)},
-          {"restless", c.restless}};
+          {"restless", c.restless},
+          {"one_step_lost", c.one_step_lost}};
 }
 
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
@@ -371,6 +372,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                         : sel.criterion_horizon == 1 ? "one_step"
                                                      : "k_step"},
           {"criterion_horizon", sel.criterion_horizon},
+          {"one_step_bound", std::isfinite(sel.one_step_bound) ? nlohmann::json(sel.one_step_bound)
+                                                               : nlohmann::json(nullptr)},
           {"scored_on", o.select_csv.empty() ? "training hold-out" : o.select_csv},
           {"relative_tolerance", so.relative_tolerance},
           {"absolute_tolerance", so.absolute_tolerance},
@@ -634,11 +637,12 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
                     c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
                     c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
                     num(c["holdout_free_run_ndei"]), c.value("deviation_ridge", 0.0),
-                    c.value("restless", false) ? "  (oscillates at rest)"
-                    : best && from_linear      ? "  (best; from ARX)"
-                    : best                     ? "  (best)"
-                    : from_linear              ? "  (from ARX)"
-                                               : "");
+                    c.value("restless", false)        ? "  (oscillates at rest)"
+                    : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
+                    : best && from_linear             ? "  (best; from ARX)"
+                    : best                            ? "  (best)"
+                    : from_linear                     ? "  (from ARX)"
+                                                      : "");
       out << line;
       ++k;
     }

@@ -85,6 +85,35 @@ TEST(FitCli, SelectionNeverReadsTheValidationFile) {
   EXPECT_EQ(ja["train"], jb["train"]);
 }
 
+// Chosen K steps ahead, the report gives the one-step bound and which candidates it put out; the
+// model kept is within it. In free run: none.
+TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
+  const std::string base = "--train " + TrainHead(600) +
+                           " --output y --input u --consequent linear --select-kappas 1 "
+                           "--select-thresholds 0.3,0.45 --max-epochs 3 --json";
+  const ProcessResult ahead = Exec(base + " --horizon 5", false);
+  ASSERT_EQ(ahead.status, 0) << ahead.out;
+  const auto sel = nlohmann::json::parse(ahead.out)["selection"];
+  ASSERT_EQ(sel["criterion"], "k_step");
+  ASSERT_TRUE(sel["one_step_bound"].is_number()) << sel.dump();
+  const double bound = sel["one_step_bound"].get<double>();
+  // ARX's one-step NDEI before its own simulation training (the JSON lists it after) plus the
+  // margin: at least the absolute tolerance.
+  EXPECT_GE(bound, sel["absolute_tolerance"].get<double>());
+  const auto& cands = sel["candidates"];
+  for (const auto& c : cands) {
+    ASSERT_TRUE(c["one_step_lost"].is_boolean()) << c.dump();
+    if (c["linear"].get<bool>()) continue;
+    EXPECT_EQ(c["one_step_lost"].get<bool>(), c["holdout_one_step_ndei"].get<double>() > bound)
+        << c.dump();
+  }
+  const auto& chosen = cands[sel["chosen_index"].get<std::size_t>()];
+  EXPECT_LE(chosen["holdout_one_step_ndei"].get<double>(), bound);
+  const ProcessResult free_run = Exec(base, false);
+  ASSERT_EQ(free_run.status, 0) << free_run.out;
+  EXPECT_TRUE(nlohmann::json::parse(free_run.out)["selection"]["one_step_bound"].is_null());
+}
+
 // Replaying the online identifier (--refit-*) says what its refits did, in both reports.
 TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
   const std::string args = "--train " + TrainHead(400) +

@@ -384,6 +384,55 @@ TEST(ModelSelection, AHorizonScoresAndChoosesKStepsAhead) {
                std::invalid_argument);
 }
 
+// Scored K steps ahead, no candidate may be worse one step ahead than the linear model (one-step
+// least squares) by more than the margin: on a noisy linear plant, with no margin, the rule bases
+// that fit the noise lose to it one step ahead and are out. In free run there is no such bound.
+TEST(ModelSelection, KStepsAheadNoCandidateLosesToTheLinearModelOneStepAhead) {
+  const Series s = NoisySecondOrder(5, false);
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1), ThresholdForRadius(0.7)};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  o.linear_check_folds = 0;
+  o.relative_tolerance = 0.0;
+  o.absolute_tolerance = 0.0;
+  for (const int horizon : {10, 20}) {
+    o.horizon = horizon;
+    const SelectionResult r =
+        SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+    ASSERT_EQ(r.criterion_horizon, horizon);
+    const Candidate& linear = r.candidates.front();
+    ASSERT_TRUE(linear.linear);
+    EXPECT_EQ(r.one_step_bound, linear.holdout_one_step_ndei) << horizon;
+    int lost = 0;
+    for (const Candidate& c : r.candidates) {
+      if (c.linear) continue;
+      if (c.one_step_lost) {
+        ++lost;
+        EXPECT_GT(c.holdout_one_step_ndei, r.one_step_bound) << horizon;
+        EXPECT_EQ(c.score, std::numeric_limits<double>::infinity()) << horizon;
+      } else {
+        EXPECT_LE(c.holdout_one_step_ndei, r.one_step_bound) << horizon;
+        EXPECT_EQ(c.score, c.holdout_ahead_ndei) << horizon;
+      }
+    }
+    EXPECT_GT(lost, 0) << horizon << ": a rule base fitted to the noise is worse one step ahead";
+    EXPECT_LE(r.candidates[r.chosen].holdout_one_step_ndei, r.one_step_bound) << horizon;
+  }
+  o.horizon = 0;
+  const SelectionResult free_run =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  ASSERT_EQ(free_run.criterion_horizon, 0);
+  EXPECT_EQ(free_run.one_step_bound, std::numeric_limits<double>::infinity());
+  for (const Candidate& c : free_run.candidates) EXPECT_FALSE(c.one_step_lost);
+  // One step ahead the score is the one-step NDEI itself.
+  o.criterion = SelectionCriterion::kOneStep;
+  EXPECT_EQ(SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o)
+                .one_step_bound,
+            std::numeric_limits<double>::infinity());
+}
+
 // The short list takes simulation-error training; the schedule each kept is recorded, so the
 // final fit can repeat it, and a trained candidate's hold-out score is never worse than before.
 TEST(ModelSelection, TheShortListTrainsOnTheSimulationError) {

@@ -185,6 +185,60 @@ TEST(SimulationErrorTraining, OutputNoiseBiasesOneStepTrainingButNotSimulationTr
   EXPECT_LT(after, 0.05);  // the one-step model is above it
 }
 
+// The plant above under a slow coloured disturbance (AR(1), pole 0.99) instead of white noise: the
+// one-step predictor leans on the measured lags to follow it, a K-step one cannot.
+Series DisturbedPlant(int samples, unsigned seed) {
+  Series s = Plant(samples, seed, 0.0);
+  std::mt19937_64 rng(seed + 1000);
+  std::normal_distribution<double> w(0.0, 0.05);
+  double v = 0;
+  for (int k = 0; k < samples; ++k) {
+    s.outputs(k, 0) += v;
+    v = 0.995 * v + w(rng);
+  }
+  return s;
+}
+
+// Scored K steps ahead on a disturbed record, simulation training trades one-step accuracy for
+// K-step accuracy; with a one-step bound no step beyond it is kept, and the K-step score still
+// improves within it (docs/identifier.md §12).
+TEST(SimulationErrorTraining, AOneStepBoundLimitsTheStepsKept) {
+  const RegressorSpec spec = Spec(2, 2);
+  const Series train = DisturbedPlant(2000, 21);
+  const Series holdout = DisturbedPlant(800, 22);
+  const NarxModel start = Trained(spec, train, 0.4);
+  SimulationTrainOptions o;
+  o.stages = {{10, 30}, {40, 30}};
+  o.holdout = &holdout;
+  o.holdout_horizon = 40;
+  o.patience = 0;
+  const double one_step = start.NdeiAhead(holdout, 1);
+  const double ahead = start.NdeiAhead(holdout, 40);
+  NarxModel free = start;
+  TrainOnSimulationError(free, train, o);
+  const double free_one_step = free.NdeiAhead(holdout, 1);
+  ASSERT_GT(free_one_step, 1.03 * one_step)
+      << "unbounded, the kept step gives one-step accuracy away (else this test shows nothing)";
+  ASSERT_LT(free.NdeiAhead(holdout, 40), 0.95 * ahead);
+  // Half way between: no step beyond the bound is kept, and what is kept replays exactly, as the
+  // final fit replays the schedule.
+  NarxModel bounded = start;
+  o.one_step_bound = 0.5 * (one_step + free_one_step);
+  const auto report = TrainOnSimulationError(bounded, train, o);
+  EXPECT_LE(bounded.NdeiAhead(holdout, 1), o.one_step_bound);
+  EXPECT_LE(bounded.NdeiAhead(holdout, 40), ahead);
+  NarxModel replayed = start;
+  SimulationTrainOptions replay;
+  replay.stages = report.kept;
+  TrainOnSimulationError(replayed, train, replay);
+  EXPECT_EQ(replayed.ToJson(), bounded.ToJson());
+  // At the unbounded run's own one-step NDEI the bound takes nothing away: the same step is kept.
+  NarxModel at_free = start;
+  o.one_step_bound = free_one_step;
+  TrainOnSimulationError(at_free, train, o);
+  EXPECT_EQ(at_free.ToJson(), free.ToJson());
+}
+
 // The Levenberg–Marquardt stage's normal equations come from forward sensitivities; the
 // iRprop− gradient from backpropagation through time: two derivations of one quantity, ∂L/∂θ =
 // 2 Jᵀe, which must agree — with outputs held at a saturation limit too (zero sensitivity there).
