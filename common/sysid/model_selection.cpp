@@ -119,6 +119,11 @@ double PairedStandardError(const std::vector<double>& a, const std::vector<doubl
 
 namespace {
 
+// The largest score within the candidates' tolerance of `score`: 5 % or 0.005 NDEI above it.
+double Tolerated(double score, const SelectionOptions& options) {
+  return std::max(score * (1.0 + options.relative_tolerance), score + options.absolute_tolerance);
+}
+
 // Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
 // one) and returns the model.
 NarxModel TrainCandidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
@@ -310,8 +315,7 @@ SelectionResult SelectModel(
       // model (one-step least squares: ARX on the fit slice) beyond the margin a candidate needs
       // over a simpler one. Unbounded, the tail-sitter's pitch and yaw rates lost 7-8 points one
       // step ahead. Not in free run: there the bound lost more than it won (docs/identifier.md §9).
-      result.one_step_bound = std::max(c.holdout_one_step_ndei * (1.0 + options.relative_tolerance),
-                                       c.holdout_one_step_ndei + options.absolute_tolerance);
+      result.one_step_bound = Tolerated(c.holdout_one_step_ndei, options);
       train_options.holdout_one_step_bound = result.one_step_bound;
     }
     linear_index = result.candidates.size();
@@ -526,8 +530,7 @@ SelectionResult SelectModel(
       }
   for (std::size_t k = 0; k < cs.size(); ++k)
     if (cs[k].score < cs[result.best].score) result.best = k;
-  const double allowed = std::max(cs[result.best].score * (1.0 + options.relative_tolerance),
-                                  cs[result.best].score + options.absolute_tolerance);
+  const double allowed = Tolerated(cs[result.best].score, options);
   result.chosen = result.best;
   for (std::size_t k = 0; k < cs.size(); ++k) {
     const auto& c = cs[k];
