@@ -3,8 +3,10 @@
 // trainer walks a CSV, so a lockstep run reproduces odonata-fit's model bit for bit. Knows
 // nothing of LCM; the service shell turns messages into samples.
 
+#include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 
 #include <Eigen/Core>
@@ -63,9 +65,12 @@ class OnlineIdentifier {
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
   /// the learned-sample count becomes `samples_learned` (a resumed model's own count).
   void ReplaceModel(NarxModel model, int64_t samples_learned = 0);
-  /// Called before the model waits for a scheduled refit that has not finished
-  /// (ScheduledRefitter::SetWaitHook).
-  void SetRefitWaitHook(std::function<void()> hook) { refitter_.SetWaitHook(std::move(hook)); }
+  /// Called before the model waits for a scheduled refit that has not finished, and every
+  /// `period` while it waits (ScheduledRefitter::SetWaitHook).
+  void SetRefitWaitHook(std::function<void()> hook,
+                        std::chrono::milliseconds period = std::chrono::milliseconds(1000)) {
+    refitter_.SetWaitHook(std::move(hook), period);
+  }
   /// @throws std::invalid_argument (model unchanged) outside the fuzzy core's range.
   void SetEntropyThreshold(double h);
   /// RLS forgetting factor λ of every output. @throws std::invalid_argument outside (0, 1].

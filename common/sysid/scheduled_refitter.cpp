@@ -174,8 +174,11 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
 
 bool ScheduledRefitter::Land(NarxModel& model) {
   if (!pending_.valid()) return false;
-  if (wait_hook_ && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-    wait_hook_();
+  if (wait_hook_ && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    do {
+      wait_hook_();
+    } while (pending_.wait_for(wait_hook_period_) != std::future_status::ready);
+  }
   std::optional<Refitted> refitted = pending_.get();
   if (!refitted) {
     ++failed_;

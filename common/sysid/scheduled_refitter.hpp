@@ -12,6 +12,7 @@
 // model bit for bit, however long a refit takes.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -108,9 +109,15 @@ class ScheduledRefitter {
     tracker_.Step(model, x, y);
   }
   long tracked() const { return tracker_.steps(); }
-  /// Called before a landing waits for a refit that has not finished (not when it has): the
-  /// identifier says it is busy, so a lockstep generator waits instead of resending.
-  void SetWaitHook(std::function<void()> hook) { wait_hook_ = std::move(hook); }
+  /// Called before a landing waits for a refit that has not finished (not when it has), and
+  /// again every `period` while it still waits: the identifier says, and keeps saying, that it
+  /// is busy, so a lockstep generator waits instead of resending, and one that starts meanwhile
+  /// still hears it (docs/lcm.md §10).
+  void SetWaitHook(std::function<void()> hook,
+                   std::chrono::milliseconds period = std::chrono::milliseconds(1000)) {
+    wait_hook_ = std::move(hook);
+    wait_hook_period_ = period;
+  }
   /// Forgets everything (a model from elsewhere replaced this one); a refit in flight is
   /// cancelled (it stops at its next training pass or step) and dropped. The destructor too.
   void Clear();
@@ -177,6 +184,7 @@ class ScheduledRefitter {
   int64_t selections_ = 0;
   int64_t incumbents_kept_ = 0;
   std::function<void()> wait_hook_;
+  std::chrono::milliseconds wait_hook_period_{1000};
 };
 
 /// A selecting refit keeps the model the last refit landed (the incumbent) when, on the refit's

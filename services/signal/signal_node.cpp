@@ -122,9 +122,13 @@ void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
   const bool known = sequencer_.consumers().count(msg.instance) > 0;
   // An identifier landing a scheduled refit acknowledges nothing until it has: patience, not
   // resends (docs/lcm.md §10).
-  if (known) sequencer_.SetBusy(msg.instance, msg.state == "refitting");
-  if (!known && (msg.state == "running" || msg.state == "frozen")) {
+  const bool refitting = msg.state == "refitting";
+  if (known) sequencer_.SetBusy(msg.instance, refitting);
+  // An identifier landing a refit (after a freeze, its closing one) reads again once it has:
+  // it is a consumer like a running one, and one this run must wait for.
+  if (!known && (msg.state == "running" || msg.state == "frozen" || refitting)) {
     sequencer_.AddConsumer(msg.instance);
+    sequencer_.SetBusy(msg.instance, refitting);
     if (sequencer_.phase() != pipeline::LockstepSequencer::Phase::kAwaitingInitial) {
       std::fprintf(stderr, "[%s] %s joined mid-run: waiting for its receipts too\n",
                    bus_.options().instance.c_str(), msg.instance.c_str());

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -85,6 +86,42 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
       LearnOnline(Empty(fuzzy::ConsequentKind::kLinear, train), refit, train, empty.scaling());
   EXPECT_EQ(replay.model.ToJson().dump(), online.model().ToJson().dump());
   EXPECT_EQ(replay.refits, 2);
+}
+
+// A service whose landing waits for a refit cannot beat its heartbeat meanwhile: the hook is
+// how it keeps saying "refitting" for as long as the wait lasts, so a lockstep generator that
+// starts during a freeze's closing refit still counts it as a consumer (docs/lcm.md §10).
+TEST(OnlineIdentifier, AWaitForARefitCallsTheWaitHookAgainEveryPeriod) {
+  const Series train = testing::NarendraTrain(300);
+  RefitSchedule refit;
+  refit.first = 1000;  // no scheduled refit within the record: only the freeze's closing one
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  using Clock = std::chrono::steady_clock;
+  constexpr auto kPeriod = std::chrono::milliseconds(2);
+  std::vector<Clock::time_point> calls;
+  std::vector<int64_t> refits_at_call;
+  id.SetRefitWaitHook(
+      [&] {
+        calls.push_back(Clock::now());
+        refits_at_call.push_back(id.refits());
+      },
+      kPeriod);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) id.Push(Row(train, k));
+  ASSERT_TRUE(calls.empty()) << "nothing waited before the freeze";
+  id.Freeze();
+  const Clock::time_point wait_began = Clock::now();
+  id.Settle();  // a whole model selection on 300 samples: far longer than a few periods
+  const auto waited = Clock::now() - wait_began;
+  ASSERT_EQ(id.refits(), 1);
+  ASSERT_GE(waited, 3 * kPeriod) << "the closing refit ended too soon to test the wait";
+  ASSERT_FALSE(calls.empty());
+  EXPECT_GE(calls.size(), 2u) << "the hook was called once, then the wait went silent";
+  // Every call came while the refit was still in flight, and never more often than the period.
+  for (int64_t r : refits_at_call) EXPECT_EQ(r, 0);
+  for (std::size_t i = 1; i < calls.size(); ++i) EXPECT_GE(calls[i] - calls[i - 1], kPeriod);
+  const std::size_t calls_before = calls.size();
+  id.Settle();  // nothing in flight: no wait, no call
+  EXPECT_EQ(calls.size(), calls_before);
 }
 
 TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
