@@ -1,5 +1,6 @@
 #include "fit_job.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -143,6 +144,7 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
           {"at_cap", c.at_cap},
           {"holdout_one_step_ndei", num(c.holdout_one_step_ndei)},
           {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
+          {"holdout_ahead_ndei", num(c.holdout_ahead_ndei)},
           {"score", num(c.score)},
           {"rest_deviation", num(c.rest_deviation)},
           {"restless", c.restless},
@@ -618,7 +620,14 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         << 100 * sel["relative_tolerance"].get<double>() << " % or "
         << sel["absolute_tolerance"].get<double>()
         << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
-           "free-run NDEI  ridge\n";
+           "free-run NDEI";
+    // Scored K steps ahead, the score itself is a column too.
+    const int ahead = sel["criterion"] == "k_step" ? sel["criterion_horizon"].get<int>() : 0;
+    if (ahead > 0) {
+      const std::string head = std::to_string(ahead) + "-step NDEI";
+      out << std::string(15 - std::min<std::size_t>(head.size(), 13), ' ') << head;
+    }
+    out << "  ridge\n";
     if (sel.value("searched_rows", 0L) < sel.value("training_rows", 0L))
       out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
           << sel["training_rows"].get<long>()
@@ -631,12 +640,16 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
       const bool linear = c.value("linear", false);
       const bool from_linear =
           !c["simulation"].empty() && c["simulation"].front().value("from_linear", false);
+      char ahead_cell[32] = "";
+      if (ahead > 0)
+        std::snprintf(ahead_cell, sizeof ahead_cell, "  %13.4g",
+                      num(c.value("holdout_ahead_ndei", nlohmann::json())));
       std::snprintf(line, sizeof line,
-                    "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g  %5.2g%s\n",
+                    "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s  %5.2g%s\n",
                     chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
                     c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
                     c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
-                    num(c["holdout_free_run_ndei"]), c.value("deviation_ridge", 0.0),
+                    num(c["holdout_free_run_ndei"]), ahead_cell, c.value("deviation_ridge", 0.0),
                     c.value("restless", false)        ? "  (oscillates at rest)"
                     : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
                     : best && from_linear             ? "  (best; from ARX)"

@@ -2,6 +2,7 @@
 // configuration, the validation file never read, the online replay's report): about 30–50 s each
 // under the sanitizers, so these run in the Release suite only (tests/fit/CMakeLists.txt).
 
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -88,9 +89,10 @@ TEST(FitCli, SelectionNeverReadsTheValidationFile) {
 // Chosen K steps ahead, the report gives the one-step bound and which candidates it put out; the
 // model kept is within it. In free run: none.
 TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
-  const std::string base = "--train " + TrainHead(600) +
+  const std::string args = "--train " + TrainHead(600) +
                            " --output y --input u --consequent linear --select-kappas 1 "
-                           "--select-thresholds 0.3,0.45 --max-epochs 3 --json";
+                           "--select-thresholds 0.3,0.45 --max-epochs 3";
+  const std::string base = args + " --json";
   const ProcessResult ahead = Exec(base + " --horizon 5", false);
   ASSERT_EQ(ahead.status, 0) << ahead.out;
   const auto sel = nlohmann::json::parse(ahead.out)["selection"];
@@ -103,6 +105,11 @@ TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
   const auto& cands = sel["candidates"];
   for (const auto& c : cands) {
     ASSERT_TRUE(c["one_step_lost"].is_boolean()) << c.dump();
+    // The score is the K-step hold-out NDEI, which the report lists beside the other two.
+    ASSERT_TRUE(c["holdout_ahead_ndei"].is_number()) << c.dump();
+    if (!c["one_step_lost"].get<bool>()) {
+      EXPECT_EQ(c["score"].get<double>(), c["holdout_ahead_ndei"].get<double>()) << c.dump();
+    }
     if (c["linear"].get<bool>()) continue;
     EXPECT_EQ(c["one_step_lost"].get<bool>(), c["holdout_one_step_ndei"].get<double>() > bound)
         << c.dump();
@@ -111,7 +118,20 @@ TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
   EXPECT_LE(chosen["holdout_one_step_ndei"].get<double>(), bound);
   const ProcessResult free_run = Exec(base, false);
   ASSERT_EQ(free_run.status, 0) << free_run.out;
-  EXPECT_TRUE(nlohmann::json::parse(free_run.out)["selection"]["one_step_bound"].is_null());
+  const auto free_sel = nlohmann::json::parse(free_run.out)["selection"];
+  EXPECT_TRUE(free_sel["one_step_bound"].is_null());
+  for (const auto& c : free_sel["candidates"]) EXPECT_TRUE(c["holdout_ahead_ndei"].is_null());
+  // The text report's table has the K-step column, with the chosen candidate's score in it.
+  const ProcessResult text = Exec(args + " --horizon 5", false);
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("free-run NDEI    5-step NDEI  ridge"), std::string::npos) << text.out;
+  char cell[32];
+  std::snprintf(cell, sizeof cell, "%13.4g", chosen["holdout_ahead_ndei"].get<double>());
+  const auto star = text.out.find("\n    * ");
+  ASSERT_NE(star, std::string::npos) << text.out;
+  EXPECT_NE(text.out.substr(star, text.out.find('\n', star + 1) - star).find(cell),
+            std::string::npos)
+      << text.out;
 }
 
 // Replaying the online identifier (--refit-*) says what its refits did, in both reports.
