@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "plant/angle_constants.hpp"
 #include "signals/aprbs.hpp"
 #include "signals/chirp.hpp"
 #include "signals/gaussian_noise.hpp"
@@ -17,12 +18,12 @@ namespace {
 
 using plant::CommandMatrix;
 using plant::kFlapFrequency;
+using plant::kPi;
+using plant::kRadPerDeg;
 using plant::kStrokeAmplitude;
 using plant::kStrokePlaneAngle;
 using plant::kWingCount;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
 // Every free-flight experiment starts at hover trim this high: far enough that no preset reaches
 // the ground within its run, so the ground never shapes identification data.
 constexpr double kStartAltitudeM = 50.0;

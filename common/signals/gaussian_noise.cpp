@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <boost/math/constants/constants.hpp>
+
 namespace odonata::signals {
 
 GaussianNoise::GaussianNoise(double power_w, std::uint64_t seed)
@@ -18,7 +20,7 @@ GaussianNoise::GaussianNoise(double power_w, std::uint64_t seed, double clip_sig
     : GaussianNoise(power_w, seed) {
   if (!(clip_sigmas >= 1.0)) throw std::invalid_argument("GaussianNoise: clip_sigmas must be >= 1");
   const double c = clip_sigmas;
-  const double pdf = std::exp(-0.5 * c * c) / std::sqrt(2.0 * M_PI);
+  const double pdf = std::exp(-0.5 * c * c) / std::sqrt(2.0 * boost::math::double_constants::pi);
   const double mass = std::erf(c / std::sqrt(2.0));  // 2Φ(c) − 1
   stddev_ = std::sqrt(power_w / (1.0 - 2.0 * c * pdf / mass));
   clip_sigmas_ = c;

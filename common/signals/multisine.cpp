@@ -3,9 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <boost/math/constants/constants.hpp>
+
 namespace odonata::signals {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = boost::math::double_constants::pi;
 }
 
 Multisine::Multisine(std::vector<double> frequencies_hz, std::vector<double> amplitudes,
