@@ -38,7 +38,11 @@ ctl save-model frozen.json >"$OUT/save-frozen.log" 2>&1 &
 saving=$!
 timeout 300 "$SIGNAL" --preset roll --phase validate --duration 10 --mode lockstep --lcm-url "$URL" \
   >"$OUT/signal-validate.log" 2>&1 || fail "the validation run failed: $(cat "$OUT/signal-validate.log")"
-wait "$saving" || fail "save-model after the freeze: $(cat "$OUT/save-frozen.log")"
+# The run has ended, so the closing refit has landed, and once odonata-control returns the save
+# is done. Its answer may not have come: under the sanitizers beside CPU hogs the closing refit
+# outlasts odonata-control's longest wait (60 s), and it exits 3; the file is what counts.
+wait "$saving" || true
+[[ -s $OUT/models/frozen.json ]] || fail "save-model after the freeze wrote nothing: $(cat "$OUT/save-frozen.log")"
 stop_clean "$PID_ident" identifier
 stop_clean "$PID_plant" plant
 stop_clean "$PID_logger" logger
