@@ -123,17 +123,19 @@ void SignalNode::OnHeartbeat(const odonata::heartbeat_t& msg) {
   // An identifier landing a scheduled refit acknowledges nothing until it has: patience, not
   // resends (docs/lcm.md §10).
   const bool refitting = msg.state == "refitting";
-  if (known) sequencer_.SetBusy(msg.instance, refitting);
   // An identifier landing a refit (after a freeze, its closing one) reads again once it has:
   // it is a consumer like a running one, and one this run must wait for.
   if (!known && (msg.state == "running" || msg.state == "frozen" || refitting)) {
     sequencer_.AddConsumer(msg.instance);
-    sequencer_.SetBusy(msg.instance, refitting);
     if (sequencer_.phase() != pipeline::LockstepSequencer::Phase::kAwaitingInitial) {
       std::fprintf(stderr, "[%s] %s joined mid-run: waiting for its receipts too\n",
                    bus_.options().instance.c_str(), msg.instance.c_str());
     }
-  } else if (known && (msg.state == "stopping" || msg.state == "error")) {
+  }
+  // Ignored for an instance that is not a consumer, so one call serves a known consumer and one
+  // just added.
+  sequencer_.SetBusy(msg.instance, refitting);
+  if (known && (msg.state == "stopping" || msg.state == "error")) {
     // It leaves with what it has; the rest of the run goes on for the others, but the run failed
     // it, and says so at the end.
     consumer_left_ = msg.instance + " (" + msg.state + " at command " +
