@@ -120,7 +120,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
   pending_ = std::async(
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
-       declared = model.scaling(), reuse = std::move(reuse),
+       horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
        incumbent = select ? landed_ : std::nullopt, unseen = pending_at_ - landed_at_,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
@@ -138,6 +138,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           o.scaling = scaling;
           o.selection.simulation = DefaultSimulationStages();
           o.selection.threads = threads;
+          o.selection.horizon = horizon;
           // The consequent kind is the configuration's (readable singletons stay singletons, and
           // a snapshot still fits the identifier that resumes it); H̄, κ and epochs are chosen.
           o.selection.consequents = {base.consequent};

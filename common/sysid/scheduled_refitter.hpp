@@ -62,6 +62,10 @@ struct RefitSchedule {
   /// Threads a refit trains its candidates on (SelectionOptions::threads): one leaves the other
   /// cores to the services beside it; the model is the same whatever the count.
   unsigned threads = 1;
+  /// K > 1: a refit's selection scores and chooses K steps ahead (SelectionOptions::horizon, as
+  /// odonata-fit --horizon) — for a loop that integrates, whose free run drifts for any model;
+  /// 0: free run, as odonata-fit's default (docs/identifier.md §6.3).
+  int horizon = 0;
   bool enabled() const { return first > 0 && buffer > 0; }
   /// True when a refit starts after sample number `learned`.
   bool Due(int64_t learned) const;

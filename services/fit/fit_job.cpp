@@ -319,8 +319,11 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   if (!search && o.simulation_given && o.train.refine_least_squares) topt.simulation = o.simulation;
   if (!model && o.refit.enabled()) {
     // The online identifier's learner, replayed: every row in order through the same class, with
-    // its scheduled refits and the refit that closes learning (docs/identifier.md §6.3).
-    sysid::OnlineReplay replay = sysid::LearnOnline(sysid::NarxModel(spec, cfg), o.refit, *train,
+    // its scheduled refits and the refit that closes learning (docs/identifier.md §6.3). With
+    // --horizon, they choose by what is reported, as the identifier's refit_horizon.
+    sysid::RefitSchedule refit = o.refit;
+    refit.horizon = o.horizon;
+    sysid::OnlineReplay replay = sysid::LearnOnline(sysid::NarxModel(spec, cfg), refit, *train,
                                                     declared, !o.replay_unfrozen);
     report["refits"] = {{"landed", replay.refits},
                         {"failed", replay.failed_refits},
@@ -582,6 +585,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     c["refit_buffer"] = refit.buffer;
     c["refit_history"] = refit.history;
     c["refit_at_freeze"] = refit.at_freeze;
+    // Its refits choose as this fit did: K steps ahead with --horizon K.
+    c["refit_horizon"] = o.horizon;
     c["source"] = "signals";
     std::ofstream out(o.save_config);
     out << c.dump(2) << "\n";

@@ -173,7 +173,8 @@ int main(int argc, char** argv) {
   app.add_option("--horizon", o.horizon,
                  "K: also score K steps ahead (each prediction a free run from the measured "
                  "outputs K samples before), and choose by it: for loops that integrate (rates, "
-                 "velocities), whose free run drifts for any model")
+                 "velocities), whose free run drifts for any model; with --refit-first, the "
+                 "replayed refits choose by it too (the identifier's refit_horizon)")
       ->check(CLI::Range(2, 1000000));
   app.add_option("--select-tolerance", tolerance_percent,
                  "keep the fewest rules within this many percent of the best hold-out NDEI")

@@ -76,6 +76,7 @@ const std::set<std::string> kKnownKeys = {"instance",
                                           "refit_history",
                                           "refit_at_freeze",
                                           "refit_threads",
+                                          "refit_horizon",
                                           "source",
                                           "ranges",
                                           "channels"};
@@ -165,6 +166,11 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
     }
     c.refit.at_freeze = j.value("refit_at_freeze", c.refit.at_freeze);
     c.refit.threads = IntegerField<unsigned>(j, "refit_threads", c.refit.threads, 0, 1024, problem);
+    c.refit.horizon = IntegerField<int>(j, "refit_horizon", c.refit.horizon, 0, 1000000, problem);
+    if (c.refit.horizon == 1)
+      problem(
+          "\"refit_horizon\" must be 0 (refits choose in free run) or K >= 2 (K steps ahead), "
+          "not 1");
     const std::string source = j.value("source", std::string("dimav"));
     if (source == "signals")
       c.source = SampleSource::kSignals;
@@ -230,6 +236,9 @@ std::string ExampleIdentifierConfig() {
   j["refit_history"] = refit.history;
   j["refit_at_freeze"] = refit.at_freeze;
   j["refit_threads"] = refit.threads;
+  // K >= 2: refits choose by the accuracy K samples ahead, for a loop that integrates (rates,
+  // velocities), as odonata-fit --horizon K; 0: in free run.
+  j["refit_horizon"] = refit.horizon;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
   j["source"] = "dimav";
   j["channels"] = {

@@ -32,7 +32,7 @@ struct IdentifierConfig {
   int max_gap = 3;
   /// Refits of the model with odonata-fit's learner on the samples it keeps, at fixed counts
   /// (docs/identifier.md §6.3): "refit_first" (0: none), "refit_every", "refit_buffer",
-  /// "refit_history", "refit_at_freeze".
+  /// "refit_history", "refit_at_freeze", "refit_horizon".
   sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
   bus::ChannelConfig channels;
 };

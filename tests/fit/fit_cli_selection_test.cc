@@ -55,6 +55,7 @@ TEST(FitCli, SavedConfigurationIsOneTheIdentifierTakesAsItIs) {
   EXPECT_EQ(c["kappa"].get<double>(), 0.5);
   EXPECT_EQ(c["entropy_threshold"].get<double>(), report["entropy_threshold"].get<double>());
   EXPECT_TRUE(c["ranges"].contains("y") && c["ranges"].contains("u")) << c.dump();
+  EXPECT_EQ(c["refit_horizon"].get<int>(), 0) << "chosen in free run, and so are its refits";
   const ProcessResult check =
       Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1", false,
            true);
@@ -93,8 +94,14 @@ TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
                            " --output y --input u --consequent linear --select-kappas 1 "
                            "--select-thresholds 0.3,0.45 --max-epochs 3";
   const std::string base = args + " --json";
-  const ProcessResult ahead = Exec(base + " --horizon 5", false);
+  const std::string cfg = Dir() + "/k_step_identifier.json";
+  const ProcessResult ahead = Exec(base + " --horizon 5 --save-config " + cfg, false);
   ASSERT_EQ(ahead.status, 0) << ahead.out;
+  {
+    // The identifier it configures refits choosing as this fit chose.
+    std::ifstream in(cfg);
+    EXPECT_EQ(nlohmann::json::parse(in)["refit_horizon"].get<int>(), 5);
+  }
   const auto sel = nlohmann::json::parse(ahead.out)["selection"];
   ASSERT_EQ(sel["criterion"], "k_step");
   ASSERT_TRUE(sel["one_step_bound"].is_number()) << sel.dump();

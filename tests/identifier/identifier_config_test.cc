@@ -79,5 +79,22 @@ TEST(IdentifierConfig, RefitHistoryIsAShareOfTheBuffer) {
   EXPECT_EQ(ParseIdentifierConfig(ExampleIdentifierConfig(), "example").refit.history, 0.5);
 }
 
+TEST(IdentifierConfig, RefitHorizonIsFreeRunOrAtLeastTwoStepsAhead) {
+  for (const nlohmann::json& bad :
+       {nlohmann::json(-1), nlohmann::json(2.5), nlohmann::json("50")}) {
+    const std::string e = LoadEdited([&bad](nlohmann::json& j) { j["refit_horizon"] = bad; });
+    EXPECT_NE(e.find("refit_horizon"), std::string::npos) << bad.dump() << ": " << e;
+  }
+  // One step ahead is not a horizon: odonata-fit --horizon refuses it too.
+  const std::string one = LoadEdited([](nlohmann::json& j) { j["refit_horizon"] = 1; });
+  EXPECT_NE(one.find("\"refit_horizon\" must be 0 (refits choose in free run) or K >= 2"),
+            std::string::npos)
+      << one;
+  EXPECT_EQ(ParseIdentifierConfig(ExampleIdentifierConfig(), "example").refit.horizon, 0);
+  nlohmann::json j = nlohmann::json::parse(ExampleIdentifierConfig());
+  j["refit_horizon"] = 50;
+  EXPECT_EQ(ParseIdentifierConfig(j.dump(), "edited").refit.horizon, 50);
+}
+
 }  // namespace
 }  // namespace odonata::identifier

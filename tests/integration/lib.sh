@@ -138,6 +138,8 @@ cmd = [fit, "--train", csv, "--output", c["outputs"][0], "--ny", str(c["ny"]), "
        "--save-model", model]
 for i in c["inputs"]:
     cmd += ["--input", i]
+if c.get("refit_horizon", 0) >= 2:
+    cmd += ["--horizon", str(c["refit_horizon"])]
 if frozen == "unfrozen":
     cmd += ["--replay-unfrozen"]
 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)

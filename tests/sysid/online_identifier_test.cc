@@ -88,6 +88,40 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   EXPECT_EQ(replay.refits, 2);
 }
 
+// A loop that integrates is reported K steps ahead, and odonata-fit --horizon K chooses by that:
+// the identifier's refits (refit_horizon) choose as it does, not in free run.
+TEST(OnlineIdentifier, RefitsWithAHorizonChooseAsOdonataFitDoesWithIt) {
+  const Series train = testing::NarendraTrain(250);
+  RefitSchedule refit;
+  refit.first = 1000;  // only the freeze's closing refit, on every sample
+  refit.buffer = 5000;
+  refit.horizon = 3;
+  const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, train);
+  OnlineIdentifier online(empty, refit);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
+  online.Freeze();
+  online.Settle();
+  ASSERT_EQ(online.refits(), 1);
+  OfflineFitOptions fo;
+  fo.selection.simulation = DefaultSimulationStages();
+  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
+  const RegressionData d = BuildRegression(empty.spec(), train);
+  Scaling scaling = Scaling::FromData(d.x, d.y);
+  scaling.regressor_mid = empty.scaling().regressor_mid;
+  scaling.regressor_half = empty.scaling().regressor_half;
+  fo.scaling = scaling;
+  const OfflineFit free_run =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
+  fo.selection.horizon = refit.horizon;
+  const OfflineFit ahead =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
+  ASSERT_TRUE(ahead.selection.has_value());
+  EXPECT_EQ(ahead.selection->criterion_horizon, refit.horizon);
+  // On this record the two criteria train different models, so the comparison tells them apart.
+  ASSERT_NE(ahead.model.ToJson().dump(), free_run.model.ToJson().dump());
+  EXPECT_EQ(online.model().ToJson().dump(), ahead.model.ToJson().dump());
+}
+
 // A service whose landing waits for a refit cannot beat its heartbeat meanwhile: the hook is
 // how it keeps saying "refitting" for as long as the wait lasts, so a lockstep generator that
 // starts during a freeze's closing refit still counts it as a consumer (docs/lcm.md §10).
