@@ -83,10 +83,15 @@ int main(int argc, char** argv) {
       for (const auto& o : sp.outputs) std::printf(" %s", o.c_str());
       std::printf(" from");
       for (const auto& i : sp.inputs) std::printf(" %s", i.c_str());
+      const std::string refits =
+          !config.refit.enabled() ? "off"
+          : config.refit.horizon >= 2
+              ? "on, choosing " + std::to_string(config.refit.horizon) + " steps ahead"
+              : "on, choosing in free run";
       std::printf(" (ny %d, nu %d, delay %d), %s consequents, H %.4g, kappa %.3g, refits %s%s\n",
                   sp.output_lags, sp.input_lags, sp.delay,
                   odonata::fuzzy::ToString(config.model.consequent), config.model.entropy.threshold,
-                  config.model.entropy.kappa, config.refit.enabled() ? "on" : "off",
+                  config.model.entropy.kappa, refits.c_str(),
                   initial ? ", starting from the model given" : "");
       return 0;
     }

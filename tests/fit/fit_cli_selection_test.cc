@@ -101,6 +101,11 @@ TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
     // The identifier it configures refits choosing as this fit chose.
     std::ifstream in(cfg);
     EXPECT_EQ(nlohmann::json::parse(in)["refit_horizon"].get<int>(), 5);
+    const ProcessResult check =
+        Exec(std::string(ODONATA_IDENTIFIER_EXE) + " --config " + cfg + " --check-config 2>&1",
+             false, true);
+    ASSERT_EQ(check.status, 0) << check.out;
+    EXPECT_NE(check.out.find("refits on, choosing 5 steps ahead"), std::string::npos) << check.out;
   }
   const auto sel = nlohmann::json::parse(ahead.out)["selection"];
   ASSERT_EQ(sel["criterion"], "k_step");
