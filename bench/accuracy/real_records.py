@@ -181,7 +181,8 @@ def fit_arx(y, u, ny, nu):
 
 # The online identifier's learner with its default configuration, replayed over the training file
 # in order (odonata-fit --refit-*: the same OnlineIdentifier class, its default refits, frozen at
-# the end as a run is): what odonata-identifier learns live from the same samples.
+# the end as a run is): what odonata-identifier learns live from the same samples. A record scored
+# K steps ahead passes --horizon K to it too: the identifier's "refit_horizon": K.
 ONLINE = ["--epochs", "1", "--no-least-squares", "--no-select", "--consequent", "linear",
           "--refit-first", "1000", "--refit-every", "6000", "--refit-buffer", "6000",
           "--refit-history", "0.5"]
