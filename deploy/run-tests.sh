@@ -10,7 +10,11 @@
 # busy, a niced build would get almost no CPU.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# Where the time goes, for whoever has to make the command faster: each phase says when it ended.
+SECONDS=0
+stamp() { echo "run-tests: $1 at $((SECONDS / 60)) min $((SECONDS % 60)) s"; }
 "$ROOT/deploy/setup.sh" || { echo "run-tests: setup failed" >&2; exit 1; }
+stamp "set-up done"
 
 # run_ctest NAME DIR [CTEST_ARGS...]: runs one built suite; sets RESULT to its line.
 run_ctest() {
@@ -36,6 +40,7 @@ status=0
 release="Release: BUILD FAILED"
 release_built=0
 "$ROOT/deploy/build.sh" release && release_built=1
+stamp "Release build ended"
 
 # The sanitizer build, in the background, its output into a log (printed if it fails).
 mkdir -p "$ROOT/build-sanitize"
@@ -52,16 +57,18 @@ trap 'exit 130' INT TERM
 if ((release_built)); then
   run_ctest Release "$ROOT/build" || status=1
   release=$RESULT
+  stamp "Release tests ended"
 else
   status=1
 fi
 
 echo "run-tests: waiting for the ASan+UBSan build"
 if wait "$sanitize_build"; then
-  echo "run-tests: ASan+UBSan build done"
+  stamp "ASan+UBSan build done"
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     run_ctest ASan+UBSan "$ROOT/build-sanitize" -LE slow || status=1
   sanitize=$RESULT
+  stamp "ASan+UBSan tests ended"
 else
   echo "run-tests: the ASan+UBSan build failed; the end of its log ($sanitize_log):" >&2
   tail -n 60 "$sanitize_log" >&2
@@ -69,5 +76,5 @@ else
   status=1
 fi
 trap - EXIT
-echo "run-tests: $release; $sanitize; $([[ $status == 0 ]] && echo PASSED || echo FAILED)"
+echo "run-tests: $release; $sanitize; $([[ $status == 0 ]] && echo PASSED || echo FAILED) in $SECONDS s"
 exit $status
