@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A lockstep run whose identifier lands scheduled refits, with a generator whose own patience is
+# A lockstep run whose identifier lands scheduled refits (choosing 10 steps ahead), with a generator whose own patience is
 # far shorter than a refit (50 ms timeouts, 2 resends): the identifier says "refitting" on its
 # heartbeat before a landing waits, the generator waits without resending, and the run ends
 # complete, its model odonata-fit's replay of the same schedule bit for bit.
@@ -14,7 +14,7 @@ OUT=$(mktemp -d)
 trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7693?ttl=0'
 "$SRC/deploy/make-identifier-config" --preset roll --duration 10 --build "$BUILD" --output "$OUT/id.json" \
-  --refit-first 200 --refit-every 400
+  --refit-first 200 --refit-every 400 --refit-horizon 10
 "$PY" - "$OUT/id.json" <<'PYEOF'
 import json, sys
 c = json.load(open(sys.argv[1]))
@@ -55,6 +55,13 @@ rows=$(($(wc -l <"$OUT/train.csv") - 1))
 ((rows == 1000)) || fail "the log holds $rows of 1000 samples"
 offline_fit "$OUT/id.json" "$OUT/train.csv" "$OUT/offline.json" unfrozen
 same_model "$OUT/models/trained.json" "$OUT/offline.json" || fail "the online model differs from odonata-fit's replay"
+# The refits chose 10 steps ahead (refit_horizon), as the replay's --horizon did: choosing in free
+# run, the same refits give another model, so the comparison above saw the key at work.
+"$PY" -c "import json,sys; c=json.load(open(sys.argv[1])); c['refit_horizon']=0; json.dump(c, open(sys.argv[2], 'w'))" \
+  "$OUT/id.json" "$OUT/id-free-run.json"
+offline_fit "$OUT/id-free-run.json" "$OUT/train.csv" "$OUT/offline-free-run.json" unfrozen
+! same_model "$OUT/offline.json" "$OUT/offline-free-run.json" ||
+  fail "refits choosing in free run gave the same model: the test cannot tell whether refit_horizon was read"
 offline_fit "$OUT/id.json" "$OUT/train.csv" "$OUT/offline-frozen.json"
 same_model "$OUT/models/frozen.json" "$OUT/offline-frozen.json" ||
   fail "the model after the freeze differs from odonata-fit's frozen replay"
@@ -70,4 +77,4 @@ print(runs.count('0'), runs.count('1'))" "$OUT/predictions.csv")
   fail "the identifier predicted $valid_pred validation samples, against $train_pred in training"
 busy=$(sed -nE 's/.*waited ([0-9]+) timeout\(s\) for consumers landing.*/\1/p' "$OUT/signal.log")
 busy_valid=$(sed -nE 's/.*waited ([0-9]+) timeout\(s\) for consumers landing.*/\1/p' "$OUT/signal-validate.log")
-pass "two refits landed in lockstep with 100 ms of generator patience (${busy:-0} timeouts waited, nothing lost); model == odonata-fit's replay; the next run, started during the closing refit (${busy_valid:-0} timeouts waited for it), predicted all $valid_pred samples; frozen model == odonata-fit's frozen replay"
+pass "two refits landed in lockstep with 100 ms of generator patience (${busy:-0} timeouts waited, nothing lost); model == odonata-fit's replay (not its free-run choice); the next run, started during the closing refit (${busy_valid:-0} timeouts waited for it), predicted all $valid_pred samples; frozen model == odonata-fit's frozen replay"
