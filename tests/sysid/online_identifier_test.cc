@@ -47,6 +47,21 @@ TEST(RefitSchedule, DoublesThenKeepsItsPace) {
   EXPECT_FALSE(RefitSchedule{}.Due(100)) << "off by default";
 }
 
+// odonata-fit's options for what a refit of `empty`'s identifier does on `samples`: odonata-fit
+// --consequent linear (the kind stays the configuration's), and a refit's scaling: the declared
+// regressor envelope, the outputs standardised on its samples.
+OfflineFitOptions RefitsFitOptions(const NarxModel& empty, const Series& samples) {
+  OfflineFitOptions fo;
+  fo.selection.simulation = DefaultSimulationStages();
+  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
+  const RegressionData d = BuildRegression(empty.spec(), samples);
+  Scaling scaling = Scaling::FromData(d.x, d.y);
+  scaling.regressor_mid = empty.scaling().regressor_mid;
+  scaling.regressor_half = empty.scaling().regressor_half;
+  fo.scaling = scaling;
+  return fo;
+}
+
 // One learner, two schedules (docs/identifier.md §6.3): refits run odonata-fit's learner in a
 // worker thread and land at fixed counts, so the result is the same whatever the threads do.
 TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsModel) {
@@ -69,17 +84,8 @@ TEST(OnlineIdentifier, ScheduledRefitsAreDeterministicAndCloseWithOdonataFitsMod
   EXPECT_EQ(online.refits(), 2);
   EXPECT_EQ(online.failed_refits(), 0);
   // The closing refit saw the whole record: the model is odonata-fit's on it, bit for bit.
-  OfflineFitOptions fo;  // odonata-fit --consequent linear: the kind stays the configuration's
-  fo.selection.simulation = DefaultSimulationStages();
-  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
-  // A refit's scaling: the declared regressor envelope, the outputs standardised on its samples.
-  const RegressionData d = BuildRegression(empty.spec(), train);
-  Scaling scaling = Scaling::FromData(d.x, d.y);
-  scaling.regressor_mid = empty.scaling().regressor_mid;
-  scaling.regressor_half = empty.scaling().regressor_half;
-  fo.scaling = scaling;
-  const OfflineFit offline =
-      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
+  const OfflineFit offline = FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{},
+                                        train, RefitsFitOptions(empty, train));
   EXPECT_EQ(online.model().ToJson().dump(), offline.model.ToJson().dump());
   // odonata-fit's replay of the identifier is the same class, the same counts.
   const OnlineReplay replay =
@@ -102,14 +108,7 @@ TEST(OnlineIdentifier, RefitsWithAHorizonChooseAsOdonataFitDoesWithIt) {
   online.Freeze();
   online.Settle();
   ASSERT_EQ(online.refits(), 1);
-  OfflineFitOptions fo;
-  fo.selection.simulation = DefaultSimulationStages();
-  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
-  const RegressionData d = BuildRegression(empty.spec(), train);
-  Scaling scaling = Scaling::FromData(d.x, d.y);
-  scaling.regressor_mid = empty.scaling().regressor_mid;
-  scaling.regressor_half = empty.scaling().regressor_half;
-  fo.scaling = scaling;
+  OfflineFitOptions fo = RefitsFitOptions(empty, train);
   const OfflineFit free_run =
       FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
   fo.selection.horizon = refit.horizon;
