@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# A lockstep run whose identifier lands scheduled refits (choosing 10 steps ahead), with a generator whose own patience is
-# far shorter than a refit (50 ms timeouts, 2 resends): the identifier says "refitting" on its
-# heartbeat before a landing waits, the generator waits without resending, and the run ends
-# complete, its model odonata-fit's replay of the same schedule bit for bit.
+# A lockstep run whose identifier lands scheduled refits (choosing 10 steps ahead), with a
+# generator whose own patience is far shorter than a refit (50 ms timeouts, 2 resends): the
+# identifier says "refitting" on its heartbeat before a landing waits, the generator waits without
+# resending, and the run ends complete, its model odonata-fit's replay of the same schedule bit
+# for bit.
 # Then the next phase starts while the identifier is blocked on its freeze's closing refit (a
 # save-model waits for it): the identifier keeps beating "refitting", so the new generator counts
 # it as a consumer and waits for it; every validation sample is predicted, and the frozen model
