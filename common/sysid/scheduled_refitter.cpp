@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <vector>
 
 #include "sysid/offline_fit.hpp"
@@ -27,6 +28,15 @@ int64_t RefitSchedule::HistoryBlock() const {
 }
 
 namespace {
+
+// The rest deviation a model is held to: the free-run criterion's linear candidate's (NaN: none).
+double LinearRest(const SelectionResult& selection) {
+  const auto linear = std::find_if(selection.candidates.begin(), selection.candidates.end(),
+                                   [](const Candidate& c) { return c.linear; });
+  return selection.free_run_criterion && linear != selection.candidates.end()
+             ? linear->rest_deviation
+             : std::numeric_limits<double>::quiet_NaN();
+}
 
 // The samples in order, each copied once into the series.
 Series SeriesFromSampleRefs(const std::vector<const Sample*>& samples) {
@@ -67,14 +77,13 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
     return false;
   // The checks a refit's own model passes: it runs on the whole buffer without diverging and,
   // with the free-run criterion, comes to rest where the linear model does.
-  if (!std::isfinite(incumbent.NdeiAhead(series, selection.criterion_horizon))) return false;
-  const auto linear = std::find_if(selection.candidates.begin(), selection.candidates.end(),
-                                   [](const Candidate& c) { return c.linear; });
-  if (selection.free_run_criterion && linear != selection.candidates.end() &&
-      std::isfinite(linear->rest_deviation) &&
-      Restless(RestDeviation(incumbent, series), linear->rest_deviation))
-    return false;
-  return true;
+  return SteadyStateHolds(incumbent, series, selection.criterion_horizon, LinearRest(selection));
+}
+
+bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterion_horizon,
+                      double linear_rest) {
+  if (!std::isfinite(model.NdeiAhead(series, criterion_horizon))) return false;
+  return !(std::isfinite(linear_rest) && Restless(RestDeviation(model, series), linear_rest));
 }
 
 ScheduledRefitter::~ScheduledRefitter() { Clear(); }
@@ -121,7 +130,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
-       incumbent = select ? landed_ : std::nullopt, unseen = pending_at_ - landed_at_,
+       incumbent = landed_, unseen = pending_at_ - landed_at_,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
@@ -143,23 +152,38 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           // a snapshot still fits the identifier that resumes it); H̄, κ and epochs are chosen.
           o.selection.consequents = {base.consequent};
           TrainOptions t;
-          fuzzy::FuzzyModelConfig cfg = base;
+          t.cancel = cancel.get();
+          std::optional<OfflineFit> reused;
           if (reuse) {
             // The settings the last selection chose, trained on the samples kept now: odonata-fit
             // --no-select with them. The search is most of a refit's cost.
-            o.search = false;
-            o.epochs_given = true;
-            cfg = reuse->config;
-            t = reuse->train;
-            t.fit_scaling = false;
-            t.grow_rules = true;
-            t.progress = nullptr;
+            OfflineFitOptions r = o;
+            r.search = false;
+            r.epochs_given = true;
+            TrainOptions rt = reuse->train;
+            rt.fit_scaling = false;
+            rt.grow_rules = true;
+            rt.progress = nullptr;
+            rt.cancel = cancel.get();
+            reused = FitOffline(spec, reuse->config, rt, series, r);
+            // Trained with no hold-out, it passes the checks a selection's model passes; if not,
+            // the incumbent stays when it passes them on these samples, and otherwise the refit
+            // selects after all. On the Silverbox, refits that reused a setting landed models
+            // that ran away in free run (docs/identifier.md §6.3).
+            if (!SteadyStateHolds(reused->model, series, reuse->criterion_horizon,
+                                  reuse->linear_rest)) {
+              reused.reset();
+              if (incumbent && SteadyStateHolds(*incumbent, series, reuse->criterion_horizon,
+                                                reuse->linear_rest))
+                return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept),
+                                std::nullopt, true};
+            }
           }
-          t.cancel = cancel.get();
-          OfflineFit fit = FitOffline(spec, cfg, t, series, o);
+          OfflineFit fit = reused ? std::move(*reused) : FitOffline(spec, base, t, series, o);
           std::optional<Chosen> chosen;
           if (fit.selection)
-            chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples())};
+            chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples()),
+                            fit.selection->criterion_horizon, LinearRest(*fit.selection)};
           if (incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
               IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
             return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept), std::nullopt,

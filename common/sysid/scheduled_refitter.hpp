@@ -17,6 +17,7 @@
 #include <deque>
 #include <functional>
 #include <future>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -163,6 +164,10 @@ class ScheduledRefitter {
     fuzzy::FuzzyModelConfig config;
     TrainOptions train;
     std::size_t samples = 0;  // the samples it chose on
+    // What its checks held a model to: the criterion's horizon (0: free run), and with the
+    // free-run criterion the linear candidate's rest deviation (NaN: no rest check).
+    int criterion_horizon = 0;
+    double linear_rest = std::numeric_limits<double>::quiet_NaN();
   };
   struct Refitted {
     NarxModel model;
@@ -199,6 +204,14 @@ class ScheduledRefitter {
 /// predicts the newest samples three times better.
 bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& selection,
                           const Series& series, const SelectionOptions& options);
+
+/// A refit that trained with the last selection's setting (steady state: no search, so no
+/// hold-out) lands only when its model passes, on the samples kept, the checks that selection
+/// held its model to (docs/identifier.md §6.3): a finite score by its criterion
+/// (`criterion_horizon`, 0 free run) and, with `linear_rest` finite (the free-run criterion's
+/// linear candidate), at rest where the linear model is. The incumbent is held to the same.
+bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterion_horizon,
+                      double linear_rest);
 
 /// The series a refit learns from: the samples in order, a break wherever an index is skipped.
 Series SeriesFromSamples(const std::deque<Sample>& samples);

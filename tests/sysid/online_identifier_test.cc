@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -275,6 +276,58 @@ TEST(RefitSchedule, TheIncumbentStaysOnlyWhenItBeatsTheChoiceOnTheNewestSamples)
   selection.candidates[0].score = 2.0 * held + 0.01;
   selection.fit_samples = 1100;
   EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+}
+
+// A steady-state refit trains with no hold-out; it lands only when its model passes the checks
+// its selection held a model to: a finite score by the criterion (free run, or K steps ahead for
+// a loop that integrates), and at rest where the linear model is.
+TEST(RefitSchedule, ASteadyStateRefitLandsOnlyAModelThatPassesItsSelectionsChecks) {
+  const Series series = testing::NarendraTrain(1500);
+  // One rule whose consequent maps y(k) to 2 m − y(k), m the mean output: a free run from any
+  // start swings about m for ever (a slope of −1), or away from it (a slope below −1).
+  const auto swinging = [&](double slope) {
+    fuzzy::FuzzyModelConfig cfg;
+    cfg.entropy.threshold = 0.0;  // no rule beyond the first
+    NarxModel m(testing::NarendraSpec(), cfg);
+    m.SetScaling(ScalingFromRanges(m.spec(), RangesFromSeries(m.spec(), series)));
+    TrainOptions t;
+    t.fit_scaling = false;
+    m.Train(SliceSeries(series, 0, 200), t);
+    EXPECT_EQ(m.model(0).rules(), 1);
+    const RegressionData d = BuildRegression(m.spec(), series);
+    const double mean = series.outputs.col(0).mean();
+    Eigen::MatrixXd x(d.x.rows(), d.x.cols());
+    Eigen::VectorXd y(d.x.rows());
+    for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
+      x.row(k) = m.scaling().ScaleRegressor(d.x.row(k).transpose()).transpose();
+      y(k) = m.scaling().ScaleOutput(0, mean + slope * (d.x(k, 0) - mean));
+    }
+    EXPECT_TRUE(m.mutable_model(0).RefineConsequents(x, y, 1e-12, 0.0));
+    return m;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const NarxModel swings = swinging(-1.0);
+  ASSERT_TRUE(std::isfinite(swings.NdeiAhead(series, 0)));
+  const double rest = RestDeviation(swings, series);
+  ASSERT_GT(rest, 0.05) << "the model does not swing at rest";
+  // No rest check without the free-run criterion's linear candidate: a finite free run passes.
+  EXPECT_TRUE(SteadyStateHolds(swings, series, 0, nan));
+  // Where the linear model comes to rest, the swinging one is refused; where the linear model
+  // swings nearly as much, it is not.
+  EXPECT_FALSE(SteadyStateHolds(swings, series, 0, 0.0));
+  EXPECT_TRUE(SteadyStateHolds(swings, series, 0, rest / 5.0));
+  // A model that runs away in free run is refused in free run, and not 3 steps ahead, where a
+  // loop that integrates is scored.
+  const NarxModel runs_away = swinging(-1.5);
+  EXPECT_FALSE(std::isfinite(runs_away.NdeiAhead(series, 0)));
+  EXPECT_FALSE(SteadyStateHolds(runs_away, series, 0, nan));
+  EXPECT_TRUE(SteadyStateHolds(runs_away, series, 3, nan));
+  // A model trained on the plant passes both.
+  NarxModel trained = Empty(fuzzy::ConsequentKind::kLinear, series);
+  TrainOptions t;
+  t.fit_scaling = false;
+  trained.Train(series, t);
+  EXPECT_TRUE(SteadyStateHolds(trained, series, 0, 0.0));
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
