@@ -197,8 +197,8 @@ OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Seri
     id.Freeze();
     id.Settle();
   }
-  return OnlineReplay{id.model(), id.refits(), id.failed_refits(), id.samples_learned(),
-                      id.incumbents_kept()};
+  return OnlineReplay{id.model(),           id.refits(),          id.failed_refits(),
+                      id.samples_learned(), id.incumbents_kept(), id.steady_state_refused()};
 }
 
 }  // namespace odonata::sysid

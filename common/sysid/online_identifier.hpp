@@ -97,6 +97,7 @@ class OnlineIdentifier {
   int64_t selections() const { return refitter_.selections(); }
   /// Of the refits landed, those that kept the last refit's model (IncumbentHoldsItsOwn).
   int64_t incumbents_kept() const { return refitter_.incumbents_kept(); }
+  int64_t steady_state_refused() const { return refitter_.steady_state_refused(); }
   int64_t last_index() const { return last_index_; }
 
  private:
@@ -127,7 +128,8 @@ struct OnlineReplay {
   int64_t refits = 0;
   int64_t failed_refits = 0;
   int64_t samples_learned = 0;
-  int64_t incumbents_kept = 0;  ///< refits that kept the last refit's model
+  int64_t incumbents_kept = 0;       ///< refits that kept the last refit's model
+  int64_t steady_state_refused = 0;  ///< steady-state refits whose model failed its checks
 };
 /// `frozen` false replays an identifier stopped without a freeze: no closing refit, and the
 /// refit in flight never lands.

@@ -154,6 +154,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           TrainOptions t;
           t.cancel = cancel.get();
           std::optional<OfflineFit> reused;
+          bool refused = false;
           if (reuse) {
             // The settings the last selection chose, trained on the samples kept now: odonata-fit
             // --no-select with them. The search is most of a refit's cost.
@@ -170,13 +171,14 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
             // the incumbent stays when it passes them on these samples, and otherwise the refit
             // selects after all. On the Silverbox, refits that reused a setting landed models
             // that ran away in free run (docs/identifier.md §6.3).
-            if (!SteadyStateHolds(reused->model, series, reuse->criterion_horizon,
-                                  reuse->linear_rest)) {
+            refused = !SteadyStateHolds(reused->model, series, reuse->criterion_horizon,
+                                        reuse->linear_rest);
+            if (refused) {
               reused.reset();
               if (incumbent && SteadyStateHolds(*incumbent, series, reuse->criterion_horizon,
                                                 reuse->linear_rest))
                 return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept),
-                                std::nullopt, true};
+                                std::nullopt, true, true};
             }
           }
           OfflineFit fit = reused ? std::move(*reused) : FitOffline(spec, base, t, series, o);
@@ -187,9 +189,10 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           if (incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
               IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
             return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept), std::nullopt,
-                            true};
+                            true, refused};
           ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
-          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen), false};
+          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen), false,
+                          refused};
         } catch (const std::exception&) {
           // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
           return std::nullopt;
@@ -210,6 +213,7 @@ bool ScheduledRefitter::Land(NarxModel& model) {
     return false;
   }
   ++refits_;
+  if (refitted->steady_state_refused) ++steady_state_refused_;
   if (refitted->incumbent_kept) {
     // The last refit's model as it landed, which the check judged, not as tracking has moved
     // it since: it stays the incumbent, still unseen by the samples since it began.

@@ -140,6 +140,9 @@ class ScheduledRefitter {
   int64_t selections() const { return selections_; }
   /// Refits that kept the model they would have replaced (IncumbentHoldsItsOwn).
   int64_t incumbents_kept() const { return incumbents_kept_; }
+  /// Steady-state refits whose model failed its checks (SteadyStateHolds): the incumbent stayed
+  /// or the refit selected instead.
+  int64_t steady_state_refused() const { return steady_state_refused_; }
   bool in_flight() const { return pending_.valid(); }
   bool closing() const { return closing_; }
 
@@ -171,9 +174,10 @@ class ScheduledRefitter {
   };
   struct Refitted {
     NarxModel model;
-    ConsequentTracker tracker;     // its prior: the refit's least-squares problem
-    std::optional<Chosen> chosen;  // when this refit ran a selection
-    bool incumbent_kept = false;   // the model it would replace stays (IncumbentHoldsItsOwn)
+    ConsequentTracker tracker;          // its prior: the refit's least-squares problem
+    std::optional<Chosen> chosen;       // when this refit ran a selection
+    bool incumbent_kept = false;        // the model it would replace stays (IncumbentHoldsItsOwn)
+    bool steady_state_refused = false;  // the reused setting's model failed SteadyStateHolds
   };
   std::optional<NarxModel> landed_;  ///< the last refit's model as it landed
   /// Samples kept since the start (or Clear) when the refit in flight, and the one that landed
@@ -192,6 +196,7 @@ class ScheduledRefitter {
   int64_t failed_ = 0;
   int64_t selections_ = 0;
   int64_t incumbents_kept_ = 0;
+  int64_t steady_state_refused_ = 0;
   std::function<void()> wait_hook_;
   std::chrono::milliseconds wait_hook_period_{1000};
 };

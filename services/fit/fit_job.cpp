@@ -328,7 +328,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     report["refits"] = {{"landed", replay.refits},
                         {"failed", replay.failed_refits},
                         {"samples_learned", replay.samples_learned},
-                        {"incumbents_kept", replay.incumbents_kept}};
+                        {"incumbents_kept", replay.incumbents_kept},
+                        {"steady_state_refused", replay.steady_state_refused}};
     model.emplace(std::move(replay.model));
   } else if (!model) {
     sysid::OfflineFitOptions fo;
@@ -614,7 +615,8 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
     out << "  the online identifier replayed: " << f["samples_learned"].get<long>()
         << " samples learned, " << f["landed"].get<long>() << " refits landed ("
         << f["failed"].get<long>() << " failed, " << f["incumbents_kept"].get<long>()
-        << " kept the last refit's model)\n";
+        << " kept the last refit's model, " << f["steady_state_refused"].get<long>()
+        << " steady-state models refused by their checks)\n";
   }
   if (r.contains("selection")) {
     const auto& sel = r["selection"];

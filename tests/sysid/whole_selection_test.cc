@@ -59,6 +59,9 @@ TEST(OnlineIdentifier, SteadyStateRefitsReuseTheLastSelection) {
   for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
   EXPECT_EQ(online.refits(), 4);      // 100, 200, 400 and 600 landed; 800 is in flight
   EXPECT_EQ(online.selections(), 3);  // 100, 200 and 400 searched; 600 reused 400's choice
+  // and its model passed the checks 400's selection held its own to (SteadyStateHolds).
+  EXPECT_EQ(online.steady_state_refused(), 0);
+  EXPECT_EQ(online.incumbents_kept(), 0);
   online.Freeze();
   online.Settle();
   EXPECT_EQ(online.selections(), 4) << "the closing refit searches";
