@@ -14,17 +14,13 @@ skipped with a message.
 """
 import argparse
 import concurrent.futures
-import csv
 import json
 import os
 import subprocess
 import sys
 import tempfile
 
-# The identifier's defaults, as bench/accuracy/real_records.py replays them.
-ONLINE = ["--epochs", "1", "--no-least-squares", "--no-select", "--consequent", "linear",
-          "--refit-first", "1000", "--refit-every", "6000", "--refit-buffer", "6000",
-          "--refit-history", "0.5"]
+from real_records import ONLINE, fit_command  # the identifier's defaults, one command
 
 # name, training file, rows replayed [from, to), scored on (file, rows [from, to)), output,
 # inputs, ny, nu, horizon (0: free run)
@@ -50,14 +46,8 @@ def write_part(src, rows, dst):
 
 
 def run(fit, train, test, output, inputs, ny, nu, horizon, frozen):
-    cmd = [fit, "--train", train, "--validate", test, "--output", output, "--ny", str(ny),
-           "--nu", str(nu), "--json", *ONLINE]
-    for i in inputs:
-        cmd += ["--input", i]
-    if horizon:
-        cmd += ["--horizon", str(horizon)]
-    if not frozen:
-        cmd.append("--replay-unfrozen")
+    extra = ONLINE if frozen else [*ONLINE, "--replay-unfrozen"]
+    cmd = fit_command(fit, train, test, output, inputs, ny, nu, horizon, extra)
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"odonata-fit failed: {r.stderr.strip()}")

@@ -188,13 +188,19 @@ ONLINE = ["--epochs", "1", "--no-least-squares", "--no-select", "--consequent", 
           "--refit-history", "0.5"]
 
 
-def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
+def fit_command(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
+    """odonata-fit on one record, its report as JSON (also bench/accuracy/live_model_replays.py)."""
     cmd = [fit_exe, "--train", train, "--validate", test, "--output", output, "--ny", str(ny),
            "--nu", str(nu), "--json", *extra]
     for i in inputs:
         cmd += ["--input", i]
     if horizon:
         cmd += ["--horizon", str(horizon)]
+    return cmd
+
+
+def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
+    cmd = fit_command(fit_exe, train, test, output, inputs, ny, nu, horizon, extra)
     t0 = time.time()
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
