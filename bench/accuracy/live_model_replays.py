@@ -77,9 +77,10 @@ def main():
     if not os.access(args.fit, os.X_OK):
         sys.exit(f"live_model_replays: no odonata-fit at {args.fit} (build first, or --fit PATH)")
     replays = [r for r in REPLAYS if not args.only or args.only in r[0]]
-    tmp = tempfile.mkdtemp(prefix="odonata-live-")
     jobs = []
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+    # The parts go away with the directory, whatever ends the run.
+    with tempfile.TemporaryDirectory(prefix="odonata-live-") as tmp, \
+            concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         for n, (name, train, rows, (test, test_rows), out, ins, ny, nu, h) in enumerate(replays):
             src, tst = os.path.join(args.dir, train), os.path.join(args.dir, test)
             if not (os.path.exists(src) and os.path.exists(tst)):
@@ -101,9 +102,6 @@ def main():
             print(f"| {name} | {scored} | {cell(live['fit'])} | {cell(live['arx'])} "
                   f"| {live['rules']} | {live['refused']} of {live['landed']} | {frozen} |",
                   flush=True)
-    for f in os.listdir(tmp):
-        os.remove(os.path.join(tmp, f))
-    os.rmdir(tmp)
 
 
 if __name__ == "__main__":
