@@ -56,6 +56,7 @@ def run(fit, train, test, output, inputs, ny, nu, horizon, frozen):
     fit_of = lambda v: v[key]["fit"]  # noqa: E731
     return {"fit": fit_of(j["validate"]), "arx": fit_of(j["baselines"]["arx"]["validate"]),
             "rules": j["rules"], "refused": j["refits"]["steady_state_refused"],
+            "linear": j["refits"]["linear_landed"],
             "landed": j["refits"]["landed"]}
 
 
@@ -93,14 +94,15 @@ def main():
             futures = {m: pool.submit(run, args.fit, a, b, out, ins, ny, nu, h, m) for m in modes}
             jobs.append((name, h, futures))
         print("| replay (training files only) | scored | live model | ARX | rules "
-              "| steady-state refits refused | frozen model |")
-        print("|---|---|---|---|---|---|---|")
+              "| steady-state refits refused | linear models landed | frozen model |")
+        print("|---|---|---|---|---|---|---|---|")
         for name, h, futures in jobs:
             live = futures[False].result()
             frozen = cell(futures[True].result()["fit"]) if True in futures else "–"
             scored = f"{h} steps ahead" if h else "free run"
             print(f"| {name} | {scored} | {cell(live['fit'])} | {cell(live['arx'])} "
-                  f"| {live['rules']} | {live['refused']} of {live['landed']} | {frozen} |",
+                  f"| {live['rules']} | {live['refused']} of {live['landed']} | {live['linear']} "
+                  f"| {frozen} |",
                   flush=True)
 
 

@@ -198,7 +198,8 @@ OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Seri
     id.Settle();
   }
   return OnlineReplay{id.model(),           id.refits(),          id.failed_refits(),
-                      id.samples_learned(), id.incumbents_kept(), id.steady_state_refused()};
+                      id.samples_learned(), id.incumbents_kept(), id.steady_state_refused(),
+                      id.linear_landed()};
 }
 
 }  // namespace odonata::sysid

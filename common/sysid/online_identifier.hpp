@@ -98,6 +98,9 @@ class OnlineIdentifier {
   /// Of the refits landed, those that kept the last refit's model (IncumbentHoldsItsOwn).
   int64_t incumbents_kept() const { return refitter_.incumbents_kept(); }
   int64_t steady_state_refused() const { return refitter_.steady_state_refused(); }
+  /// Of the refits landed, those that landed the linear model trained beside them
+  /// (ScheduledRefitter::linear_landed).
+  int64_t linear_landed() const { return refitter_.linear_landed(); }
   int64_t last_index() const { return last_index_; }
 
  private:
@@ -130,6 +133,7 @@ struct OnlineReplay {
   int64_t samples_learned = 0;
   int64_t incumbents_kept = 0;       ///< refits that kept the last refit's model
   int64_t steady_state_refused = 0;  ///< steady-state refits whose model failed its checks
+  int64_t linear_landed = 0;  ///< refits whose fuzzy model lost to the linear one on new samples
 };
 /// `frozen` false replays an identifier stopped without a freeze: no closing refit, and the
 /// refit in flight never lands.

@@ -29,13 +29,26 @@ int64_t RefitSchedule::HistoryBlock() const {
 
 namespace {
 
-// The rest deviation a model is held to: the free-run criterion's linear candidate's (NaN: none).
-double LinearRest(const SelectionResult& selection) {
+// The selection's linear candidate, if it had one.
+std::optional<Candidate> LinearCandidate(const SelectionResult& selection) {
   const auto linear = std::find_if(selection.candidates.begin(), selection.candidates.end(),
                                    [](const Candidate& c) { return c.linear; });
-  return selection.free_run_criterion && linear != selection.candidates.end()
-             ? linear->rest_deviation
-             : std::numeric_limits<double>::quiet_NaN();
+  if (linear == selection.candidates.end()) return std::nullopt;
+  return *linear;
+}
+
+// The rest deviation a model is held to: the free-run criterion's linear candidate's (NaN: none).
+double LinearRest(const SelectionResult& selection) {
+  const std::optional<Candidate> linear = LinearCandidate(selection);
+  return selection.free_run_criterion && linear ? linear->rest_deviation
+                                                : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The linear candidate beside a fuzzy choice, to train with each refit; none when the choice is
+// the linear model.
+std::optional<Candidate> LinearBeside(const SelectionResult& selection) {
+  if (selection.candidates[selection.chosen].linear) return std::nullopt;
+  return LinearCandidate(selection);
 }
 
 // The samples in order, each copied once into the series.
@@ -78,6 +91,22 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
   // The checks a refit's own model passes: it runs on the whole buffer without diverging and,
   // with the free-run criterion, comes to rest where the linear model does.
   return SteadyStateHolds(incumbent, series, selection.criterion_horizon, LinearRest(selection));
+}
+
+bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, const Series& fresh,
+                             int criterion_horizon) {
+  // A few rows decide nothing: at least as many as the longest lag, and ten.
+  const Eigen::Index lags = fuzzy.spec().first_target();
+  if (static_cast<Eigen::Index>(TargetRows(fuzzy.spec(), fresh).size()) <
+      std::max<Eigen::Index>(10, lags))
+    return false;
+  // A linear model no better than the samples' own mean says only that neither model knows
+  // them (the plant moved somewhere new); the fuzzy one, tracked, may still learn it fastest.
+  const double l = linear.NdeiAhead(fresh, criterion_horizon);
+  if (!(l < 1.0)) return false;
+  double f = fuzzy.NdeiAhead(fresh, criterion_horizon);
+  if (!std::isfinite(f)) f = std::numeric_limits<double>::infinity();
+  return BeatsByMargin(l, f, SelectionOptions{});
 }
 
 bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterion_horizon,
@@ -153,6 +182,13 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
           o.selection.consequents = {base.consequent};
           TrainOptions t;
           t.cancel = cancel.get();
+          // The last refit's model stays, as it landed (it passed this refit's checks).
+          const auto keep_incumbent = [&](bool refused_model) {
+            return Refitted{*incumbent,          ConsequentTracker::Build(*incumbent, kept),
+                            std::nullopt,        true,
+                            refused_model,       std::nullopt,
+                            ConsequentTracker{}, 0};
+          };
           std::optional<OfflineFit> reused;
           bool refused = false;
           if (reuse) {
@@ -177,22 +213,47 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
               reused.reset();
               if (incumbent && SteadyStateHolds(*incumbent, series, reuse->criterion_horizon,
                                                 reuse->linear_rest))
-                return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept),
-                                std::nullopt, true, true};
+                return keep_incumbent(true);
             }
           }
           OfflineFit fit = reused ? std::move(*reused) : FitOffline(spec, base, t, series, o);
           std::optional<Chosen> chosen;
           if (fit.selection)
-            chosen = Chosen{fit.config, fit.train, static_cast<std::size_t>(series.samples()),
-                            fit.selection->criterion_horizon, LinearRest(*fit.selection)};
+            chosen = Chosen{fit.config,
+                            fit.train,
+                            static_cast<std::size_t>(series.samples()),
+                            fit.selection->criterion_horizon,
+                            LinearRest(*fit.selection),
+                            LinearBeside(*fit.selection)};
           if (incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
               IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
-            return Refitted{*incumbent, ConsequentTracker::Build(*incumbent, kept), std::nullopt,
-                            true, refused};
+            return keep_incumbent(refused);
           ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
-          return Refitted{std::move(fit.model), std::move(tracker), std::move(chosen), false,
-                          refused};
+          Refitted out{std::move(fit.model),
+                       std::move(tracker),
+                       std::move(chosen),
+                       false,
+                       refused,
+                       std::nullopt,
+                       ConsequentTracker{},
+                       0};
+          // The linear model on the same samples, for the landing to judge the fuzzy one
+          // against on the samples that come in meanwhile (LinearWinsTheNewSamples).
+          const Chosen* judged = out.chosen ? &*out.chosen : (reuse ? &*reuse : nullptr);
+          if (judged && judged->linear) {
+            OfflineFitOptions lo = o;
+            lo.search = false;
+            lo.epochs_given = true;
+            TrainOptions lt = t;
+            lt.epochs = std::max(1, judged->linear->epochs);
+            lt.simulation = judged->linear->simulation;
+            lt.deviation_ridge = judged->linear->deviation_ridge;
+            out.linear =
+                FitOffline(spec, CandidateConfig(base, *judged->linear), lt, series, lo).model;
+            out.linear_tracker = ConsequentTracker::Build(*out.linear, kept);
+            out.criterion_horizon = judged->criterion_horizon;
+          }
+          return out;
         } catch (const std::exception&) {
           // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
           return std::nullopt;
@@ -214,6 +275,23 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   }
   ++refits_;
   if (refitted->steady_state_refused) ++steady_state_refused_;
+  // The newest of the samples kept since the refit began (all in the recent run), at most
+  // kLandingCheckSamples: the landing scores two models on them on the thread that takes the
+  // samples, 2 × 100 000 predictions 50 steps ahead.
+  const auto fresh = std::min({static_cast<std::size_t>(KeptSinceStart() - pending_at_),
+                               recent_.size(), kLandingCheckSamples});
+  if (refitted->linear && fresh > 0) {
+    std::vector<const Sample*> newest;
+    newest.reserve(fresh);
+    for (auto it = recent_.end() - static_cast<std::ptrdiff_t>(fresh); it != recent_.end(); ++it)
+      newest.push_back(&*it);
+    if (LinearWinsTheNewSamples(refitted->model, *refitted->linear, SeriesFromSampleRefs(newest),
+                                refitted->criterion_horizon)) {
+      refitted->model = std::move(*refitted->linear);
+      refitted->tracker = std::move(refitted->linear_tracker);
+      ++linear_landed_;
+    }
+  }
   if (refitted->incumbent_kept) {
     // The last refit's model as it landed, which the check judged, not as tracking has moved
     // it since: it stays the incumbent, still unseen by the samples since it began.

@@ -143,6 +143,11 @@ class ScheduledRefitter {
   /// Steady-state refits whose model failed its checks (SteadyStateHolds): the incumbent stayed
   /// or the refit selected instead.
   int64_t steady_state_refused() const { return steady_state_refused_; }
+  /// Refits that landed the linear model trained beside them instead of their fuzzy one, which
+  /// lost to it on the samples that came in while they ran (LinearWinsTheNewSamples).
+  int64_t linear_landed() const { return linear_landed_; }
+  /// The most samples that judgement scores on (the newest): 20 s at 100 Hz.
+  static constexpr std::size_t kLandingCheckSamples = 2000;
   bool in_flight() const { return pending_.valid(); }
   bool closing() const { return closing_; }
 
@@ -171,6 +176,7 @@ class ScheduledRefitter {
     // free-run criterion the linear candidate's rest deviation (NaN: no rest check).
     int criterion_horizon = 0;
     double linear_rest = std::numeric_limits<double>::quiet_NaN();
+    std::optional<Candidate> linear;  // its linear candidate (ARX), trained beside each refit
   };
   struct Refitted {
     NarxModel model;
@@ -178,6 +184,11 @@ class ScheduledRefitter {
     std::optional<Chosen> chosen;       // when this refit ran a selection
     bool incumbent_kept = false;        // the model it would replace stays (IncumbentHoldsItsOwn)
     bool steady_state_refused = false;  // the reused setting's model failed SteadyStateHolds
+    // The linear model (the selection's linear candidate) trained on the same samples, and the
+    // criterion both are scored by at landing, on the samples that came in meanwhile.
+    std::optional<NarxModel> linear;
+    ConsequentTracker linear_tracker;
+    int criterion_horizon = 0;
   };
   std::optional<NarxModel> landed_;  ///< the last refit's model as it landed
   /// Samples kept since the start (or Clear) when the refit in flight, and the one that landed
@@ -197,6 +208,7 @@ class ScheduledRefitter {
   int64_t selections_ = 0;
   int64_t incumbents_kept_ = 0;
   int64_t steady_state_refused_ = 0;
+  int64_t linear_landed_ = 0;
   std::function<void()> wait_hook_;
   std::chrono::milliseconds wait_hook_period_{1000};
 };
@@ -217,6 +229,14 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
 /// linear candidate), at rest where the linear model is. The incumbent is held to the same.
 bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterion_horizon,
                       double linear_rest);
+
+/// At a landing, the samples that came in while the refit ran are ones neither the refit's
+/// fuzzy model nor the linear model trained beside it (on the same samples) has seen: the linear
+/// model lands instead when, on them, it beats the fuzzy one by the margin a candidate needs over
+/// a simpler one, by the refit's criterion (`criterion_horizon`, 0 free run; docs/identifier.md
+/// §6.3). A fuzzy model that runs away there loses to a linear one that does not.
+bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, const Series& fresh,
+                             int criterion_horizon);
 
 /// The series a refit learns from: the samples in order, a break wherever an index is skipped.
 Series SeriesFromSamples(const std::deque<Sample>& samples);

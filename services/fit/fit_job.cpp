@@ -329,7 +329,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
                         {"failed", replay.failed_refits},
                         {"samples_learned", replay.samples_learned},
                         {"incumbents_kept", replay.incumbents_kept},
-                        {"steady_state_refused", replay.steady_state_refused}};
+                        {"steady_state_refused", replay.steady_state_refused},
+                        {"linear_landed", replay.linear_landed}};
     model.emplace(std::move(replay.model));
   } else if (!model) {
     sysid::OfflineFitOptions fo;
@@ -616,7 +617,8 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         << " samples learned, " << f["landed"].get<long>() << " refits landed ("
         << f["failed"].get<long>() << " failed, " << f["incumbents_kept"].get<long>()
         << " kept the last refit's model, " << f["steady_state_refused"].get<long>()
-        << " steady-state models refused by their checks)\n";
+        << " steady-state models refused by their checks, " << f["linear_landed"].get<long>()
+        << " landed the linear model, which won on the samples since they began)\n";
   }
   if (r.contains("selection")) {
     const auto& sel = r["selection"];

@@ -217,16 +217,23 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
     // A steady-state refit whose model failed its checks says so, and what took its place.
     const bool refused = core_.steady_state_refused() != refused_reported_;
     refused_reported_ = core_.steady_state_refused();
-    const char* why = "";
+    std::string why;
     if (refused)
       why = kept ? ", the last refit's model kept (the steady-state model ran away or did not "
                    "come to rest)"
                  : ", chosen again (the steady-state model ran away or did not come to rest)";
     else if (kept)
       why = ", the last refit's model kept (it predicts the newest samples better)";
+    // A refit whose fuzzy model lost to the linear one on the samples since it began.
+    const bool linear = core_.linear_landed() != linear_reported_;
+    linear_reported_ = core_.linear_landed();
+    if (linear)
+      why +=
+          ", the linear model landed (it beat the fuzzy one on the samples since the refit "
+          "began)";
     std::fprintf(stderr, "%s: refit %lld %s: %d rules%s (%lld failed)\n", config_.instance.c_str(),
                  static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
-                 why, static_cast<long long>(core_.failed_refits()));
+                 why.c_str(), static_cast<long long>(core_.failed_refits()));
   }
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,

@@ -70,6 +70,7 @@ class IdentifierNode {
   int64_t refits_reported_ = 0;      ///< refits landed or failed, as last said on stderr
   int64_t incumbents_reported_ = 0;  ///< of them, those that kept the last refit's model
   int64_t refused_reported_ = 0;     ///< of them, steady-state models refused (SteadyStateHolds)
+  int64_t linear_reported_ = 0;      ///< of them, linear models landed (LinearWinsTheNewSamples)
   std::string state_before_refit_;   ///< the heartbeat state to go back to after "refitting"
   int64_t snapshot_seq_ = 0;
   // Why the newest vehicle message was refused (empty once one is taken again), and how many

@@ -156,7 +156,8 @@ TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
   // 100 lands at 200, where 200 begins; the freeze replaces that one with the closing refit.
   EXPECT_NE(text.out.find("the online identifier replayed: 399 samples learned, 2 refits landed "
                           "(0 failed, 0 kept the last refit's model, 0 steady-state models "
-                          "refused by their checks)"),
+                          "refused by their checks, 0 landed the linear model, which won on the "
+                          "samples since they began)"),
             std::string::npos)
       << text.out;
   const ProcessResult json = Exec(args + " --json", false);
@@ -165,6 +166,7 @@ TEST(FitCli, TheOnlineReplaySaysWhatItsRefitsDid) {
   EXPECT_EQ(refits["landed"].get<int>(), 2);
   EXPECT_EQ(refits["incumbents_kept"].get<int>(), 0);
   EXPECT_EQ(refits["steady_state_refused"].get<int>(), 0);
+  EXPECT_EQ(refits["linear_landed"].get<int>(), 0);
   EXPECT_EQ(refits["samples_learned"].get<int>(), 399);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -328,6 +329,89 @@ TEST(RefitSchedule, ASteadyStateRefitLandsOnlyAModelThatPassesItsSelectionsCheck
   t.fit_scaling = false;
   trained.Train(series, t);
   EXPECT_TRUE(SteadyStateHolds(trained, series, 0, 0.0));
+}
+
+// At a landing, the linear model trained beside the refit lands instead of the fuzzy one only
+// when, on the samples that came in meanwhile, it beats it by the candidates' margin and predicts
+// them better than their own mean.
+TEST(RefitSchedule, TheLinearModelLandsOnlyWhenItWinsTheNewSamples) {
+  const Series series = testing::NarendraTrain(1500);
+  const auto scaled = [&](NarxModel m) {
+    m.SetScaling(ScalingFromRanges(m.spec(), RangesFromSeries(m.spec(), series)));
+    return m;
+  };
+  fuzzy::FuzzyModelConfig one_rule;
+  one_rule.entropy.threshold = 0.0;  // no rule beyond the first: ARX
+  NarxModel linear = scaled(NarxModel(testing::NarendraSpec(), one_rule));
+  TrainOptions t;
+  t.fit_scaling = false;
+  linear.Train(series, t);
+  ASSERT_EQ(linear.total_rules(), 1);
+  NarxModel fuzzy = Empty(fuzzy::ConsequentKind::kLinear, series);
+  fuzzy.Train(series, t);
+  ASSERT_GT(fuzzy.total_rules(), 1);
+  const double l = linear.NdeiAhead(series, 0), f = fuzzy.NdeiAhead(series, 0);
+  ASSERT_LT(l, 1.0);
+  ASSERT_LT(f, l / 1.05 - 0.005) << "the fuzzy model must beat ARX on this plant";
+  // The fuzzy model that predicts better stays; so does one no worse than the linear model.
+  EXPECT_FALSE(LinearWinsTheNewSamples(fuzzy, linear, series, 0));
+  EXPECT_FALSE(LinearWinsTheNewSamples(linear, linear, series, 0));
+  // One that runs away in free run (to the output limits the model keeps) loses to it.
+  NarxModel runs_away = linear;
+  Eigen::VectorXd theta = runs_away.model(0).consequent().Parameters();
+  theta *= 10.0;
+  runs_away.mutable_model(0).mutable_consequent().SetParameters(theta);
+  ASSERT_GT(runs_away.NdeiAhead(series, 0), 1.0);
+  EXPECT_TRUE(LinearWinsTheNewSamples(runs_away, linear, series, 0));
+  // A linear model no better than the samples' mean decides nothing, nor do a few samples.
+  NarxModel mean_only = linear;
+  mean_only.mutable_model(0).mutable_consequent().SetParameters(0.0 * theta);
+  ASSERT_GE(mean_only.NdeiAhead(series, 0), 1.0);
+  EXPECT_FALSE(LinearWinsTheNewSamples(runs_away, mean_only, series, 0));
+  EXPECT_FALSE(LinearWinsTheNewSamples(runs_away, linear, SliceSeries(series, 0, 8), 0));
+}
+
+// A plant that drifts out of the range its first refit learned, into one where the fuzzy model
+// extrapolates an unstable local model (the linear one's single slope stays stable): y(k+1) =
+// (0.5 + 1.2 min(y(k)², 0.2)) y(k) + u(k), u in [−0.25, 0.25] for 1 000 samples, then in
+// [0, 0.45]. The refit begun at 1 000 (on the first range) lands at 2 000, where the samples
+// since it began are all in the second.
+TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> first(-0.25, 0.25), second(0.0, 0.45);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  const Eigen::Index n = 2010;
+  Series s;
+  s.inputs.resize(n, 1);
+  s.outputs = Eigen::MatrixXd::Zero(n, 1);
+  for (Eigen::Index k = 0; k < n; k += 5) {
+    const double u = k < 1000 ? first(rng) : second(rng);
+    for (Eigen::Index j = k; j < std::min(n, k + 5); ++j) s.inputs(j, 0) = u;
+  }
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    const double y = s.outputs(k, 0);
+    s.outputs(k + 1, 0) = (0.5 + 1.2 * std::min(y * y, 0.2)) * y + s.inputs(k, 0);
+  }
+  for (Eigen::Index k = 0; k < n; ++k) s.outputs(k, 0) += noise(rng);
+  const SignalRanges declared = {{"y", {-3.0, 3.0}}, {"u", {-1.0, 1.0}}};
+  fuzzy::FuzzyModelConfig cfg;
+  NarxModel empty(testing::NarendraSpec(), cfg);
+  const Scaling scaling = ScalingFromRanges(empty.spec(), declared);
+  empty.SetScaling(scaling);
+  RefitSchedule refit;
+  refit.first = 500;
+  refit.every = 1000;
+  const OnlineReplay live = LearnOnline(empty, refit, s, scaling, /*frozen=*/false);
+  ASSERT_EQ(live.refits, 2);
+  EXPECT_EQ(live.linear_landed, 1);
+  EXPECT_EQ(live.model.total_rules(), 1);
+  // The landed linear model predicts the second range; the first landing (its fuzzy model won
+  // the samples of the first range) is not the one that fell back.
+  EXPECT_LT(live.model.NdeiAhead(SliceSeries(s, 1000, n - 1000), 0), 0.5);
+  const OnlineReplay at_first = LearnOnline(empty, refit, SliceSeries(s, 0, 1002), scaling, false);
+  EXPECT_EQ(at_first.refits, 1);
+  EXPECT_EQ(at_first.linear_landed, 0);
+  EXPECT_GT(at_first.model.total_rules(), 1);
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
