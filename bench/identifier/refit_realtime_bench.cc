@@ -3,6 +3,7 @@
 // worker thread, and the process's CPU share. The model is the case: 7 regressor inputs
 // (ny 3; two inputs, nu 2), rule cap 30. In-process: the LCM hop adds its own ~70 µs
 // (run_pipeline_bench.sh). Run: build/bench/identifier/bench_refit_realtime [--seconds 130]
+// [--horizon K]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -64,9 +65,15 @@ int main(int argc, char** argv) {
   CLI::App app{"the online identifier at a paced rate with its scheduled refits"};
   double seconds = 130, rate = 100;
   bool no_refit = false;
+  int horizon = 0;
   app.add_option("--seconds", seconds, "run length")->capture_default_str();
   app.add_option("--rate", rate, "samples per second")->capture_default_str();
   app.add_flag("--no-refit", no_refit, "the per-sample learner alone");
+  app.add_option("--horizon", horizon,
+                 "K > 1: refits choose K steps ahead (the identifier's refit_horizon), and a "
+                 "landing judges its model K steps ahead; 0: free run")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   const int n = static_cast<int>(seconds * rate);
   const Series data = Plant(n + 10, 3);
@@ -80,7 +87,8 @@ int main(int argc, char** argv) {
   cfg.entropy.threshold = ThresholdForRadius(1.1);
   NarxModel model(spec, cfg);
   model.SetScaling(ScalingFromRanges(spec, RangesFromSeries(spec, data)));
-  const RefitSchedule refit = no_refit ? RefitSchedule{} : RefitSchedule::IdentifierDefault();
+  RefitSchedule refit = no_refit ? RefitSchedule{} : RefitSchedule::IdentifierDefault();
+  refit.horizon = horizon;
   OnlineIdentifier id(model, refit);
   std::vector<double> micros;
   micros.reserve(static_cast<std::size_t>(n));
@@ -110,10 +118,12 @@ int main(int argc, char** argv) {
       landings.push_back(k);
       std::fprintf(stderr,
                    "  refit %lld landed at sample %d (%.0f s): %d rules, took %.0f µs "
-                   "(%lld selections, %lld kept the last refit's model)\n",
+                   "(%lld selections, %lld kept the last refit's model, %lld linear models "
+                   "landed)\n",
                    static_cast<long long>(landed), k, k / rate, id.model().total_rules(), us,
                    static_cast<long long>(id.selections()),
-                   static_cast<long long>(id.incumbents_kept()));
+                   static_cast<long long>(id.incumbents_kept()),
+                   static_cast<long long>(id.linear_landed()));
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -95,11 +95,8 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
 
 bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, const Series& fresh,
                              int criterion_horizon) {
-  // A few rows decide nothing: at least as many as the longest lag, and ten.
-  const Eigen::Index lags = fuzzy.spec().first_target();
-  if (static_cast<Eigen::Index>(TargetRows(fuzzy.spec(), fresh).size()) <
-      std::max<Eigen::Index>(10, lags))
-    return false;
+  // A few rows decide nothing.
+  if (TargetRows(fuzzy.spec(), fresh).size() < 10) return false;
   // A linear model no better than the samples' own mean says only that neither model knows
   // them (the plant moved somewhere new); the fuzzy one, tracked, may still learn it fastest.
   const double l = linear.NdeiAhead(fresh, criterion_horizon);
@@ -148,7 +145,7 @@ Series ScheduledRefitter::KeptSeries() const {
   return SeriesFromSampleRefs(kept);
 }
 
-void ScheduledRefitter::Start(const NarxModel& model, bool select) {
+void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged) {
   pending_at_ = KeptSinceStart();
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
@@ -159,7 +156,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
-       incumbent = landed_, unseen = pending_at_ - landed_at_,
+       incumbent = landed_, unseen = pending_at_ - landed_at_, judged,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
@@ -239,19 +236,25 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select) {
                        0};
           // The linear model on the same samples, for the landing to judge the fuzzy one
           // against on the samples that come in meanwhile (LinearWinsTheNewSamples).
-          const Chosen* judged = out.chosen ? &*out.chosen : (reuse ? &*reuse : nullptr);
-          if (judged && judged->linear) {
+          const Chosen* setting = out.chosen ? &*out.chosen : (reuse ? &*reuse : nullptr);
+          if (judged && setting && setting->linear) {
             OfflineFitOptions lo = o;
             lo.search = false;
             lo.epochs_given = true;
             TrainOptions lt = t;
-            lt.epochs = std::max(1, judged->linear->epochs);
-            lt.simulation = judged->linear->simulation;
-            lt.deviation_ridge = judged->linear->deviation_ridge;
-            out.linear =
-                FitOffline(spec, CandidateConfig(base, *judged->linear), lt, series, lo).model;
-            out.linear_tracker = ConsequentTracker::Build(*out.linear, kept);
-            out.criterion_horizon = judged->criterion_horizon;
+            lt.epochs = std::max(1, setting->linear->epochs);
+            lt.simulation = setting->linear->simulation;
+            lt.deviation_ridge = setting->linear->deviation_ridge;
+            try {
+              out.linear =
+                  FitOffline(spec, CandidateConfig(base, *setting->linear), lt, series, lo).model;
+              out.linear_tracker = ConsequentTracker::Build(*out.linear, kept);
+              out.criterion_horizon = setting->criterion_horizon;
+            } catch (const std::exception&) {
+              // Without it the fuzzy model lands unjudged rather than the refit being lost (if
+              // this was a cancellation, the refit never lands anyway).
+              out.linear.reset();
+            }
           }
           return out;
         } catch (const std::exception&) {
@@ -333,7 +336,9 @@ void ScheduledRefitter::BeginClosing(const NarxModel& model) {
     // The closing refit learns from every sample kept, from the refits' own settings: whatever
     // the refit in flight would have given, it replaces.
     Cancel();
-    Start(model, true);  // the closing refit is odonata-fit's defaults on every sample kept
+    // The closing refit is odonata-fit's defaults on every sample kept. No sample comes in
+    // while it runs, so no linear model is trained beside it to judge it on them.
+    Start(model, true, false);
     last_started_ = learned_;
   }
   closing_ = pending_.valid();

@@ -154,7 +154,9 @@ class ScheduledRefitter {
  private:
   /// `select`: run odonata-fit's selection on the samples kept; otherwise train with the settings
   /// the last selection chose (when there is one), which costs one training instead of a search.
-  void Start(const NarxModel& model, bool select);
+  /// `judged`: train the linear model beside a fuzzy one for the landing to judge it on the
+  /// samples that come in meanwhile (LinearWinsTheNewSamples); a closing refit gets none.
+  void Start(const NarxModel& model, bool select, bool judged = true);
   void Cancel();
   bool Land(NarxModel& model);
 
