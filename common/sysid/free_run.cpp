@@ -1,6 +1,7 @@
 #include "sysid/free_run.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace odonata::sysid {
@@ -60,15 +61,18 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
 }
 
 Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
-                             const Predictor& predict, int horizon, bool* diverged) {
+                             const Predictor& predict, int horizon, bool* diverged, int stride) {
   if (horizon < 1) throw std::invalid_argument("the prediction horizon must be >= 1");
+  if (stride < 1) throw std::invalid_argument("the stride must be >= 1");
   const auto targets = TargetRows(spec, series);
   if (targets.empty()) throw std::invalid_argument("too few samples for the lags");
   Eigen::MatrixXd simulated = series.outputs;
   Eigen::MatrixXd out(static_cast<Eigen::Index>(targets.size()), series.outputs.cols());
   Eigen::VectorXd x(spec.size());
   bool bad = false;
+  out.setConstant(std::numeric_limits<double>::quiet_NaN());
   for (std::size_t r = 0; r < targets.size(); ++r) {
+    if ((targets.size() - 1 - r) % static_cast<std::size_t>(stride) != 0) continue;
     // The run of consecutive targets that ends at r, at most `horizon` long.
     std::size_t first = r;
     while (first > 0 && r - first + 1 < static_cast<std::size_t>(horizon) &&

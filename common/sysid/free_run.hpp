@@ -26,8 +26,11 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
 /// K-step-ahead predictions ŷ(t | t − K): for each target t, a free run started from the measured
 /// outputs before t − K + 1 (or its segment's start), K steps long. K = 1 is PredictOneStep; a
 /// K beyond the segment is its free run. Same rows as PredictOneStep; `diverged` as there.
-/// @pre horizon ≥ 1.
+/// `stride` m > 1 predicts only every m-th target, counted back from the last (the others' rows
+/// are left NaN): K/m of the cost, for a score that may sample the targets.
+/// @pre horizon ≥ 1, stride ≥ 1.
 Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
-                             const Predictor& predict, int horizon, bool* diverged = nullptr);
+                             const Predictor& predict, int horizon, bool* diverged = nullptr,
+                             int stride = 1);
 
 }  // namespace odonata::sysid

@@ -80,14 +80,26 @@ double NarxModel::Ndei(const Series& series, bool free_run) const {
   return std::isfinite(ndei) ? ndei : std::numeric_limits<double>::infinity();
 }
 
-double NarxModel::NdeiAhead(const Series& series, int horizon) const {
+double NarxModel::NdeiAhead(const Series& series, int horizon, int stride) const {
   if (horizon <= 0) return Ndei(series, true);
   if (horizon == 1 || spec_.output_lags == 0) return Ndei(series, false);
   const Predictor predict = [this](const Eigen::VectorXd& x) { return Predict(x); };
   bool diverged = false;
-  const Eigen::MatrixXd y_all = Targets(spec_, series);
-  const Eigen::MatrixXd yhat = PredictAhead(spec_, series, predict, horizon, &diverged);
+  Eigen::MatrixXd y_all = Targets(spec_, series);
+  Eigen::MatrixXd yhat = PredictAhead(spec_, series, predict, horizon, &diverged, stride);
   if (diverged) return std::numeric_limits<double>::infinity();
+  if (stride > 1) {
+    // The rows PredictAhead predicted: every stride-th, counted back from the last.
+    const Eigen::Index n = y_all.rows();
+    const Eigen::Index kept = (n + stride - 1) / stride;
+    Eigen::MatrixXd y_kept(kept, y_all.cols()), yhat_kept(kept, y_all.cols());
+    for (Eigen::Index i = 0; i < kept; ++i) {
+      y_kept.row(i) = y_all.row(n - 1 - (kept - 1 - i) * stride);
+      yhat_kept.row(i) = yhat.row(n - 1 - (kept - 1 - i) * stride);
+    }
+    y_all = std::move(y_kept);
+    yhat = std::move(yhat_kept);
+  }
   double sum = 0.0;
   for (int o = 0; o < outputs(); ++o) sum += metrics::Score(y_all.col(o), yhat.col(o)).ndei;
   const double ndei = sum / outputs();

@@ -239,6 +239,8 @@ bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterio
 /// §6.3). A fuzzy model that runs away there loses to a linear one that does not.
 bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, const Series& fresh,
                              int criterion_horizon);
+/// K steps ahead, that judgement scores every (K / this)-th target only.
+inline constexpr int kLandingCheckStrideDivisor = 10;
 
 /// The series a refit learns from: the samples in order, a break wherever an index is skipped.
 Series SeriesFromSamples(const std::deque<Sample>& samples);

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -6,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
 #include "sysid/free_run.hpp"
 #include "sysid/model_selection.hpp"
@@ -220,6 +222,39 @@ TEST(NarxModel, PredictAheadSpansOneStepToFreeRun) {
   const Series window =
       SliceSeries(v, targets[10] - 2 - spec.first_target(), spec.first_target() + 3);
   EXPECT_DOUBLE_EQ(three(10, 0), SimulateFreeRun(spec, window, p)(2, 0));
+}
+
+// A stride predicts every m-th target, counted back from the last, exactly as without it, and
+// leaves the rest unpredicted; the sampled score is the score of those rows.
+TEST(NarxModel, PredictAheadWithAStrideSamplesTheTargets) {
+  NarxModel m(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
+  TrainOptions t;
+  t.epochs = 2;
+  m.Train(testing::NarendraTrain(1000), t);
+  const Series v = testing::NarendraValidate(300);
+  const Predictor p = [&m](const Eigen::VectorXd& x) { return m.Predict(x); };
+  const Eigen::MatrixXd all = PredictAhead(m.spec(), v, p, 5);
+  const Eigen::MatrixXd sampled = PredictAhead(m.spec(), v, p, 5, nullptr, 4);
+  ASSERT_EQ(sampled.rows(), all.rows());
+  const Eigen::Index n = all.rows();
+  Eigen::Index predicted = 0;
+  for (Eigen::Index r = 0; r < n; ++r) {
+    if ((n - 1 - r) % 4 == 0) {
+      EXPECT_EQ(sampled(r, 0), all(r, 0)) << "row " << r;
+      ++predicted;
+    } else {
+      EXPECT_TRUE(std::isnan(sampled(r, 0))) << "row " << r;
+    }
+  }
+  EXPECT_EQ(predicted, (n + 3) / 4);
+  const Eigen::MatrixXd y = Targets(m.spec(), v);
+  Eigen::VectorXd yk(predicted), yhk(predicted);
+  for (Eigen::Index i = 0, r = (n - 1) % 4; r < n; ++i, r += 4) {
+    yk(i) = y(r, 0);
+    yhk(i) = all(r, 0);
+  }
+  EXPECT_DOUBLE_EQ(m.NdeiAhead(v, 5, 4), metrics::Score(yk, yhk).ndei);
+  EXPECT_EQ(m.NdeiAhead(v, 5, 1), m.NdeiAhead(v, 5));
 }
 
 }  // namespace
