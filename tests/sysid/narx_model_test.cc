@@ -200,12 +200,18 @@ TEST(NarxModel, HoldoutKeepsTheBestEpoch) {
   EXPECT_NEAR(m.Ndei(hold, true), best, 1e-12);
 }
 
-// K steps ahead sits between one step (K = 1) and the free run (K beyond the record).
-TEST(NarxModel, PredictAheadSpansOneStepToFreeRun) {
+// What the K-step tests predict with: a model of Narendra's plant, two epochs on 1 000 samples.
+NarxModel NarendraModel() {
   NarxModel m(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
   TrainOptions t;
   t.epochs = 2;
   m.Train(testing::NarendraTrain(1000), t);
+  return m;
+}
+
+// K steps ahead sits between one step (K = 1) and the free run (K beyond the record).
+TEST(NarxModel, PredictAheadSpansOneStepToFreeRun) {
+  const NarxModel m = NarendraModel();
   const Series v = testing::NarendraValidate(300);
   const Predictor p = [&m](const Eigen::VectorXd& x) { return m.Predict(x); };
   const RegressorSpec& spec = m.spec();
@@ -227,10 +233,7 @@ TEST(NarxModel, PredictAheadSpansOneStepToFreeRun) {
 // A stride predicts every m-th target, counted back from the last, exactly as without it, and
 // leaves the rest unpredicted; the sampled score is the score of those rows.
 TEST(NarxModel, PredictAheadWithAStrideSamplesTheTargets) {
-  NarxModel m(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
-  TrainOptions t;
-  t.epochs = 2;
-  m.Train(testing::NarendraTrain(1000), t);
+  const NarxModel m = NarendraModel();
   const Series v = testing::NarendraValidate(300);
   const Predictor p = [&m](const Eigen::VectorXd& x) { return m.Predict(x); };
   const Eigen::MatrixXd all = PredictAhead(m.spec(), v, p, 5);
