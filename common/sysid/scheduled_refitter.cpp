@@ -97,14 +97,14 @@ bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, co
                              int criterion_horizon) {
   // A few rows decide nothing.
   if (TargetRows(fuzzy.spec(), fresh).size() < 10) return false;
-  // A linear model no better than the samples' own mean says only that neither model knows
-  // them (the plant moved somewhere new); the fuzzy one, tracked, may still learn it fastest.
   // On the thread that takes the samples: K steps ahead, every target costs K predictions, so
   // only every (K/10)-th is scored. All 2 000 took 31 ms 50 steps ahead, where a landing takes
   // under 1 ms (bench_refit_realtime --horizon 50); the newest 400 alone judged the tail-sitter's
   // models wrongly both ways.
   const int stride = std::max(1, criterion_horizon / kLandingCheckStrideDivisor);
   const double l = linear.NdeiAhead(fresh, criterion_horizon, stride);
+  // A linear model no better than the samples' own mean says only that neither model knows
+  // them (the plant moved somewhere new); the fuzzy one, tracked, may still learn it fastest.
   if (!(l < 1.0)) return false;
   double f = fuzzy.NdeiAhead(fresh, criterion_horizon, stride);
   if (!std::isfinite(f)) f = std::numeric_limits<double>::infinity();
