@@ -401,17 +401,19 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne)
   RefitSchedule refit;
   refit.first = 500;
   refit.every = 1000;
-  const OnlineReplay live = LearnOnline(empty, refit, s, scaling, /*frozen=*/false);
-  ASSERT_EQ(live.refits, 2);
-  EXPECT_EQ(live.linear_landed, 1);
-  EXPECT_EQ(live.model.total_rules(), 1);
-  // The landed linear model predicts the second range; the first landing (its fuzzy model won
-  // the samples of the first range) is not the one that fell back.
-  EXPECT_LT(live.model.NdeiAhead(SliceSeries(s, 1000, n - 1000), 0), 0.5);
-  const OnlineReplay at_first = LearnOnline(empty, refit, SliceSeries(s, 0, 1002), scaling, false);
-  EXPECT_EQ(at_first.refits, 1);
-  EXPECT_EQ(at_first.linear_landed, 0);
-  EXPECT_GT(at_first.model.total_rules(), 1);
+  OnlineIdentifier id(empty, refit);
+  Eigen::Index k = 0;
+  for (; k <= 1000; ++k) id.Push(Row(s, k));
+  // The refit begun at 500 landed at 1 000: its fuzzy model won the samples of the first range.
+  ASSERT_EQ(id.refits(), 1);
+  EXPECT_EQ(id.linear_landed(), 0);
+  EXPECT_GT(id.model().total_rules(), 1);
+  for (; k < n; ++k) id.Push(Row(s, k));
+  ASSERT_EQ(id.refits(), 2);
+  EXPECT_EQ(id.linear_landed(), 1);
+  EXPECT_EQ(id.model().total_rules(), 1);
+  // The landed linear model predicts the second range.
+  EXPECT_LT(id.model().NdeiAhead(SliceSeries(s, 1000, n - 1000), 0), 0.5);
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
