@@ -159,6 +159,11 @@ class ScheduledRefitter {
   void Start(const NarxModel& model, bool select, bool judged = true);
   void Cancel();
   bool Land(NarxModel& model);
+  /// The landed model's tracker learns the newest `since` samples kept (those that came in while
+  /// its refit ran, as far as the recent run still holds them), one row each, as Track would
+  /// have: tracking then goes on from the newest sample, with no gap the model never learned.
+  /// Land calls it for an ARX landed by the judgement only (why: there).
+  void CatchUp(NarxModel& model, std::size_t since);
 
   RefitSchedule schedule_;
   std::optional<fuzzy::FuzzyModelConfig> base_;  ///< the settings the refits search around

@@ -11,6 +11,7 @@
 
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
+#include "sysid/arx_model.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -414,6 +415,20 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne)
   EXPECT_EQ(id.model().total_rules(), 1);
   // The landed linear model predicts the second range.
   EXPECT_LT(id.model().NdeiAhead(SliceSeries(s, 1000, n - 1000), 0), 0.5);
+  // It learned the samples that came in while its refit ran, and tracked since: it is ARX on
+  // every sample, not on the 1 000 its refit had (which predict the second range worse).
+  const ArxModel everything = ArxModel::Fit(id.model().spec(), s);
+  const ArxModel refit_only = ArxModel::Fit(id.model().spec(), SliceSeries(s, 0, 1000));
+  const RegressionData rows = BuildRegression(id.model().spec(), s);
+  double to_everything = 0, to_refit_only = 0;
+  for (Eigen::Index r = 0; r < rows.x.rows(); ++r) {
+    const Eigen::VectorXd x = rows.x.row(r).transpose();
+    const double live = id.model().Predict(x)(0);
+    to_everything = std::max(to_everything, std::abs(live - everything.Predict(x)(0)));
+    to_refit_only = std::max(to_refit_only, std::abs(live - refit_only.Predict(x)(0)));
+  }
+  EXPECT_LT(to_everything, 1e-5);  // the trackers' ridge of 1e-6, relative
+  EXPECT_GT(to_refit_only, 1e-3);
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
