@@ -26,9 +26,10 @@ function(odonata_area_includes target visibility)
   target_include_directories(${target} ${visibility} ${_root})
 endfunction()
 
-# In the sanitizer build, turns UBSan's alignment and null checks back on for a library that
-# parses bytes from outside (datagrams, log files, CSV: odonata_bus, odonata_io), where a misaligned typed read is the
-# bug to catch. The rest of the tree leaves them out to halve its compile time (root CMakeLists).
+# In the sanitizer build, turns UBSan's alignment and null checks back on for a library that reads
+# bytes from outside as typed values (odonata_bus: datagrams, log files; odonata_io: CSV), where a
+# misaligned read is the bug to catch. The rest of the tree leaves them out: it builds in 8.6 min
+# instead of 10.5 on two cores (root CMakeLists).
 function(odonata_sanitize_received_bytes target)
   if(ODONATA_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=alignment,null)

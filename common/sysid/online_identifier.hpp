@@ -101,6 +101,8 @@ class OnlineIdentifier {
   /// Of the refits landed, those that landed the linear model trained beside them
   /// (ScheduledRefitter::linear_landed).
   int64_t linear_landed() const { return refitter_.linear_landed(); }
+  /// Rows the landed model's tracker has learned since it landed (ScheduledRefitter::tracked).
+  long tracked() const { return refitter_.tracked(); }
   int64_t last_index() const { return last_index_; }
 
  private:

@@ -113,6 +113,8 @@ class ScheduledRefitter {
   void Track(NarxModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
     tracker_.Step(model, x, y);
   }
+  /// Rows the landed model's tracker has learned: those caught up at its landing (CatchUp), then
+  /// one per sample tracked.
   long tracked() const { return tracker_.steps(); }
   /// Called before a landing waits for a refit that has not finished (not when it has), and
   /// again every `period` while it still waits: the identifier says, and keeps saying, that it
@@ -160,8 +162,9 @@ class ScheduledRefitter {
   void Cancel();
   bool Land(NarxModel& model);
   /// The landed model's tracker learns the newest `since` samples kept (those that came in while
-  /// its refit ran, as far as the recent run still holds them), one row each, as Track would
-  /// have: tracking then goes on from the newest sample, with no gap the model never learned.
+  /// its refit ran), one row each, as Track would have, as far as the recent run still holds
+  /// them: all of them until the buffer first fills; at steady state (a refit every `buffer`
+  /// samples) the newest 3 000–4 000 of 6 000 with the defaults, the archive's older blocks not.
   /// Land calls it for an ARX landed by the judgement only (why: there).
   void CatchUp(NarxModel& model, std::size_t since);
 

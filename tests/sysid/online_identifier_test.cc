@@ -427,8 +427,12 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne)
     to_everything = std::max(to_everything, std::abs(live - everything.Predict(x)(0)));
     to_refit_only = std::max(to_refit_only, std::abs(live - refit_only.Predict(x)(0)));
   }
-  EXPECT_LT(to_everything, 1e-5);  // the trackers' ridge of 1e-6, relative
+  EXPECT_LT(to_everything, 1e-5);  // the tracker's prior has a relative ridge of 1e-6
   EXPECT_GT(to_refit_only, 1e-3);
+  // Exactly once each: the ARX's tracker learned every row after the refit's (samples 0 … 1 000),
+  // the catch-up's and the tracked ones since, none twice.
+  EXPECT_EQ(id.tracked(),
+            rows.x.rows() - BuildRegression(id.model().spec(), SliceSeries(s, 0, 1001)).x.rows());
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
