@@ -286,17 +286,13 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   }
   ++refits_;
   if (refitted->steady_state_refused) ++steady_state_refused_;
-  // The newest of the samples kept since the refit began (all in the recent run), at most
-  // kLandingCheckSamples.
-  const auto fresh = std::min({static_cast<std::size_t>(KeptSinceStart() - pending_at_),
-                               recent_.size(), kLandingCheckSamples});
+  // The samples kept since the refit began; the judgement scores the newest of them (all in the
+  // recent run), at most kLandingCheckSamples.
+  const auto since = static_cast<std::size_t>(KeptSinceStart() - pending_at_);
+  const auto fresh = std::min({since, recent_.size(), kLandingCheckSamples});
   bool arx_landed = false;
   if (refitted->linear && fresh > 0) {
-    std::vector<const Sample*> newest;
-    newest.reserve(fresh);
-    for (auto it = recent_.end() - static_cast<std::ptrdiff_t>(fresh); it != recent_.end(); ++it)
-      newest.push_back(&*it);
-    if (LinearWinsTheNewSamples(refitted->model, *refitted->linear, SeriesFromSampleRefs(newest),
+    if (LinearWinsTheNewSamples(refitted->model, *refitted->linear, NewestRecent(fresh),
                                 refitted->criterion_horizon)) {
       refitted->model = std::move(*refitted->linear);
       refitted->tracker = std::move(refitted->linear_tracker);
@@ -319,12 +315,20 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   // simulation error instead, and the same rows pull them toward the one-step fit: on the
   // tail-sitter's q (select → train flight) 0.5 s ahead that fell from 36.1 to -48.4 %, and the
   // Silverbox's live models lost 0.4 to 0.8 FIT points in 7 of 8 replays (docs/identifier.md §6.3).
-  if (arx_landed) CatchUp(model, static_cast<std::size_t>(KeptSinceStart() - pending_at_));
+  if (arx_landed) CatchUp(model, since);
   if (refitted->chosen) {
     chosen_ = std::move(refitted->chosen);
     ++selections_;
   }
   return true;
+}
+
+Series ScheduledRefitter::NewestRecent(std::size_t count) const {
+  std::vector<const Sample*> refs;
+  refs.reserve(count);
+  for (auto it = recent_.end() - static_cast<std::ptrdiff_t>(count); it != recent_.end(); ++it)
+    refs.push_back(&*it);
+  return SeriesFromSampleRefs(refs);
 }
 
 void ScheduledRefitter::CatchUp(NarxModel& model, std::size_t since) {
@@ -333,15 +337,9 @@ void ScheduledRefitter::CatchUp(NarxModel& model, std::size_t since) {
   // The lags before the first of them, where the recent run has them.
   const std::size_t lead =
       std::min(recent_.size() - newest, static_cast<std::size_t>(model.spec().first_target()));
-  std::vector<const Sample*> refs;
-  refs.reserve(newest + lead);
-  for (auto it = recent_.end() - static_cast<std::ptrdiff_t>(newest + lead); it != recent_.end();
-       ++it)
-    refs.push_back(&*it);
-  const Series series = SeriesFromSampleRefs(refs);
   RegressionData rows;
   try {
-    rows = BuildRegression(model.spec(), series);
+    rows = BuildRegression(model.spec(), NewestRecent(newest + lead));
   } catch (const std::invalid_argument&) {
     return;  // too few, or gaps in every stretch: no complete regressor to learn from
   }

@@ -167,6 +167,8 @@ class ScheduledRefitter {
   /// samples) the newest 3 000–4 000 of 6 000 with the defaults, the archive's older blocks not.
   /// Land calls it for an ARX landed by the judgement only (why: there).
   void CatchUp(NarxModel& model, std::size_t since);
+  /// The newest `count` samples of the recent run (at most its size), oldest first.
+  Series NewestRecent(std::size_t count) const;
 
   RefitSchedule schedule_;
   std::optional<fuzzy::FuzzyModelConfig> base_;  ///< the settings the refits search around

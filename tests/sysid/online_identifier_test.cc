@@ -416,9 +416,10 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne)
   // The landed linear model predicts the second range.
   EXPECT_LT(id.model().NdeiAhead(SliceSeries(s, 1000, n - 1000), 0), 0.5);
   // It learned the samples that came in while its refit ran, and tracked since: it is ARX on
-  // every sample, not on the 1 000 its refit had (which predict the second range worse).
+  // every sample, not on the 1 001 its refit had (which predict the second range worse).
   const ArxModel everything = ArxModel::Fit(id.model().spec(), s);
-  const ArxModel refit_only = ArxModel::Fit(id.model().spec(), SliceSeries(s, 0, 1000));
+  const Series refit_samples = SliceSeries(s, 0, 1001);  // samples 0 … 1 000
+  const ArxModel refit_only = ArxModel::Fit(id.model().spec(), refit_samples);
   const RegressionData rows = BuildRegression(id.model().spec(), s);
   double to_everything = 0, to_refit_only = 0;
   for (Eigen::Index r = 0; r < rows.x.rows(); ++r) {
@@ -429,10 +430,10 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOne)
   }
   EXPECT_LT(to_everything, 1e-5);  // the tracker's prior has a relative ridge of 1e-6
   EXPECT_GT(to_refit_only, 1e-3);
-  // Exactly once each: the ARX's tracker learned every row after the refit's (samples 0 … 1 000),
-  // the catch-up's and the tracked ones since, none twice.
+  // Exactly once each: the ARX's tracker learned every row after the refit's, the catch-up's and
+  // the tracked ones since, none twice.
   EXPECT_EQ(id.tracked(),
-            rows.x.rows() - BuildRegression(id.model().spec(), SliceSeries(s, 0, 1001)).x.rows());
+            rows.x.rows() - BuildRegression(id.model().spec(), refit_samples).x.rows());
 }
 
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
