@@ -294,6 +294,41 @@ TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
   for (const auto& st : ahead.candidates.front().simulation) EXPECT_FALSE(st.gauss_newton);
 }
 
+// Noise that enters the plant itself (an equation error): least squares is the linear model's
+// right fit, and its output-error fit does not win the folds. The linear model is then least
+// squares exactly, ARX, with no simulation step of its own: the schedule that the final fit
+// replays on the whole file is empty, so no step that a short hold-out kept can take it away
+// from both fits (docs/identifier.md §12).
+TEST(ModelSelection, WhenItsOutputErrorFitLosesTheLinearModelIsLeastSquaresExactly) {
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> disturbance(0.0, 0.1);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Series s;
+  s.inputs.resize(1200, 1);
+  s.outputs.resize(1200, 1);
+  double y = 0, u = 0;
+  for (int k = 0; k < 1200; ++k) {
+    if (k % 8 == 0) u = level(rng);
+    s.inputs(k, 0) = u;
+    s.outputs(k, 0) = y;
+    y = 0.8 * y + 0.3 * u + disturbance(rng);
+  }
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 3;
+  o.simulation = {{10, 10}, {40, 10}};
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  ASSERT_TRUE(r.output_error_check.done) << "the hold-out kept a step of the output-error fit";
+  EXPECT_FALSE(r.output_error_linear) << "output error " << r.output_error_check.fuzzy_score
+                                      << ", one step " << r.output_error_check.linear_score;
+  const Candidate& linear = r.candidates.front();
+  ASSERT_TRUE(linear.linear);
+  EXPECT_TRUE(linear.simulation.empty()) << linear.simulation.size() << " stages kept";
+}
+
 // Narendra's plant is far from linear: the fuzzy model wins the hold-out and the blocked
 // cross-validation alike, fold by fold.
 TEST(ModelSelection, ANonlinearPlantKeepsItsFuzzyModelThroughCrossValidation) {
