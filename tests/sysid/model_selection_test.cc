@@ -142,10 +142,11 @@ TEST(ModelSelection, ACandidateGrownToTheCapEndsItsSweepWhateverPruningLeaves) {
   EXPECT_TRUE(r.candidates[1].at_cap);
 }
 
-// y(k+1) = 0.8 y(k) + 0.3 u(k), measured with Gaussian noise; u steps every 8 samples.
-Series NoisyFirstOrder(int samples, unsigned seed, double noise_sd) {
+// y(k+1) = 0.8 y(k) + 0.3 u(k) (+ a Gaussian disturbance of `disturbance_sd` inside the plant),
+// measured with Gaussian noise of `noise_sd`; u steps every 8 samples. A zero σ draws nothing.
+Series NoisyFirstOrder(int samples, unsigned seed, double noise_sd, double disturbance_sd = 0.0) {
   std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, noise_sd);
+  std::normal_distribution<double> gauss(0.0, 1.0);
   std::uniform_real_distribution<double> level(-1.0, 1.0);
   Series s;
   s.inputs.resize(samples, 1);
@@ -154,8 +155,8 @@ Series NoisyFirstOrder(int samples, unsigned seed, double noise_sd) {
   for (int k = 0; k < samples; ++k) {
     if (k % 8 == 0) u = level(rng);
     s.inputs(k, 0) = u;
-    s.outputs(k, 0) = y + noise(rng);
-    y = 0.8 * y + 0.3 * u;
+    s.outputs(k, 0) = noise_sd > 0 ? y + noise_sd * gauss(rng) : y;
+    y = 0.8 * y + 0.3 * u + (disturbance_sd > 0 ? disturbance_sd * gauss(rng) : 0.0);
   }
   return s;
 }
@@ -267,14 +268,20 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
 // A linear plant whose output is measured with noise: least squares on the noisy lags is
 // biased, the output-error fit of the linear model is not, and the folds keep it. With a K-step
 // criterion the linear model keeps its one-step fit (no such check).
-TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
-  const Series s = NoisySecondOrder(7, false);
+// Linear consequents, two thresholds (so the linear model is a candidate), a short schedule.
+SelectionOptions LinearFitCheckOptions() {
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
   o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
   o.kappas = {1.0};
   o.max_epochs = 3;
   o.simulation = {{10, 10}, {40, 10}};
+  return o;
+}
+
+TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
+  const Series s = NoisySecondOrder(7, false);
+  SelectionOptions o = LinearFitCheckOptions();
   const SelectionResult r =
       SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
   ASSERT_TRUE(r.output_error_check.done);
@@ -300,27 +307,9 @@ TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
 // replays on the whole file is empty, so no step that a short hold-out kept can take it away
 // from both fits (docs/identifier.md §12).
 TEST(ModelSelection, WhenItsOutputErrorFitLosesTheLinearModelIsLeastSquaresExactly) {
-  std::mt19937_64 rng(1);
-  std::normal_distribution<double> disturbance(0.0, 0.1);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Series s;
-  s.inputs.resize(1200, 1);
-  s.outputs.resize(1200, 1);
-  double y = 0, u = 0;
-  for (int k = 0; k < 1200; ++k) {
-    if (k % 8 == 0) u = level(rng);
-    s.inputs(k, 0) = u;
-    s.outputs(k, 0) = y;
-    y = 0.8 * y + 0.3 * u + disturbance(rng);
-  }
-  SelectionOptions o;
-  o.consequents = {fuzzy::ConsequentKind::kLinear};
-  o.thresholds = {ThresholdForRadius(1.6), ThresholdForRadius(1.1)};
-  o.kappas = {1.0};
-  o.max_epochs = 3;
-  o.simulation = {{10, 10}, {40, 10}};
-  const SelectionResult r =
-      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  const Series s = NoisyFirstOrder(1200, 1, 0.0, 0.1);
+  const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
+                                        TrainOptions{}, s, LinearFitCheckOptions());
   ASSERT_TRUE(r.output_error_check.done) << "the hold-out kept a step of the output-error fit";
   EXPECT_FALSE(r.output_error_linear) << "output error " << r.output_error_check.fuzzy_score
                                       << ", one step " << r.output_error_check.linear_score;
