@@ -416,9 +416,9 @@ SelectionResult SelectModel(
     if (order.size() > static_cast<std::size_t>(std::max(0, options.simulation_shortlist)))
       order.resize(static_cast<std::size_t>(std::max(0, options.simulation_shortlist)));
     if (linear_index) order.insert(order.begin(), *linear_index);
-    // Free run reported: the linear model is also taken toward its output-error optimum over
-    // the longest windows (Levenberg–Marquardt on its few parameters; iRprop− stops near
-    // one-step least squares), and the folds decide between the two fits below.
+    // Free run reported: the linear model is taken toward its output-error optimum over the
+    // longest windows (Levenberg–Marquardt on its few parameters; iRprop− stops near one-step
+    // least squares) instead of the stages, and the folds decide between that and least squares.
     const bool output_error = linear_index && result.criterion_horizon == 0;
     std::optional<NarxModel> oe_model;
     Candidate oe_candidate;
@@ -493,7 +493,7 @@ SelectionResult SelectModel(
       // win by the margin a candidate needs over a simpler one (5 % or 0.005 NDEI): in closed
       // loop it is biased, and the closed-loop tail-sitter's online refit, where both free runs
       // are no better than the mean (NDEI 1.00 against 1.05), took it and lost 2.6 points 0.5 s
-      // ahead on the next flight; on the cascaded tanks it wins the folds by 24 %.
+      // ahead on the next flight; on the cascaded tanks it wins the folds by 27 %.
       LinearCheck check;
       if (selection == nullptr && options.linear_check_folds >= 2)
         check = CrossValidate(spec, base, train_options, options, oe_candidate, cs[*linear_index],

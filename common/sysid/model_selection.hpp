@@ -47,10 +47,12 @@ struct SelectionOptions {
   /// than it ranks a stable one a little behind them. Each beats ARX by the same margin or none is
   /// kept.
   int linear_check_candidates = 3;
-  /// Simulation-error training (simulation_error_training.hpp) of the short list — the linear
-  /// model and the `simulation_shortlist` best fuzzy candidates — after their one-step training,
-  /// the hold-out keeping the best step; then they are scored again. Free-run criterion only;
-  /// empty: none.
+  /// Simulation-error training (simulation_error_training.hpp) of the short list — the
+  /// `simulation_shortlist` best fuzzy candidates, and with a K-step criterion the linear model —
+  /// after their one-step training, the hold-out keeping the best step; then they are scored
+  /// again. Windows no longer than K with a K-step criterion; none with the one-step criterion.
+  /// In free run the linear model takes Levenberg–Marquardt to its output-error fit instead, and
+  /// the folds choose between that and least squares. Empty: none.
   std::vector<SimulationStage> simulation;
   int simulation_shortlist = 3;
   /// With the free-run criterion, the short list's fuzzy candidates also end their simulation
@@ -135,8 +137,8 @@ struct SelectionResult {
   /// Every check in the order made (the fuzzy candidates that lost, then the winner if any).
   std::vector<LinearCheck> linear_checks;
   /// Free-run criterion: the linear model's output-error fit (Levenberg–Marquardt, "fuzzy" in
-  /// the check) against its one-step one (iRprop− from least squares, "linear") over the same
-  /// folds; the output-error fit is kept when it wins (output_error_linear).
+  /// the check) against least squares ("linear") over the same folds; the output-error fit is
+  /// kept when it wins (output_error_linear).
   LinearCheck output_error_check;
   bool output_error_linear = false;
   /// The chosen candidate's own model, as the hold-out judged it (trained on the fit slice): the

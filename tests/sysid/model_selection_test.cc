@@ -265,9 +265,6 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
   EXPECT_TRUE(one.candidates[one.chosen].linear);
 }
 
-// A linear plant whose output is measured with noise: least squares on the noisy lags is
-// biased, the output-error fit of the linear model is not, and the folds keep it. With a K-step
-// criterion the linear model keeps its one-step fit (no such check).
 // Linear consequents, two thresholds (so the linear model is a candidate), a short schedule.
 SelectionOptions LinearFitCheckOptions() {
   SelectionOptions o;
@@ -279,6 +276,9 @@ SelectionOptions LinearFitCheckOptions() {
   return o;
 }
 
+// A linear plant whose output is measured with noise: least squares on the noisy lags is
+// biased, the output-error fit of the linear model is not, and the folds keep it. With a K-step
+// criterion the linear model keeps its one-step fit (no such check).
 TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
   const Series s = NoisySecondOrder(7, false);
   SelectionOptions o = LinearFitCheckOptions();
