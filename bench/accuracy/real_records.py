@@ -89,6 +89,11 @@ def simulate(predict, y, u, ny, nu, horizon=0):
     return out
 
 
+def diverged(fit):
+    """A free run (or k steps ahead) this far off the data says only that it diverged."""
+    return fit < -1000
+
+
 def score(y, yhat):
     e = y - yhat
     rmse = float(np.sqrt(np.mean(e ** 2)))
@@ -202,7 +207,9 @@ def fit_command(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=())
     return cmd
 
 
-def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
+def odonata(fit_exe, train, test, test_y, output, inputs, ny, nu, horizon, extra=()):
+    """odonata-fit's figures on the test file (`test_y`: its output, as loaded), and its predictions
+    there in the reported mode."""
     with tempfile.TemporaryDirectory() as tmp:
         predictions = os.path.join(tmp, "predictions.csv")
         cmd = fit_command(fit_exe, train, test, output, inputs, ny, nu, horizon,
@@ -214,7 +221,6 @@ def odonata(fit_exe, train, test, output, inputs, ny, nu, horizon, extra=()):
             raise RuntimeError(f"odonata-fit failed: {r.stderr.strip()}")
         with open(predictions) as f:
             rows = [row for row in csv.DictReader(f) if row["set"] == "1"]
-        test_y, _ = load(test, output, inputs)
         if not all(abs(float(row["measured"]) - test_y[int(row["sample"])]) < 1e-9 for row in rows):
             raise RuntimeError("odonata-fit's predictions are not row for row the test file's")
     j = json.loads(r.stdout)
@@ -264,10 +270,7 @@ def fit_difference(y, a, b, draws=2000, seed=0):
     fa = 100 * (1 - np.sqrt(block_sums((y - a) ** 2)) / spread)
     fb = 100 * (1 - np.sqrt(block_sums((y - b) ** 2)) / spread)
 
-    def fit(p):
-        return 100 * (1 - np.linalg.norm(y - p) / np.linalg.norm(y - y.mean()))
-
-    return fit(b) - fit(a), float(np.std(fb - fa))
+    return score(y, b)["fit"] - score(y, a)["fit"], float(np.std(fb - fa))
 
 
 def main():
@@ -298,9 +301,9 @@ def main():
         y, u = load(train, out, ins)
         yt, ut = load(test, out, ins)
         row = {"record": name, "ny": ny, "nu": nu, "horizon": horizon, "models": {}, "y_test": yt}
-        row["models"]["odonata defaults"] = odonata(args.fit, train, test, out, ins, ny, nu, horizon)
+        row["models"]["odonata defaults"] = odonata(args.fit, train, test, yt, out, ins, ny, nu, horizon)
         row["models"]["odonata online (identifier defaults)"] = odonata(
-            args.fit, train, test, out, ins, ny, nu, horizon, ONLINE)
+            args.fit, train, test, yt, out, ins, ny, nu, horizon, ONLINE)
         row["models"]["ARX"] = peer(lambda: fit_arx(y, u, ny, nu), y, u, yt, ut, ny, nu, horizon)
         if not args.no_peers:
             for d in (2, 3):
@@ -324,16 +327,16 @@ def main():
             if model != "odonata defaults" and all(k in p for k in base) and len(base) >= 20:
                 keys = sorted(base)
                 a, b = np.array([base[k] for k in keys]), np.array([p[k] for k in keys])
-                if reported < -1000 or not np.all(np.isfinite(b)):  # as the other columns say
+                if diverged(reported) or not np.all(np.isfinite(b)):
                     delta = "diverges"
                 elif np.all(np.isfinite(a)):
                     d, sd = fit_difference(row["y_test"][keys], a, b)
                     r["fit_minus_odonata"], r["fit_minus_odonata_sd"] = d, sd
                     delta = f"{d:+.1f} ± {sd:.1f}"
-            def fit(b):  # a free run far off the data says only that it diverged
-                return "diverges" if b["fit"] < -1000 else f"{b['fit']:.1f}"
+            def fit(b):
+                return "diverges" if diverged(b["fit"]) else f"{b['fit']:.1f}"
             k = f"{fit(r['k_step'])} ({row['horizon']} steps)" if "k_step" in r else "–"
-            free = "diverges" if r["free_run"]["fit"] < -1000 else \
+            free = "diverges" if diverged(r["free_run"]["fit"]) else \
                 f"{r['free_run']['fit']:.1f} ({r['free_run']['rmse']:.4g})"
             print(f"| {row['record']} ({row['ny']}, {row['nu']}) | {model} | {fit(r['one_step'])} | {k} | "
                   f"{free} | {delta} | {r['size']} | {r['seconds']:.1f} s |")
