@@ -15,5 +15,6 @@ case "$KIND" in
               "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG") ;;
   *) echo "build.sh: unknown build kind '$KIND' (release|sanitize)" >&2; exit 2 ;;
 esac
-cmake -S "$ROOT" -B "$DIR" "${FLAGS[@]}" >/dev/null
+# Warnings are errors in the test command's trees (root CMakeLists).
+cmake -S "$ROOT" -B "$DIR" "${FLAGS[@]}" -DODONATA_WARNINGS_AS_ERRORS=ON >/dev/null
 cmake --build "$DIR" -j "$JOBS"
