@@ -493,7 +493,7 @@ SelectionResult SelectModel(
       models.push_back(std::move(restarted_models[r]));
       if (on_candidate) on_candidate(restarted[r], done, total);
     }
-    if (oe_model && oe_candidate.simulation != cs[*linear_index].simulation) {
+    if (oe_model) {
       // One hold-out slice is too few samples to prefer one fit of the linear model over the
       // other: the blocked folds decide (without folds, the slice), by their mean alone. The
       // candidates' margin (5 % or 0.005 NDEI) makes a larger model earn its parameters; these
