@@ -102,6 +102,21 @@ bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& 
                                incumbent - options.absolute_tolerance);
 }
 
+bool SamePremises(const NarxModel& a, const NarxModel& b) {
+  if (a.outputs() != b.outputs()) return false;
+  for (int o = 0; o < a.outputs(); ++o) {
+    const fuzzy::GaussianRuleBase& p = a.model(o).rule_base();
+    const fuzzy::GaussianRuleBase& q = b.model(o).rule_base();
+    if (p.inputs() != q.inputs() || p.rules() != q.rules()) return false;
+    if ((p.output_widths() != q.output_widths()).any()) return false;
+    for (int i = 0; i < p.inputs(); ++i)
+      if ((p.centres_of_input(i) != q.centres_of_input(i)).any() ||
+          (p.sigmas_of_input(i) != q.sigmas_of_input(i)).any())
+        return false;
+  }
+  return true;
+}
+
 double PairedStandardError(const std::vector<double>& a, const std::vector<double>& b) {
   const std::size_t k = a.size();
   if (k < 2 || b.size() != k) return 0.0;
@@ -430,7 +445,12 @@ SelectionResult SelectModel(
     std::vector<NarxModel> restarted_models;
     for (const std::size_t k : order)
       if (options.restart_from_linear && !cs[k].linear &&
-          cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1) {
+          cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1 &&
+          // The ridge variants of a setting kept for one epoch share its premises: their
+          // restarts would be one model listed, trained and cross-validated several times, each
+          // copy a look that raises the margin the next must win by (§9).
+          std::none_of(restarted_models.begin(), restarted_models.end(),
+                       [&](const NarxModel& m) { return SamePremises(m, models[k]); })) {
         restarted.push_back(cs[k]);
         restarted_models.push_back(models[k]);
       }

@@ -166,6 +166,11 @@ bool Restless(double rest_deviation, double linear_rest);
 /// options.relative_tolerance of it and by more than options.absolute_tolerance.
 bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& options);
 
+/// Every output's rule base has the same rules, centres, widths and output widths, bit for bit.
+/// A restart from the linear model's fit (docs/identifier.md §12) sets every consequent, so two
+/// models with the same premises restart into the same model.
+bool SamePremises(const NarxModel& a, const NarxModel& b);
+
 /// The standard error of the mean of the paired differences b − a over folds: what a mean
 /// difference between two settings scored on the same folds must exceed to be more than
 /// chance. 0 with fewer than two folds or a non-finite score (the means decide alone).

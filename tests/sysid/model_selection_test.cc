@@ -559,6 +559,54 @@ TEST(ModelSelection, TheShortListAlsoRestartsFromTheLinearModelsFit) {
     for (const auto& st : c.simulation) EXPECT_FALSE(st.from_linear);
 }
 
+// Kept for one epoch, a setting's ridge variants share its premises, and a restart from the
+// linear model's fit sets every consequent: their restarts would be one model listed, trained and
+// cross-validated as several. One restart is made of it.
+TEST(ModelSelection, RestartsFromTheSamePremisesAreOneCandidate) {
+  const Series s = NoisySecondOrder(11, true);
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 1;
+  o.deviation_ridges = {0.01, 0.1, 1.0};
+  o.ridge_shortlist = 1;
+  o.simulation = {{10, 10}, {40, 10}};
+  o.simulation_shortlist = 3;
+  o.linear_check_folds = 0;
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, s, o);
+  // ARX, the setting and its three ridge variants, of which the short list takes three.
+  int fuzzy = 0;
+  std::vector<const Candidate*> restarts;
+  for (const Candidate& c : r.candidates) {
+    if (c.linear) continue;
+    if (!c.simulation.empty() && c.simulation.front().from_linear)
+      restarts.push_back(&c);
+    else
+      ++fuzzy;
+  }
+  ASSERT_EQ(fuzzy, 4);
+  ASSERT_EQ(restarts.size(), 1u);
+  EXPECT_TRUE(std::isfinite(restarts.front()->score));
+
+  // The check itself: the same training gives the same premises; another H̄ another rule base.
+  const auto trained = [&](double threshold) {
+    Candidate c;
+    c.threshold = threshold;
+    c.kappa = 1.0;
+    NarxModel m(testing::NarendraSpec(), CandidateConfig(fuzzy::FuzzyModelConfig{}, c));
+    m.Train(s, TrainOptions{});
+    return m;
+  };
+  const NarxModel a = trained(ThresholdForRadius(1.1));
+  EXPECT_TRUE(SamePremises(a, trained(ThresholdForRadius(1.1))));
+  EXPECT_TRUE(SamePremises(a, a));
+  const NarxModel b = trained(ThresholdForRadius(0.6));
+  ASSERT_NE(a.total_rules(), b.total_rules());
+  EXPECT_FALSE(SamePremises(a, b));
+}
+
 TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {
   const Series a = testing::NarendraTrain(50), b = testing::NarendraTrain(40, 9);
   const Series c = ConcatSeries(a, b);
