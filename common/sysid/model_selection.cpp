@@ -448,7 +448,7 @@ SelectionResult SelectModel(
           cs[k].consequent == fuzzy::ConsequentKind::kLinear && cs[k].rules > 1 &&
           // The ridge variants of a setting kept for one epoch share its premises: their
           // restarts would be one model listed, trained and cross-validated several times, each
-          // copy a look that raises the margin the next must win by (§9).
+          // copy a look that raises the margin the next must win by (docs/identifier.md §9).
           std::none_of(restarted_models.begin(), restarted_models.end(),
                        [&](const NarxModel& m) { return SamePremises(m, models[k]); })) {
         restarted.push_back(cs[k]);
