@@ -606,7 +606,8 @@ SelectionResult SelectModel(
           w << " and the next " << result.linear_checks.size() - 1 << " by hold-out score";
         w << " did not beat the linear one in " << options.linear_check_folds
           << "-fold blocked cross-validation (NDEI " << first.fuzzy_score << " vs "
-          << first.linear_score << "): the linear model (ARX) is chosen";
+          << first.linear_score << "): the linear model ("
+          << (result.output_error_linear ? "its output-error fit" : "ARX") << ") is chosen";
         result.warnings.push_back(w.str());
         result.chosen = *linear_index;
       } else if (*winner != result.chosen) {

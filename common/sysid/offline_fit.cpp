@@ -110,7 +110,9 @@ OfflineFit FitOffline(
         settled = true;
       }
       if (!settled) {
-        sel->warnings.push_back("the linear model (ARX) is chosen");
+        sel->warnings.push_back(sel->output_error_linear
+                                    ? "the linear model (its output-error fit) is chosen"
+                                    : "the linear model (ARX) is chosen");
         sel->chosen = static_cast<std::size_t>(linear - sel->candidates.begin());
         adopt(*linear);
         model = NarxModel(spec, cfg);

@@ -607,6 +607,26 @@ TEST(ModelSelection, RestartsFromTheSamePremisesAreOneCandidate) {
   EXPECT_FALSE(SamePremises(a, b));
 }
 
+// When the folds keep the linear model, the warning names the fit that is kept: here (a linear
+// plant whose hold-out drifts, so a fuzzy candidate wins that slice and loses the folds) the
+// output-error fit, not ARX.
+TEST(ModelSelection, TheFoldsWarningNamesTheLinearFitKept) {
+  Series s = NoisySecondOrder(2, false);
+  for (Eigen::Index k = 1280; k < 1600; ++k) s.outputs(k, 0) += 0.3 * double(k - 1280) / 320.0;
+  const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
+                                        TrainOptions{}, s, LinearFitCheckOptions());
+  ASSERT_FALSE(r.linear_checks.empty()) << "a fuzzy candidate faced the folds";
+  ASSERT_TRUE(r.candidates[r.chosen].linear);
+  ASSERT_TRUE(r.output_error_linear);
+  int named = 0;
+  for (const std::string& w : r.warnings) {
+    if (w.find("is chosen") == std::string::npos) continue;
+    ++named;
+    EXPECT_NE(w.find("the linear model (its output-error fit) is chosen"), std::string::npos) << w;
+  }
+  EXPECT_EQ(named, 1);
+}
+
 TEST(ModelSelection, ConcatenatedSeriesBreakAtTheSeam) {
   const Series a = testing::NarendraTrain(50), b = testing::NarendraTrain(40, 9);
   const Series c = ConcatSeries(a, b);
