@@ -102,6 +102,10 @@ bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& 
                                incumbent - options.absolute_tolerance);
 }
 
+const char* LinearFitName(const SelectionResult& result) {
+  return result.output_error_linear ? "its output-error fit" : "ARX";
+}
+
 bool SamePremises(const NarxModel& a, const NarxModel& b) {
   if (a.outputs() != b.outputs()) return false;
   for (int o = 0; o < a.outputs(); ++o) {
@@ -606,8 +610,8 @@ SelectionResult SelectModel(
           w << " and the next " << result.linear_checks.size() - 1 << " by hold-out score";
         w << " did not beat the linear one in " << options.linear_check_folds
           << "-fold blocked cross-validation (NDEI " << first.fuzzy_score << " vs "
-          << first.linear_score << "): the linear model ("
-          << (result.output_error_linear ? "its output-error fit" : "ARX") << ") is chosen";
+          << first.linear_score << "): the linear model (" << LinearFitName(result)
+          << ") is chosen";
         result.warnings.push_back(w.str());
         result.chosen = *linear_index;
       } else if (*winner != result.chosen) {

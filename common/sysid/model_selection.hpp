@@ -166,6 +166,10 @@ bool Restless(double rest_deviation, double linear_rest);
 /// options.relative_tolerance of it and by more than options.absolute_tolerance.
 bool BeatsByMargin(double challenger, double incumbent, const SelectionOptions& options);
 
+/// What the warnings call the linear model a selection keeps: "its output-error fit" when the
+/// folds kept that fit (output_error_linear), else "ARX".
+const char* LinearFitName(const SelectionResult& result);
+
 /// Every output's rule base has the same rules, centres, widths and output widths, bit for bit.
 /// A restart from the linear model's fit (docs/identifier.md §12) sets every consequent, so two
 /// models with the same premises restart into the same model.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace odonata::sysid {
 
@@ -110,9 +111,8 @@ OfflineFit FitOffline(
         settled = true;
       }
       if (!settled) {
-        sel->warnings.push_back(sel->output_error_linear
-                                    ? "the linear model (its output-error fit) is chosen"
-                                    : "the linear model (ARX) is chosen");
+        sel->warnings.push_back(std::string("the linear model (") + LinearFitName(*sel) +
+                                ") is chosen");
         sel->chosen = static_cast<std::size_t>(linear - sel->candidates.begin());
         adopt(*linear);
         model = NarxModel(spec, cfg);
