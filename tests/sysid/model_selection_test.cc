@@ -267,6 +267,13 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
 }
 
 // Linear consequents, two thresholds (so the linear model is a candidate), a short schedule.
+// The series with its last 320 samples (the selection's 20 % hold-out of 1600) offset by a drift
+// growing to 0.3: a hold-out slice unlike the rest.
+Series DriftingAtTheEnd(Series s) {
+  for (Eigen::Index k = 1280; k < 1600; ++k) s.outputs(k, 0) += 0.3 * double(k - 1280) / 320.0;
+  return s;
+}
+
 SelectionOptions LinearFitCheckOptions() {
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
@@ -307,8 +314,7 @@ TEST(ModelSelection, TheFoldsKeepTheLinearModelsOutputErrorFitWhenItWins) {
 // that drifts (here its output slowly offset by up to 0.3; the tanks' last 100 training rows,
 // after an overflow) stopped it 2.7 % of its loss short of it (docs/identifier.md §12).
 TEST(ModelSelection, TheLinearModelsOutputErrorFitIsItsOptimumNotTheHoldOutsBestStep) {
-  Series s = NoisySecondOrder(5, false);
-  for (Eigen::Index k = 1280; k < 1600; ++k) s.outputs(k, 0) += 0.3 * double(k - 1280) / 320.0;
+  const Series s = DriftingAtTheEnd(NoisySecondOrder(5, false));
   const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
                                         TrainOptions{}, s, LinearFitCheckOptions());
   ASSERT_EQ(r.holdout_samples, 320) << "the drift is the hold-out";
@@ -611,8 +617,7 @@ TEST(ModelSelection, RestartsFromTheSamePremisesAreOneCandidate) {
 // plant whose hold-out drifts, so a fuzzy candidate wins that slice and loses the folds) the
 // output-error fit, not ARX.
 TEST(ModelSelection, TheFoldsWarningNamesTheLinearFitKept) {
-  Series s = NoisySecondOrder(2, false);
-  for (Eigen::Index k = 1280; k < 1600; ++k) s.outputs(k, 0) += 0.3 * double(k - 1280) / 320.0;
+  const Series s = DriftingAtTheEnd(NoisySecondOrder(2, false));
   const SelectionResult r = SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{},
                                         TrainOptions{}, s, LinearFitCheckOptions());
   ASSERT_FALSE(r.linear_checks.empty()) << "a fuzzy candidate faced the folds";
