@@ -266,7 +266,6 @@ TEST(ModelSelection, WhenTheChoiceLosesTheFoldsTheNextByHoldOutScoreFaceThem) {
   EXPECT_TRUE(one.candidates[one.chosen].linear);
 }
 
-// Linear consequents, two thresholds (so the linear model is a candidate), a short schedule.
 // The series with its last 320 samples (the selection's 20 % hold-out of 1600) offset by a drift
 // growing to 0.3: a hold-out slice unlike the rest.
 Series DriftingAtTheEnd(Series s) {
@@ -274,6 +273,7 @@ Series DriftingAtTheEnd(Series s) {
   return s;
 }
 
+// Linear consequents, two thresholds (so the linear model is a candidate), a short schedule.
 SelectionOptions LinearFitCheckOptions() {
   SelectionOptions o;
   o.consequents = {fuzzy::ConsequentKind::kLinear};
