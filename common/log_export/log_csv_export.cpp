@@ -53,10 +53,12 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
         ++summary.undecodable;
         return;
       }
-      // A fresh initial state after others marks a plant reset: a new run. (A lockstep plant
-      // re-publishes state 0 until the first command: that is still the same run.)
-      if (s.seq == 0 && s.command_seq < 0 && runs.back().states > 0 &&
-          (runs.back().newest_state > 0 || runs.back().commands > 0)) {
+      // A fresh initial state after states past it marks a plant reset: a new run.
+      // A lockstep plant re-publishes state 0 until it has read the first command, so a repeat
+      // it sent just before can be logged after commands already: still the same run, as the
+      // identifier pairs it (pipeline/sample_pairer.hpp), which keeps the commands too. Splitting
+      // there opened a run without command 0, whose export lacked sample 0.
+      if (s.seq == 0 && s.command_seq < 0 && runs.back().newest_state > 0) {
         runs.emplace_back();
       }
       ++runs.back().states;
