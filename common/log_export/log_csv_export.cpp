@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <variant>
 
@@ -32,20 +33,69 @@ using bus::SafeDecode;
 using Message =
     std::variant<odonata::plant_state_t, odonata::wing_command_t, odonata::beat_state_t>;
 
-// One run of the plant: its messages in the order they were logged, as a live identifier saw
-// them.
-struct Run {
-  std::vector<Message> messages;
-  long states = 0, commands = 0, beats = 0;
-  int64_t newest_state = -1;
+// What the first pass learns of one run.
+struct RunFacts {
+  long beats = 0;  // beat states logged while it ran
+  // Its first sample's (paired without beat states): none when no state of it answers a command.
+  std::optional<odonata::wing_command_t> first_command;
 };
+
+// Replays the logged messages, in order, through one pairer as the identifier's (restarts
+// included). A run is what lies between its restarts: a fresh state 0 after others starts one
+// only once the plant confirms it (pipeline/sample_pairer.hpp), so a stale or forged state 0 does
+// not cut a run in two, nor does a repeat of state 0 that a busy lockstep plant sent before it
+// read command 0 and that was logged after it. on_message(run, message, rejected) follows each
+// message (the run it left the pairer in; rejected: the pairing rules said no), on_event(run,
+// event) each sample or gap.
+void Replay(const std::vector<Message>& messages, const pipeline::PairingNeeds& needs,
+            const std::function<void(int, const Message&, bool)>& on_message,
+            const std::function<void(int, const messages::PairedMessages&)>& on_event) {
+  messages::MessagePairer pairer(needs);
+  int run = 0;
+  const auto handle = [&](const std::vector<messages::PairedMessages>& events) {
+    for (const auto& e : events) {
+      if (e.kind == messages::PairedMessages::Kind::kRestart) {
+        ++run;
+      } else {
+        on_event(run, e);
+      }
+    }
+  };
+  for (const Message& m : messages) {
+    std::vector<messages::PairedMessages> events;
+    bool rejected = false;
+    try {
+      events = std::visit(
+          [&](const auto& msg) {
+            using T = std::decay_t<decltype(msg)>;
+            if constexpr (std::is_same_v<T, odonata::plant_state_t>) {
+              return pairer.OnState(msg);
+            } else if constexpr (std::is_same_v<T, odonata::wing_command_t>) {
+              return pairer.OnCommand(msg);
+            } else {
+              return pairer.OnBeat(msg);
+            }
+          },
+          m);
+    } catch (const std::invalid_argument&) {
+      rejected = true;  // out of order, a leap, or a second command
+    }
+    const auto restarts = std::count_if(events.begin(), events.end(), [](const auto& e) {
+      return e.kind == messages::PairedMessages::Kind::kRestart;
+    });
+    on_message(run + static_cast<int>(restarts), m, rejected);
+    handle(events);
+  }
+  handle(pairer.Finish());
+}
 
 }  // namespace
 
 ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const std::string& csv_path,
                              const ExportOptions& options) {
   ExportSummary summary;
-  std::vector<Run> runs(1);
+  std::vector<Message> messages;
+  long commands = 0;
   bus::ForEachLogEvent(log_paths, [&](const lcm::LogEvent& ev) {
     if (ev.channel == options.state_channel) {
       odonata::plant_state_t s;
@@ -53,17 +103,7 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
         ++summary.undecodable;
         return;
       }
-      // A fresh initial state after states past it marks a plant reset: a new run.
-      // A lockstep plant re-publishes state 0 until it has read the first command, so a repeat
-      // it sent just before can be logged after commands already: still the same run, as the
-      // identifier pairs it (pipeline/sample_pairer.hpp), which keeps the commands too. Splitting
-      // there opened a run without command 0, whose export lacked sample 0.
-      if (s.seq == 0 && s.command_seq < 0 && runs.back().newest_state > 0) {
-        runs.emplace_back();
-      }
-      ++runs.back().states;
-      runs.back().newest_state = std::max(runs.back().newest_state, s.seq);
-      runs.back().messages.emplace_back(std::move(s));
+      messages.emplace_back(std::move(s));
     } else if (ev.channel == options.command_channel) {
       odonata::wing_command_t c;
       if (!SafeDecode(&c, ev.data, ev.datalen) || !messages::AllFinite(c) ||
@@ -71,18 +111,38 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
         ++summary.undecodable;
         return;
       }
-      ++runs.back().commands;
-      runs.back().messages.emplace_back(std::move(c));
+      ++commands;
+      messages.emplace_back(std::move(c));
     } else if (ev.channel == options.beat_state_channel) {
       odonata::beat_state_t b;
       if (!SafeDecode(&b, ev.data, ev.datalen) || !messages::AllFinite(b)) {
         ++summary.undecodable;
         return;
       }
-      ++runs.back().beats;
-      runs.back().messages.emplace_back(std::move(b));
+      messages.emplace_back(std::move(b));
     }
   });
+  if (commands == 0)
+    throw std::runtime_error("no commands on " + options.command_channel + " in the log");
+
+  // First pass: the runs, and what each needs for its header and its pairing.
+  std::vector<RunFacts> runs(1);
+  const auto facts = [&](int run) -> RunFacts& {
+    if (static_cast<std::size_t>(run) >= runs.size())
+      runs.resize(static_cast<std::size_t>(run) + 1);
+    return runs[static_cast<std::size_t>(run)];
+  };
+  Replay(
+      messages, pipeline::PairingNeeds{},
+      [&](int run, const Message& m, bool) {
+        RunFacts& f = facts(run);  // a run of states alone counts too
+        if (std::holds_alternative<odonata::beat_state_t>(m)) ++f.beats;
+      },
+      [&](int run, const messages::PairedMessages& e) {
+        RunFacts& f = facts(run);
+        if (e.kind == messages::PairedMessages::Kind::kSample && !f.first_command)
+          f.first_command = e.command;
+      });
   summary.runs = static_cast<int>(runs.size());
   // Negative indices count from the end (−1 the last run), as a real-time plant that idled
   // before its reset adds a run of its own at the start.
@@ -92,68 +152,53 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
                              std::to_string(pick));
   }
   summary.exported_run = pick;
-  const Run& run = runs[static_cast<std::size_t>(pick)];
-  const odonata::wing_command_t* first_command = nullptr;
-  for (const Message& m : run.messages) {
-    if ((first_command = std::get_if<odonata::wing_command_t>(&m))) break;
-  }
-  if (!first_command) {
+  const RunFacts& run = runs[static_cast<std::size_t>(pick)];
+  if (!run.first_command) {
     // A plant restarted after the last command opens a run of states alone: say which run to
-    // take instead of only that commands are missing.
+    // take instead of only that no sample came.
     if (summary.runs > 1) {
       throw std::runtime_error("run " + std::to_string(pick) + " of " +
                                std::to_string(summary.runs) + " has no commands on " +
                                options.command_channel +
-                               " (a plant that started and was never commanded); pick another "
-                               "with --run");
+                               " that a state answers (a plant that started and was never "
+                               "commanded); pick another with --run");
     }
-    throw std::runtime_error("no commands on " + options.command_channel + " in the log");
+    throw std::runtime_error("no complete samples in the log (states and commands never matched)");
   }
+  const odonata::wing_command_t& first_command = *run.first_command;
 
   // The columns odonata-sim writes; the beat columns when the run has beat states.
   summary.beat_columns = run.beats > 0;
   const std::vector<std::string> header = experiments::SampleColumnNames(
-      first_command->excitation_names, summary.beat_columns, summary.beat_columns);
+      first_command.excitation_names, summary.beat_columns, summary.beat_columns);
   io::CsvWriter out(csv_path, header);
   std::vector<bool> is_input;
   for (const auto& n : header) is_input.push_back(experiments::IsAveragedSignal(n));
   io::RowDecimator decimator(options.decimate, is_input);
 
-  // Row k is sample k as the identifier pairs it (messages/paired_sample.hpp).
-  messages::MessagePairer pairer(
-      pipeline::PairingNeeds{summary.beat_columns, summary.beat_columns});
-  const auto write = [&](const std::vector<messages::PairedMessages>& events) {
-    for (const auto& e : events) {
-      if (e.kind == messages::PairedMessages::Kind::kGap) summary.incomplete += e.lost;
-      if (e.kind != messages::PairedMessages::Kind::kSample) continue;
-      if (e.command.excitation_names != first_command->excitation_names) {
-        ++summary.incomplete;
-        continue;
-      }
-      std::vector<double> row;
-      row.reserve(header.size());
-      for (const auto& name : header) row.push_back(*messages::PairedSignal(e, name));
-      if (const auto block = decimator.Push(e.index, row)) {
-        out.WriteRow(*block);
-        ++summary.rows;
-      }
-    }
-  };
-  for (const Message& m : run.messages) {
-    try {
-      std::visit(
-          [&](const auto& msg) {
-            using T = std::decay_t<decltype(msg)>;
-            if constexpr (std::is_same_v<T, odonata::plant_state_t>) write(pairer.OnState(msg));
-            if constexpr (std::is_same_v<T, odonata::wing_command_t>) write(pairer.OnCommand(msg));
-            if constexpr (std::is_same_v<T, odonata::beat_state_t>) write(pairer.OnBeat(msg));
-          },
-          m);
-    } catch (const std::invalid_argument&) {
-      ++summary.rejected;  // out of order, a leap, or a second command: the pairing rules say no
-    }
-  }
-  write(pairer.Finish());
+  // Second pass: row k is sample k of the run as the identifier pairs it
+  // (messages/paired_sample.hpp).
+  Replay(
+      messages, pipeline::PairingNeeds{summary.beat_columns, summary.beat_columns},
+      [&](int r, const Message&, bool rejected) {
+        if (r == pick && rejected) ++summary.rejected;
+      },
+      [&](int r, const messages::PairedMessages& e) {
+        if (r != pick) return;
+        if (e.kind == messages::PairedMessages::Kind::kGap) summary.incomplete += e.lost;
+        if (e.kind != messages::PairedMessages::Kind::kSample) return;
+        if (e.command.excitation_names != first_command.excitation_names) {
+          ++summary.incomplete;
+          return;
+        }
+        std::vector<double> row;
+        row.reserve(header.size());
+        for (const auto& name : header) row.push_back(*messages::PairedSignal(e, name));
+        if (const auto block = decimator.Push(e.index, row)) {
+          out.WriteRow(*block);
+          ++summary.rows;
+        }
+      });
   out.Close();
   summary.dropped_blocks = decimator.dropped_blocks();
   if (summary.rows == 0)

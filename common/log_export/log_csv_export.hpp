@@ -2,7 +2,8 @@
 // Turns a recorded event log into the CSV odonata-sim writes (and odonata-fit reads): row k is
 // sample k as the online identifier pairs it (messages/paired_sample.hpp): state k, the command
 // state k + 1 answers and, when the log holds beat states, beat state k's averages and beat
-// state k + 1's applied-command channels (the command applied over [t_k, t_k+1)).
+// state k + 1's applied-command channels (the command applied over [t_k, t_k+1)). Its runs are
+// the identifier's too: a plant restart starts one once the plant confirms it.
 
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@ struct ExportOptions {
   std::string command_channel = "DIMAV_COMMAND";
   std::string state_channel = "DIMAV_STATE";
   std::string beat_state_channel = "DIMAV_BEAT_STATE";  ///< optional: older logs have none
-  int run = -1;  ///< which run (a plant reset starts a new one); negative counts from the end
+  int run = -1;  ///< which run (a confirmed plant restart starts one); negative counts from the end
   /// One row per block of this many samples (io::RowDecimator: commands, excitations and
   /// applied channels averaged, the rest at the block's first sample), as odonata-sim
   /// --decimate and an identifier configured with "decimate" cut them. @pre ≥ 1.

@@ -1,5 +1,5 @@
-// odonata-logger export on a log whose plant restarted after the last command: the trailing run
-// of states alone is named as such, and the run that has commands still exports.
+// odonata-logger export: its runs are the identifier's (a plant restart it confirms starts one); a
+// trailing run of states alone is named as such, and the run that has commands still exports.
 #include "log_export/log_csv_export.hpp"
 
 #include <gtest/gtest.h>
@@ -51,11 +51,36 @@ odonata::plant_state_t State(int64_t seq, int64_t command_seq) {
   return messages::ToStateMessage(s, seq);
 }
 
-// States 0…n answered by commands 0…n−1, then, if `restart`, a new plant's state 0 alone. With
-// `late_repeat`, a repeat of state 0 comes right after command 0: a lockstep plant re-publishes
-// its state 0 until it has read the first command, so on a busy machine a repeat it sent before
-// reading command 0 is logged after it.
-std::string WriteLog(const std::string& dir, int n, bool restart, bool late_repeat = false) {
+// What the logged plant does besides answering commands 0…n−1 with states 1…n.
+struct Shape {
+  /// A new plant's state 0 at the end, as often: a restarted plant repeats it while nothing
+  /// commands it (1: a lone stale or forged one).
+  int restart_zeros = 0;
+  /// A repeat of state 0 right after command 0: a lockstep plant re-publishes its state 0 until
+  /// it has read the first command, so on a busy machine a repeat sent just before is logged
+  /// after it.
+  bool late_repeat = false;
+  /// A fresh state 0 after this state (-1: none): a stale or forged one mid-run.
+  int stray_zero_after = -1;
+};
+
+Shape RestartZeros(int count) {
+  Shape s;
+  s.restart_zeros = count;
+  return s;
+}
+Shape LateRepeat() {
+  Shape s;
+  s.late_repeat = true;
+  return s;
+}
+Shape StrayZeroAfter(int k) {
+  Shape s;
+  s.stray_zero_after = k;
+  return s;
+}
+
+std::string WriteLog(const std::string& dir, int n, const Shape& shape = {}) {
   const std::string path = dir + "/log.00000";
   lcm::LogFile log(path, "w");
   pipeline::CommandSchedule schedule;
@@ -66,16 +91,17 @@ std::string WriteLog(const std::string& dir, int n, bool restart, bool late_repe
   for (int k = 0; k < n; ++k) {
     Write(log, "DIMAV_COMMAND",
           messages::ToCommandMessage(schedule, static_cast<std::size_t>(k), 0), t++);
-    if (late_repeat && k == 0) Write(log, "DIMAV_STATE", State(0, -1), t++);
+    if (shape.late_repeat && k == 0) Write(log, "DIMAV_STATE", State(0, -1), t++);
     Write(log, "DIMAV_STATE", State(k + 1, k), t++);
+    if (k + 1 == shape.stray_zero_after) Write(log, "DIMAV_STATE", State(0, -1), t++);
   }
-  if (restart) Write(log, "DIMAV_STATE", State(0, -1), t++);
+  for (int i = 0; i < shape.restart_zeros; ++i) Write(log, "DIMAV_STATE", State(0, -1), t++);
   return path;
 }
 
 TEST(LogCsvExport, ATrailingRunWithoutCommandsIsNamedAndTheCommandedRunStillExports) {
   const TempDir dir;
-  const std::string log = WriteLog(dir.path(), 20, true);
+  const std::string log = WriteLog(dir.path(), 20, RestartZeros(3));
   const std::string csv = dir.path() + "/samples.csv";
   try {
     ExportLogToCsv({log}, csv, ExportOptions{});
@@ -102,16 +128,31 @@ TEST(LogCsvExport, ATrailingRunWithoutCommandsIsNamedAndTheCommandedRunStillExpo
 // saw 499 of 500 samples under two CPU hogs.
 TEST(LogCsvExport, AStateZeroRepeatedAfterTheFirstCommandIsTheSameRun) {
   const TempDir dir;
-  const std::string log = WriteLog(dir.path(), 20, false, true);
+  const std::string log = WriteLog(dir.path(), 20, LateRepeat());
   const ExportSummary s = ExportLogToCsv({log}, dir.path() + "/samples.csv", ExportOptions{});
   EXPECT_EQ(s.runs, 1);
   EXPECT_EQ(s.rows, 20);
   EXPECT_EQ(s.incomplete, 0);
 }
 
+// A fresh state 0 is a new run only once the plant confirms it, as for the identifier
+// (docs/lcm.md §10): a lone stale or forged one, mid-run or at the end, used to cut the run in
+// two, and the default export (the last run) wrote only the part after it, or nothing.
+TEST(LogCsvExport, ALoneStateZeroDoesNotCutTheRun) {
+  const TempDir dir;
+  for (const Shape shape : {StrayZeroAfter(10), RestartZeros(1)}) {
+    const std::string log = WriteLog(dir.path(), 20, shape);
+    const ExportSummary s = ExportLogToCsv({log}, dir.path() + "/samples.csv", ExportOptions{});
+    EXPECT_EQ(s.runs, 1) << shape.stray_zero_after;
+    EXPECT_EQ(s.rows, 20) << shape.stray_zero_after;
+    EXPECT_EQ(s.incomplete, 0) << shape.stray_zero_after;
+    EXPECT_EQ(s.rejected, 0) << shape.stray_zero_after;
+  }
+}
+
 TEST(LogCsvExport, ALogWithoutCommandsSaysSo) {
   const TempDir dir;
-  const std::string log = WriteLog(dir.path(), 0, false);
+  const std::string log = WriteLog(dir.path(), 0);
   try {
     ExportLogToCsv({log}, dir.path() + "/samples.csv", ExportOptions{});
     FAIL() << "a log without commands exported";
