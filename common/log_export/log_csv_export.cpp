@@ -80,11 +80,8 @@ void Replay(const std::vector<Message>& messages, const pipeline::PairingNeeds& 
     } catch (const std::invalid_argument&) {
       rejected = true;  // out of order, a leap, or a second command
     }
-    const auto restarts = std::count_if(events.begin(), events.end(), [](const auto& e) {
-      return e.kind == messages::PairedMessages::Kind::kRestart;
-    });
-    on_message(run + static_cast<int>(restarts), m, rejected);
     handle(events);
+    on_message(run, m, rejected);
   }
   handle(pairer.Finish());
 }
