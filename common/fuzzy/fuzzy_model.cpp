@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -142,6 +143,23 @@ double FuzzyModel::Predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   rules_.Evaluate(x, &scratch_);
   consequent_->RuleOutputs(x, rules_.rules(), &rule_outputs_);
   return (scratch_.normalized * rule_outputs_).sum();
+}
+
+double FuzzyModel::PredictWithDistance(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                       double* distance_widths) const {
+  if (rules_.rules() == 0) {
+    *distance_widths = std::numeric_limits<double>::infinity();
+    return 0.0;
+  }
+  const double yhat = EvaluateInScratch(x);
+  *distance_widths = std::sqrt(scratch_.min_distance);
+  return yhat;
+}
+
+double FuzzyModel::NearestRuleDistance(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  if (rules_.rules() == 0) return std::numeric_limits<double>::infinity();
+  rules_.Evaluate(x, &scratch_);
+  return std::sqrt(scratch_.min_distance);
 }
 
 double FuzzyModel::MaxEntropy(const Eigen::Ref<const Eigen::VectorXd>& x) const {

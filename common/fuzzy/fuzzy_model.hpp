@@ -75,6 +75,12 @@ class FuzzyModel {
 
   /// ŷ = Σ_j φ_j y_j(x); 0 when there is no rule yet.
   double Predict(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  /// ŷ at x, and in `distance_widths` how far x lies from its nearest rule (Mahalanobis, in
+  /// rule widths; +∞ with no rule): where the data the rules were fitted on ends (DataEnvelope).
+  double PredictWithDistance(const Eigen::Ref<const Eigen::VectorXd>& x,
+                             double* distance_widths) const;
+  /// How far x lies from its nearest rule, in rule widths (+∞ with no rule).
+  double NearestRuleDistance(const Eigen::Ref<const Eigen::VectorXd>& x) const;
   /// max_j H_j at x (0 with no rules).
   double MaxEntropy(const Eigen::Ref<const Eigen::VectorXd>& x) const;
 

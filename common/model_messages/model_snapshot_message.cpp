@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "sysid/narx_model_state.hpp"
 
@@ -146,6 +147,16 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
   m.output_upper = ToVector(
       s.limits.any() ? s.limits.upper
                      : Eigen::VectorXd::Constant(no, std::numeric_limits<double>::infinity()));
+  m.envelope_lower = ToVector(s.envelope.lower);
+  m.envelope_upper = ToVector(s.envelope.upper);
+  m.envelope_regressors = static_cast<int32_t>(m.envelope_lower.size());
+  m.envelope_outputs = static_cast<int32_t>(s.envelope.outputs.size());
+  for (const sysid::OutputEnvelope& e : s.envelope.outputs) {
+    m.envelope_linear.insert(m.envelope_linear.end(), e.linear.data(),
+                             e.linear.data() + e.linear.size());
+    m.envelope_radius_widths.push_back(e.radius_widths);
+  }
+  m.envelope_coefficients = static_cast<int32_t>(m.envelope_linear.size());
   for (std::size_t o = 0; o < s.models.size(); ++o)
     m.models.push_back(ToRules(m.outputs[o], s.models[o]));
   return m;
@@ -164,6 +175,24 @@ sysid::NarxModel DecodeSnapshot(const odonata::model_snapshot_t& m) {
   s.scaling.output_std = FromVector(m.output_std);
   s.limits.lower = FromVector(m.output_lower);
   s.limits.upper = FromVector(m.output_upper);
+  s.envelope.lower = FromVector(m.envelope_lower);
+  s.envelope.upper = FromVector(m.envelope_upper);
+  if (m.envelope_outputs > 0) {
+    // Each output's coefficients in turn: the sizes are checked here, the values by FromState.
+    const auto terms = static_cast<std::size_t>(m.num_regressors) + 1;
+    if (m.num_regressors < 0 ||
+        m.envelope_linear.size() != static_cast<std::size_t>(m.envelope_outputs) * terms)
+      throw std::runtime_error("snapshot envelope: " + std::to_string(m.envelope_linear.size()) +
+                               " coefficients for " + std::to_string(m.envelope_outputs) +
+                               " outputs of " + std::to_string(terms) + " terms");
+    for (std::size_t o = 0; o < static_cast<std::size_t>(m.envelope_outputs); ++o) {
+      sysid::OutputEnvelope e;
+      e.linear = Eigen::Map<const Eigen::VectorXd>(m.envelope_linear.data() + o * terms,
+                                                   static_cast<Eigen::Index>(terms));
+      e.radius_widths = m.envelope_radius_widths[o];
+      s.envelope.outputs.push_back(std::move(e));
+    }
+  }
   for (const auto& f : m.models) s.models.push_back(FromRules(f));
   return sysid::NarxModel::FromState(s);
 }

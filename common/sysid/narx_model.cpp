@@ -110,6 +110,8 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   const RegressionData d = BuildRegression(spec_, train);
   if (options.fit_scaling) scaling_ = Scaling::FromData(d.x, d.y);
   if (options.detect_output_limits) limits_ = OutputLimits::Detect(train.outputs);
+  // The envelope is the trained model's: while it trains, every prediction is the rules' own.
+  envelope_ = DataEnvelope{};
   const Eigen::Index rows = d.x.rows();
   Eigen::MatrixXd xs(rows, d.x.cols());
   Eigen::MatrixXd ys(rows, d.y.cols());
@@ -240,6 +242,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     }
     report.simulation = TrainOnSimulationError(*this, train, so).kept;
   }
+  if (options.fit_envelope) envelope_ = DataEnvelope::Fit(models_, xs, ys);
   return report;
 }
 
@@ -260,13 +263,44 @@ std::vector<fuzzy::LearnResult> NarxModel::Learn(const Eigen::VectorXd& regresso
 }
 
 Eigen::VectorXd NarxModel::Predict(const Eigen::VectorXd& regressor) const {
+  return Predict(regressor, nullptr);
+}
+
+Eigen::VectorXd NarxModel::Predict(const Eigen::VectorXd& regressor,
+                                   Eigen::VectorXd* linear_share) const {
   const Eigen::VectorXd x = scaling_.ScaleRegressor(regressor);
   Eigen::VectorXd y(outputs());
+  if (linear_share) linear_share->setZero(outputs());
   for (int o = 0; o < outputs(); ++o) {
-    y(o) = limits_.Apply(
-        o, scaling_.UnscaleOutput(o, models_[static_cast<std::size_t>(o)].Predict(x)));
+    const auto& m = models_[static_cast<std::size_t>(o)];
+    double scaled = 0.0;
+    if (envelope_.any()) {
+      double distance = 0.0;
+      const double fuzzy = m.PredictWithDistance(x, &distance);  // sets distance first
+      scaled = envelope_.Apply(o, x, fuzzy, distance);
+      if (linear_share) (*linear_share)(o) = envelope_.LinearShare(o, x, distance);
+    } else {
+      scaled = m.Predict(x);
+    }
+    y(o) = limits_.Apply(o, scaling_.UnscaleOutput(o, scaled));
   }
   return y;
+}
+
+void NarxModel::SetEnvelope(const DataEnvelope& envelope) {
+  const std::string p = envelope.Problems(outputs(), spec_.size());
+  if (!p.empty()) throw std::invalid_argument(p);
+  envelope_ = envelope;
+}
+
+void NarxModel::FitEnvelope(const Series& train) {
+  const RegressionData d = BuildRegression(spec_, train);
+  Eigen::MatrixXd xs(d.x.rows(), d.x.cols()), ys(d.y.rows(), d.y.cols());
+  for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
+    xs.row(r) = scaling_.ScaleRegressor(d.x.row(r).transpose()).transpose();
+    for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, d.y(r, o));
+  }
+  envelope_ = DataEnvelope::Fit(models_, xs, ys);
 }
 
 void NarxModel::SetLimits(const OutputLimits& limits) {
@@ -286,6 +320,7 @@ NarxModelState NarxModel::State() const {
   s.spec = spec_;
   s.scaling = scaling_;
   s.limits = limits_;
+  s.envelope = envelope_;
   for (const auto& m : models_) s.models.push_back(m.State());
   return s;
 }
@@ -307,6 +342,7 @@ NarxModel NarxModel::FromState(const NarxModelState& s) {
     }
     narx.SetScaling(s.scaling);
     narx.SetLimits(s.limits);
+    narx.SetEnvelope(s.envelope);
     return narx;
   } catch (const std::invalid_argument& ex) {
     throw std::runtime_error(ex.what());
@@ -324,6 +360,7 @@ nlohmann::json NarxModel::ToJson() const {
                     {"inputs", spec_.inputs}};
   j["scaling"] = scaling_.ToJson();
   if (limits_.any()) j["output_limits"] = limits_.ToJson();
+  if (envelope_.any()) j["data_envelope"] = envelope_.ToJson();
   nlohmann::json models = nlohmann::json::array();
   for (const auto& m : models_) models.push_back(m.ToJson());
   j["models"] = models;
@@ -355,6 +392,7 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
     if (j.contains("output_limits"))
       s.limits =
           OutputLimits::FromJson(j.at("output_limits"), static_cast<int>(s.spec.outputs.size()));
+    if (j.contains("data_envelope")) s.envelope = DataEnvelope::FromJson(j.at("data_envelope"));
     return FromState(s);
   } catch (const nlohmann::json::exception& ex) {
     throw std::runtime_error(ex.what());

@@ -12,6 +12,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/data_envelope.hpp"
 #include "sysid/output_limits.hpp"
 #include "sysid/regressor_spec.hpp"
 #include "sysid/scaling.hpp"
@@ -87,6 +88,10 @@ struct TrainOptions {
   /// by stage (simulation_error_training.hpp; with a hold-out, the step it scores best in free run
   /// is kept). Empty: none; ignored without output lags.
   std::vector<SimulationStage> simulation;
+  /// After training, find where the training rows end and fit the global linear model the
+  /// predictions blend into beyond them (DataEnvelope). A selection's candidates are scored
+  /// without it; the final model of a fit has it.
+  bool fit_envelope = false;
   ProgressCallback progress;
   /// When set and true, training stops by throwing TrainingCancelled at the next pass or
   /// simulation step (a refit the identifier no longer needs, at shutdown).
@@ -149,6 +154,9 @@ class NarxModel {
                                         fuzzy::LearnMode mode = fuzzy::LearnMode::kGrowAndTune);
   /// Raw predicted outputs for a raw regressor.
   Eigen::VectorXd Predict(const Eigen::VectorXd& regressor) const;
+  /// The same, and per output the share of the global linear model in it (0 inside the data's
+  /// envelope, 1 well outside; DataEnvelope) in `linear_share` (sized outputs()).
+  Eigen::VectorXd Predict(const Eigen::VectorXd& regressor, Eigen::VectorXd* linear_share) const;
 
   const RegressorSpec& spec() const { return spec_; }
   const Scaling& scaling() const { return scaling_; }
@@ -162,6 +170,14 @@ class NarxModel {
   fuzzy::FuzzyModel& mutable_model(int output) {
     return models_.at(static_cast<std::size_t>(output));
   }
+  /// Where the training data ends, and the linear model predictions blend into beyond it
+  /// (DataEnvelope): set by Train, empty for a model that has not been trained offline.
+  const DataEnvelope& envelope() const { return envelope_; }
+  /// @throws std::invalid_argument when it does not fit the outputs and regressor.
+  void SetEnvelope(const DataEnvelope& envelope);
+  /// The envelope of the model as it is over the rows of `train` (what Train does last with
+  /// TrainOptions::fit_envelope), for a model trained elsewhere.
+  void FitEnvelope(const Series& train);
   int outputs() const { return static_cast<int>(models_.size()); }
   int total_rules() const;
 
@@ -182,6 +198,7 @@ class NarxModel {
   RegressorSpec spec_;
   Scaling scaling_;
   OutputLimits limits_;
+  DataEnvelope envelope_;
   std::vector<fuzzy::FuzzyModel> models_;
 };
 

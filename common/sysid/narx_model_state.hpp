@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fuzzy/fuzzy_model_state.hpp"
+#include "sysid/data_envelope.hpp"
 #include "sysid/output_limits.hpp"
 #include "sysid/regressor_spec.hpp"
 #include "sysid/scaling.hpp"
@@ -16,6 +17,7 @@ struct NarxModelState {
   RegressorSpec spec;
   Scaling scaling;
   OutputLimits limits;                         ///< empty: none
+  DataEnvelope envelope;                       ///< empty: none
   std::vector<fuzzy::FuzzyModelState> models;  ///< one per output, in spec.outputs order
 };
 

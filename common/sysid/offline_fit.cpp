@@ -42,6 +42,10 @@ OfflineFit FitOffline(
     adopt(sel->candidates[sel->chosen]);
   }
   if (options.on_training) options.on_training(topt.epochs);
+  // The final model knows where its data end (DataEnvelope). Not the online per-sample learner's
+  // replay (no least squares): the identifier's learner grows a rule wherever the data go, and
+  // odonata-fit replaying it must give its model bit for bit.
+  topt.fit_envelope = topt.refine_least_squares;
   // The chosen setting, refitted on the whole series (the hold-out included).
   NarxModel model(spec, cfg);
   if (options.scaling) model.SetScaling(*options.scaling);
@@ -108,6 +112,7 @@ OfflineFit FitOffline(
             "the chosen candidate's own model (trained on the fit slice, judged on the hold-out) "
             "is kept");
         model = *sel->chosen_model;
+        model.FitEnvelope(series);  // candidates are scored without one; the final model has it
         settled = true;
       }
       if (!settled) {

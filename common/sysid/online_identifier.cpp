@@ -132,7 +132,9 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   arx_free_history_.back() = rep.arx_free_run;
 
   spec.Fill(t, y, u, x);
-  rep.predicted = model_.Predict(x);
+  rep.predicted = model_.Predict(x, &rep.linear_share);
+  ++predicted_;
+  if ((rep.linear_share.array() > 0.0).any()) ++outside_;
   rep.arx_predicted = hold(arx_.Predict(x), y);
   // The baseline learns what the fuzzy model learns, and nothing when frozen (a fair validation).
   if (learning_) arx_.Update(x, s.outputs);

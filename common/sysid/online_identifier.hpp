@@ -30,6 +30,9 @@ struct SampleReport {
   /// The live linear baseline on the same regressors (RecursiveArx): ŷ(k | k−1) and its own
   /// free run, so a consumer sees whether the fuzzy model beats linear.
   Eigen::VectorXd arx_predicted, arx_free_run;
+  /// Per output, the share of the model's global linear model in `predicted`: 0 when the
+  /// regressor lies within the data the model was trained on, up to 1 beyond it (DataEnvelope).
+  Eigen::VectorXd linear_share;
 };
 
 /// kBridged: a short gap before the sample was filled by interpolation (OnlineIdentifier::
@@ -85,6 +88,10 @@ class OnlineIdentifier {
   int64_t gaps() const { return gaps_; }
   /// Of those, the samples bridged by interpolation (learned from, not reported).
   int64_t bridged() const { return bridged_; }
+  /// Samples predicted (a report given), and of those the ones whose regressor lay outside the
+  /// data the model was trained on (a linear share above 0 for some output; DataEnvelope).
+  int64_t samples_predicted() const { return predicted_; }
+  int64_t samples_outside() const { return outside_; }
   /// The longest run of missing samples bridged (0, the default: none, every gap restarts the
   /// history, as odonata-fit's replay of a series with breaks expects).
   int max_gap() const { return max_gap_; }
@@ -120,6 +127,8 @@ class OnlineIdentifier {
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
   int64_t bridged_ = 0;
+  int64_t predicted_ = 0;
+  int64_t outside_ = 0;
   int max_gap_ = 0;
   ScheduledRefitter refitter_;
 };

@@ -89,6 +89,12 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
   if (!(std::isfinite(held) &&
         BeatsByMargin(held, selection.candidates[selection.chosen].score, options)))
     return false;
+  // A fuzzy incumbent must also beat the linear model there, by the same margin: the chosen
+  // candidate faced the linear model in cross-validation, the incumbent never did.
+  const std::optional<Candidate> linear = LinearCandidate(selection);
+  if (incumbent.total_rules() > incumbent.outputs() && linear && std::isfinite(linear->score) &&
+      !BeatsByMargin(held, linear->score, options))
+    return false;
   // The checks a refit's own model passes: it runs on the whole buffer without diverging and,
   // with the free-run criterion, comes to rest where the linear model does.
   return SteadyStateHolds(incumbent, series, selection.criterion_horizon, LinearRest(selection));
@@ -150,7 +156,7 @@ Series ScheduledRefitter::KeptSeries() const {
   return SeriesFromSampleRefs(kept);
 }
 
-void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged) {
+void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, bool closing) {
   pending_at_ = KeptSinceStart();
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
@@ -161,7 +167,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged) 
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
-       incumbent = landed_, unseen = pending_at_ - landed_at_, judged,
+       incumbent = landed_, unseen = pending_at_ - landed_at_, judged, closing,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
@@ -175,7 +181,13 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged) 
           Scaling scaling = Scaling::FromData(kept.x, kept.y);
           scaling.regressor_mid = declared.regressor_mid;
           scaling.regressor_half = declared.regressor_half;
-          o.scaling = scaling;
+          // The closing refit is odonata-fit's defaults on the samples kept, scaling included: each
+          // candidate scaled to what it trains on, as odonata-fit scales a file. With the declared
+          // envelope instead, the closing refit on the tail-sitter's and the Flapper's whole
+          // training flights chose other models than odonata-fit on the same samples (the
+          // Flapper's v_z, 50 steps ahead on its selection flight: 6 rules at -6.8 % where
+          // odonata-fit's 2 rules give 27.8 %; docs/identifier.md §6.3).
+          if (!closing) o.scaling = scaling;
           o.selection.simulation = DefaultSimulationStages();
           o.selection.threads = threads;
           o.selection.horizon = horizon;
@@ -227,7 +239,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged) 
                             fit.selection->criterion_horizon,
                             LinearRest(*fit.selection),
                             LinearBeside(*fit.selection)};
-          if (incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
+          if (!closing && incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
               IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
             return keep_incumbent(refused);
           ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
@@ -371,9 +383,12 @@ void ScheduledRefitter::BeginClosing(const NarxModel& model) {
     // The closing refit learns from every sample kept, from the refits' own settings: whatever
     // the refit in flight would have given, it replaces.
     Cancel();
-    // The closing refit is odonata-fit's defaults on every sample kept. No sample comes in
-    // while it runs, so no linear model is trained beside it to judge it on them.
-    Start(model, true, false);
+    // The closing refit is odonata-fit's defaults on every sample kept: its selection, its
+    // cross-validation against the linear model, its scaling. No sample comes in while it runs,
+    // so no linear model is trained beside it to judge it on them, and the incumbent does not
+    // compete: a model judged on one hold-out slice, never cross-validated against the linear
+    // model, would bypass the guard odonata-fit's own choice passes (docs/identifier.md §6.3).
+    Start(model, true, false, true);
     last_started_ = learned_;
   }
   closing_ = pending_.valid();

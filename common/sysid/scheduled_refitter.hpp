@@ -44,7 +44,11 @@ struct RefitSchedule {
     s.every = 6000;
     return s;
   }
-  int64_t buffer = 6000;  ///< the samples kept for a refit (60 s at 100 Hz)
+  /// The samples kept for a refit: 2 min at 100 Hz, so the closing refit of a flight of a minute
+  /// or two sees all of it, as odonata-fit would. With 6 000, the closing refits of 70 s flights
+  /// (tail-sitter, Flapper; training files) saw 5 500 of their 7 000 samples and chose models
+  /// far from odonata-fit's on the same flight (docs/identifier.md §6.3).
+  int64_t buffer = 12000;
   /// The share of `buffer` that may hold blocks spread over everything learned before the most
   /// recent samples (docs/identifier.md §6.3): a long record's refit still sees its whole range of
   /// operation, not the last minute only. 0: the most recent `buffer` samples.
@@ -158,7 +162,9 @@ class ScheduledRefitter {
   /// the last selection chose (when there is one), which costs one training instead of a search.
   /// `judged`: train the linear model beside a fuzzy one for the landing to judge it on the
   /// samples that come in meanwhile (LinearWinsTheNewSamples); a closing refit gets none.
-  void Start(const NarxModel& model, bool select, bool judged = true);
+  /// `closing`: the refit that closes learning, odonata-fit's defaults on the samples kept (its
+  /// own scaling, no incumbent).
+  void Start(const NarxModel& model, bool select, bool judged = true, bool closing = false);
   void Cancel();
   bool Land(NarxModel& model);
   /// The landed model's tracker learns the newest `since` samples kept (those that came in while

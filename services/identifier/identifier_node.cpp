@@ -332,7 +332,10 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"max_rules", static_cast<double>(cfg.entropy.max_rules)},
           {"samples_learned", static_cast<double>(core_.samples_learned())},
           {"gaps", static_cast<double>(core_.gaps())},
-          {"bridged", static_cast<double>(core_.bridged())}};
+          {"bridged", static_cast<double>(core_.bridged())},
+          // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
+          {"samples_predicted", static_cast<double>(core_.samples_predicted())},
+          {"samples_outside", static_cast<double>(core_.samples_outside())}};
 }
 
 void IdentifierNode::RefitLanded() {

@@ -29,6 +29,7 @@ sysid::NarxModel Trained(fuzzy::ConsequentKind kind) {
   sysid::NarxModel model(sysid::testing::NarendraSpec(), cfg);
   sysid::TrainOptions options;
   options.epochs = 2;
+  options.fit_envelope = true;  // where its data end crosses with it (docs/identifier.md §7.3)
   model.Train(sysid::testing::NarendraTrain(800), options);
   return model;
 }
@@ -55,6 +56,11 @@ TEST_P(SnapshotRoundTrip, AModelCrossesTheBusBitForBit) {
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(model.spec().size(), -0.5, 0.7);
   EXPECT_EQ(back.Predict(x), model.Predict(x));  // bit for bit
   EXPECT_FALSE(back.limits().any());
+  ASSERT_TRUE(back.envelope().any());
+  const Eigen::VectorXd far = Eigen::VectorXd::Constant(model.spec().size(), 40.0);
+  Eigen::VectorXd share;
+  EXPECT_EQ(back.Predict(far, &share), model.Predict(far));  // the linear model out there
+  EXPECT_EQ(share(0), 1.0);
 
   // A saturation limit (docs/identifier.md §7.2) crosses with the model.
   sysid::NarxModel held = model;
@@ -79,6 +85,17 @@ std::string DecodeError(const odonata::model_snapshot_t& msg) {
     return e.what();
   }
   return "";
+}
+
+TEST(Snapshot, AnEnvelopeThatDoesNotFitTheModelIsRefused) {
+  odonata::model_snapshot_t msg = EncodeSnapshot(Trained(fuzzy::ConsequentKind::kLinear));
+  ASSERT_GT(msg.envelope_outputs, 0);
+  msg.envelope_linear.pop_back();
+  --msg.envelope_coefficients;
+  EXPECT_NE(DecodeError(msg).find("envelope"), std::string::npos) << DecodeError(msg);
+  msg = EncodeSnapshot(Trained(fuzzy::ConsequentKind::kLinear));
+  msg.envelope_radius_widths[0] = -std::numeric_limits<double>::infinity();
+  EXPECT_NE(DecodeError(msg).find("radius_widths"), std::string::npos) << DecodeError(msg);
 }
 
 TEST(Snapshot, AnInvalidModelIsRefusedNamingWhatIsWrong) {
