@@ -40,6 +40,8 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
   core_.set_max_gap(config_.max_gap);
+  // Samples are formed from the first message on; while it waits for a snapshot they are kept.
+  stream_.Start();
   // A landing that must wait for its refit blocks this thread, and with it the heartbeat timer.
   // Say so first, so a lockstep generator waits instead of resending into a process that is not
   // reading (docs/lcm.md §10), and keep beating meanwhile: a generator that starts during the
@@ -107,10 +109,19 @@ sysid::NarxModel IdentifierNode::EmptyModel() const {
 
 void IdentifierNode::StartLearning(const std::string& how) {
   started_ = true;
-  stream_.Start();
   bus_.SetState(core_.learning() ? "running" : "frozen");
-  std::fprintf(stderr, "[%s] learning %s (%d rules)\n", config_.instance.c_str(), how.c_str(),
-               core_.model().total_rules());
+  std::fprintf(stderr, "[%s] learning %s (%d rules)%s\n", config_.instance.c_str(), how.c_str(),
+               core_.model().total_rules(),
+               waiting_.empty() ? ""
+                                : (", then the " + std::to_string(waiting_.size()) +
+                                   " messages' samples that came in while it waited")
+                                      .c_str());
+  // What came in while it waited follows the snapshot's samples (or starts an empty model): the
+  // vehicle's first samples, learned in order before anything newer.
+  const std::vector<SampleStream::Event> held(waiting_.begin(), waiting_.end());
+  waiting_.clear();
+  Handle(held);
+  Acknowledge();  // a lockstep generator waiting on them hears that they are held
 }
 
 void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
@@ -151,8 +162,9 @@ void IdentifierNode::OnBeatState(const odonata::beat_state_t& msg) {
 }
 
 void IdentifierNode::Acknowledge(int64_t state_seq) {
-  // Waiting for a snapshot, samples are not learned: no receipt, so a lockstep generator does not
-  // count this identifier as having them.
+  // Waiting for a snapshot, samples are kept but not yet learned: no receipt, so a lockstep
+  // generator does not count this identifier as having them (a kill meanwhile would lose them).
+  // StartLearning acknowledges them once learned.
   if (started_) acks_.Publish(stream_.newest_held_state(), state_seq);
 }
 
@@ -175,6 +187,19 @@ void IdentifierNode::OnSignals(const odonata::signals_t& msg) {
 }
 
 void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {
+  if (!started_) {
+    for (const auto& e : events) {
+      if (waiting_.size() == kMostWaiting) {
+        if (waiting_.front().kind == SampleStream::Event::Kind::kSample) ++not_learned_;
+        waiting_.pop_front();
+        bus_.stats().last_error = std::to_string(not_learned_) +
+                                  " samples not learned: more came in while waiting for a "
+                                  "snapshot than it keeps";
+      }
+      waiting_.push_back(e);
+    }
+    return;
+  }
   for (const auto& e : events) {
     switch (e.kind) {
       case SampleStream::Event::Kind::kRestart:
@@ -333,6 +358,7 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"samples_learned", static_cast<double>(core_.samples_learned())},
           {"gaps", static_cast<double>(core_.gaps())},
           {"bridged", static_cast<double>(core_.bridged())},
+          {"not_learned", static_cast<double>(not_learned_)},
           // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
           {"samples_predicted", static_cast<double>(core_.samples_predicted())},
           {"samples_outside", static_cast<double>(core_.samples_outside())}};

@@ -9,6 +9,7 @@
 // Outputs: ODONATA_PREDICTION (prediction_t, one per sample), ODONATA_MODEL (periodic and on
 //          request), ODONATA_HEARTBEAT (via BusNode)
 
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,12 @@ class IdentifierNode {
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
   SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)
+  // What came in while it waited for a snapshot, in order: learned once it starts (from the
+  // snapshot, or empty), so a flight's first second (its take-off) is not lost. Bounded: beyond
+  // kMostWaiting the oldest go, each counted as not learned.
+  std::deque<SampleStream::Event> waiting_;
+  static constexpr std::size_t kMostWaiting = 100000;  // 1000 s at 100 Hz
+  int64_t not_learned_ = 0;  // samples that came in and were never learned (the bound above)
   int64_t prediction_seq_ = 0;
   int64_t refits_reported_ = 0;      ///< refits landed or failed, as last said on stderr
   int64_t incumbents_reported_ = 0;  ///< of them, those that kept the last refit's model
