@@ -51,6 +51,13 @@ sysid::NarxModel ModelFromTsk(const inference::TskModel& tsk, const sysid::NarxM
     fuzzy::RuleState rs;
     for (int i = 0; i < n; ++i) {
       const double h = s.regressor_half(i);
+      if (std::isinf(r.sigma[static_cast<std::size_t>(i)])) {
+        // An input the rule leaves out ("don't care"): a Gaussian so wide that over the
+        // identifier's whole range it changes the firing by a factor within 1 − 2·10⁻⁶ of 1.
+        rs.centre.push_back(0.0);
+        rs.sigma.push_back(kDontCareWidth);
+        continue;
+      }
       rs.centre.push_back((r.centre[static_cast<std::size_t>(i)] - s.regressor_mid(i)) / h);
       // The rule base divides by σ² + ε: the narrowest width it can stand for is √ε.
       const double scaled = r.sigma[static_cast<std::size_t>(i)] / h;

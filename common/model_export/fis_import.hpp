@@ -11,6 +11,11 @@
 
 namespace odonata::model_export {
 
+/// A rule that leaves an input out ("don't care", an infinite width in the .fis reader) holds a
+/// Gaussian this wide in scaled units: over the identifier's range [−1, 1] it changes a firing
+/// by a factor between exp(−2·10⁻⁶) and 1.
+inline constexpr double kDontCareWidth = 1000.0;
+
 /// `tsk` as a model shaped like `empty` (its regressor, scaling, configuration; one output):
 /// inputs must be the regressor in order, by the names odonata-export gives them (vz_k, u_km1,
 /// …); constant outputs are linear ones with zero slopes when the configuration is linear.

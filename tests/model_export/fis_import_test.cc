@@ -3,6 +3,7 @@
 // what the exported model predicts, and a file that does not fit is refused with why.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -55,6 +56,44 @@ TEST(FisImport, TheIdentifierStartsFromTheRulesAndPredictsWhatTheyPredict) {
   Eigen::VectorXd x(2);
   x << 0.3, -0.4;
   EXPECT_NEAR(as_linear.Predict(x)(0), singleton.Predict(x)(0), 1e-9);
+}
+
+// MATLAB's "don't care": a 0 for an input in a rule line leaves that input out of the rule's
+// premise (issue 47 point 4: an expert's rule base was refused). evalfis gives that input a
+// membership of 1; so does the reader, and the identifier started from the file predicts the same.
+TEST(FisImport, ARuleThatLeavesAnInputOutIsRead) {
+  const sysid::NarxModel trained = Trained(fuzzy::ConsequentKind::kLinear);
+  ASSERT_GE(trained.total_rules(), 2);
+  std::string fis = ToFis(ToRawTsk(trained, 0, "narendra"));
+  const auto at = fis.find("[Rules]\n1 1, 1");
+  ASSERT_NE(at, std::string::npos) << fis;
+  fis.replace(at, 14, "[Rules]\n1 0, 1");  // rule 1 no longer looks at u(k-1)
+  const inference::TskModel tsk = Parsed(fis);
+  EXPECT_TRUE(std::isinf(tsk.rules[0].sigma[1]));
+  const sysid::NarxModel started =
+      ModelFromTsk(tsk, Empty(fuzzy::ConsequentKind::kLinear), "dc.fis");
+  EXPECT_EQ(started.total_rules(), trained.total_rules());
+  EXPECT_DOUBLE_EQ(started.model(0).rule_base().sigma(0, 1), kDontCareWidth);
+  const auto data = sysid::BuildRegression(trained.spec(), sysid::testing::NarendraValidate(500));
+  double worst = 0, moved = 0;
+  for (Eigen::Index t = 0; t < data.x.rows(); ++t) {
+    const Eigen::VectorXd x = data.x.row(t).transpose();
+    const double from_file = tsk.Evaluate(x.data(), 2);
+    worst = std::max(worst, std::abs(started.Predict(x)(0) - from_file));
+    moved = std::max(moved, std::abs(from_file - trained.Predict(x)(0)));
+  }
+  EXPECT_LT(worst, 1e-4) << "the identifier predicts what the file does";
+  EXPECT_GT(moved, 1e-3) << "leaving the input out changed the model";
+  // A negated term (MATLAB's NOT) is still refused, naming the line.
+  std::string negated = ToFis(ToRawTsk(trained, 0, "narendra"));
+  negated.replace(negated.find("[Rules]\n1 1, 1"), 14, "[Rules]\n1 -1, 1");
+  std::istringstream in(negated);
+  try {
+    inference::TskModel::FromFis(in);
+    FAIL() << "a negated term was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("line"), std::string::npos) << e.what();
+  }
 }
 
 TEST(FisImport, AFileThatDoesNotFitIsRefusedWithWhy) {

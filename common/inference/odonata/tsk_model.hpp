@@ -18,8 +18,9 @@
 // to rounding.
 //
 // The reader accepts what odonata writes: one output, every rule AND-connected with one
-// membership per input, gaussmf inputs, linear or constant outputs. Anything else is refused
-// with a message naming the line.
+// membership per input, gaussmf inputs, linear or constant outputs; and a rule that leaves an
+// input out (0 for that input in the rule line, MATLAB's "don't care"). Anything else is
+// refused with a message naming the line.
 
 #include <cmath>
 #include <cstddef>
@@ -35,8 +36,10 @@ namespace odonata::inference {
 
 struct TskRule {
   std::vector<double> centre;  ///< c_ji, one per input, raw units
-  std::vector<double> sigma;   ///< σ_ji > 0
-  double weight = 1.0;         ///< rule weight in (0, 1]
+  /// σ_ji > 0; +∞ for an input the rule leaves out (a 0 in a .fis rule line, MATLAB's "don't
+  /// care"): its membership is 1 whatever the input.
+  std::vector<double> sigma;
+  double weight = 1.0;  ///< rule weight in (0, 1]
   /// Linear: a_j1 … a_jN then a_j0 (MATLAB's order, constant last); constant: a_j0 only.
   std::vector<double> coefficients;
 };
@@ -142,6 +145,13 @@ struct TskModel {
                                  "and a connection");
       TskRule r;
       for (int i = 0; i < n; ++i) {
+        if (v[static_cast<std::size_t>(i)] == 0) {
+          // "Don't care": the input is not in the rule's premise; as MATLAB's evalfis, its
+          // membership is 1 for every value (a Gaussian of infinite width).
+          r.sigma.push_back(std::numeric_limits<double>::infinity());
+          r.centre.push_back(0.0);
+          continue;
+        }
         const auto idx =
             Index(v[static_cast<std::size_t>(i)], mfs[static_cast<std::size_t>(i)].size(), line_no);
         r.sigma.push_back(mfs[static_cast<std::size_t>(i)][idx][0]);
@@ -163,6 +173,7 @@ struct TskModel {
   static double Distance(const TskRule& r, const double* x) {
     double d = 0;
     for (std::size_t i = 0; i < r.centre.size(); ++i) {
+      if (std::isinf(r.sigma[i])) continue;  // an input the rule leaves out
       const double z = (x[i] - r.centre[i]) / r.sigma[i];
       d += z * z;
     }
@@ -255,9 +266,10 @@ struct TskModel {
   }
   static std::size_t Index(double v, std::size_t count, int line_no) {
     if (v != std::floor(v) || v < 1 || v > static_cast<double>(count))
-      throw std::runtime_error("fis line " + std::to_string(line_no) +
-                               ": membership index out of range (negated or absent terms are not "
-                               "supported)");
+      throw std::runtime_error(
+          "fis line " + std::to_string(line_no) +
+          ": membership index out of range (negated terms are not supported; 0 leaves "
+          "the input out)");
     return static_cast<std::size_t>(v) - 1;
   }
   static std::string Trim(const std::string& t) {
