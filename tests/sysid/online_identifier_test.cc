@@ -272,6 +272,22 @@ TEST(RefitSchedule, TheIncumbentStaysOnlyWhenItBeatsTheChoiceOnTheNewestSamples)
   selection.candidates[0].score = 2.0 * held + 0.01;
   selection.fit_samples = 1100;
   EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  // A fuzzy incumbent must also beat the linear candidate there (issue 47): the chosen fuzzy
+  // candidate faced the linear model in cross-validation, the incumbent never did.
+  ASSERT_GT(incumbent.total_rules(), 1);
+  selection.fit_samples = 1200;
+  Candidate fuzzy;
+  fuzzy.rules = 3;
+  fuzzy.score = 2.0 * held + 0.01;  // the incumbent beats the choice by far
+  fuzzy.rest_deviation = 0.0;
+  selection.candidates = {linear, fuzzy};
+  selection.chosen = 1;
+  selection.candidates[0].score = 0.5 * held;  // but the linear model beats the incumbent
+  EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  selection.candidates[0].score = std::max(1.04 * held, held + 0.004);  // within the margin
+  EXPECT_FALSE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
+  selection.candidates[0].score = 2.0 * held + 0.01;  // beaten by the margin: it stays
+  EXPECT_TRUE(IncumbentHoldsItsOwn(incumbent, selection, series, options));
 }
 
 // A steady-state refit trains with no hold-out; it lands only when its model passes the checks
