@@ -434,6 +434,63 @@ TEST(OnlineIdentifier, OutsideItsDataARefitsFuzzyModelFallsBackToItsLinearModel)
   EXPECT_LE(id.samples_outside(), id.samples_predicted());
 }
 
+// A plant whose curvature goes away inside the range it was learned in: y(k+1) = 0.5 y(k) + u(k)
+// + 0.8 u(k)² for 1 000 samples, then y(k+1) = 0.5 y(k) + u(k), u uniform in [−1, 1] throughout.
+// The refit begun at 1 000 fits the curvature (a fuzzy model) and ARX beside it; on the samples
+// that come in while it runs, the fuzzy model predicts a curvature that is gone and ARX (a
+// constant offset) predicts them better, by more than the margin: ARX lands at 2 000, then
+// learns those samples (CatchUp) and tracks, so it is ARX on every sample.
+TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOneAndCatchesUp) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> input(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  const Eigen::Index n = 2010;
+  Series s;
+  s.inputs.resize(n, 1);
+  s.outputs = Eigen::MatrixXd::Zero(n, 1);
+  for (Eigen::Index k = 0; k < n; ++k) s.inputs(k, 0) = input(rng);
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    const double u = s.inputs(k, 0);
+    s.outputs(k + 1, 0) = 0.5 * s.outputs(k, 0) + u + (k < 1000 ? 0.8 * u * u : 0.0);
+  }
+  for (Eigen::Index k = 0; k < n; ++k) s.outputs(k, 0) += noise(rng);
+  const SignalRanges declared = {{"y", {-4.0, 4.0}}, {"u", {-1.0, 1.0}}};
+  fuzzy::FuzzyModelConfig cfg;
+  NarxModel empty(testing::NarendraSpec(), cfg);
+  empty.SetScaling(ScalingFromRanges(empty.spec(), declared));
+  RefitSchedule refit;
+  refit.first = 500;
+  refit.every = 1000;
+  OnlineIdentifier id(empty, refit);
+  Eigen::Index k = 0;
+  for (; k <= 1000; ++k) id.Push(Row(s, k));
+  ASSERT_EQ(id.refits(), 1);
+  EXPECT_GT(id.model().total_rules(), 1) << "the curvature makes the first refit's model fuzzy";
+  for (; k < n; ++k) id.Push(Row(s, k));
+  ASSERT_EQ(id.refits(), 2);
+  EXPECT_EQ(id.linear_landed(), 1);
+  EXPECT_EQ(id.model().total_rules(), 1);
+  // It learned the samples that came in while its refit ran, and tracked since: it is ARX on
+  // every sample, not on the 1 001 its refit had.
+  const ArxModel everything = ArxModel::Fit(id.model().spec(), s);
+  const Series refit_samples = SliceSeries(s, 0, 1001);  // samples 0 … 1 000
+  const ArxModel refit_only = ArxModel::Fit(id.model().spec(), refit_samples);
+  const RegressionData rows = BuildRegression(id.model().spec(), s);
+  double to_everything = 0, to_refit_only = 0;
+  for (Eigen::Index r = 0; r < rows.x.rows(); ++r) {
+    const Eigen::VectorXd x = rows.x.row(r).transpose();
+    const double live = id.model().Predict(x)(0);
+    to_everything = std::max(to_everything, std::abs(live - everything.Predict(x)(0)));
+    to_refit_only = std::max(to_refit_only, std::abs(live - refit_only.Predict(x)(0)));
+  }
+  EXPECT_LT(to_everything, 1e-5);  // the tracker's prior has a relative ridge of 1e-6
+  EXPECT_GT(to_refit_only, 1e-3);
+  // Exactly once each: the ARX's tracker learned every row after the refit's, the catch-up's and
+  // the tracked ones since, none twice.
+  EXPECT_EQ(id.tracked(),
+            rows.x.rows() - BuildRegression(id.model().spec(), refit_samples).x.rows());
+}
+
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
   const Series train = testing::NarendraTrain(800);
   OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train));
