@@ -68,6 +68,16 @@ class OnlineIdentifier {
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
   /// the learned-sample count becomes `samples_learned` (a resumed model's own count).
   void ReplaceModel(NarxModel model, int64_t samples_learned = 0);
+  /// The model it started from is an expert's (a .fis or model file): scheduled refits refine
+  /// its rules and replace them only when their own choice beats them on the hold-out by the
+  /// selection's margin (ScheduledRefitter::SetExpert). A replaced model (ReplaceModel) forgets it.
+  void KeepExpertRules() {
+    if (refitter_.schedule().enabled() && model_.total_rules() > 0) refitter_.SetExpert(model_);
+  }
+  /// Refits that landed the expert's rules (refined), and whether one replaced them.
+  int64_t experts_kept() const { return refitter_.experts_kept(); }
+  bool expert_replaced() const { return refitter_.expert_replaced(); }
+  bool has_expert() const { return refitter_.has_expert(); }
   /// Called before the model waits for a scheduled refit that has not finished, and every
   /// `period` while it waits (ScheduledRefitter::SetWaitHook).
   void SetRefitWaitHook(std::function<void()> hook,

@@ -100,6 +100,32 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
   return SteadyStateHolds(incumbent, series, selection.criterion_horizon, LinearRest(selection));
 }
 
+NarxModel RefineExpert(const NarxModel& expert, const Series& series) {
+  NarxModel refined = expert;
+  const RegressionData d = BuildRegression(expert.spec(), series);
+  const Scaling& sc = expert.scaling();
+  Eigen::MatrixXd xs(d.x.rows(), d.x.cols()), ys(d.y.rows(), d.y.cols());
+  for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
+    xs.row(r) = sc.ScaleRegressor(d.x.row(r).transpose()).transpose();
+    for (int o = 0; o < expert.outputs(); ++o) ys(r, o) = sc.ScaleOutput(o, d.y(r, o));
+  }
+  // The solve's own ridge (TrainOptions::ridge); a failed solve leaves that output as written.
+  for (int o = 0; o < expert.outputs(); ++o)
+    refined.mutable_model(o).RefineConsequents(xs, ys.col(o), TrainOptions{}.ridge);
+  return refined;
+}
+
+bool ExpertHoldsItsOwn(const NarxModel& expert, const SelectionResult& selection,
+                       const Series& series, const SelectionOptions& options) {
+  if (selection.fit_samples + selection.holdout_samples != series.samples()) return true;
+  const NarxModel refined = RefineExpert(expert, SliceSeries(series, 0, selection.fit_samples));
+  const double held =
+      refined.NdeiAhead(SliceSeries(series, selection.fit_samples, selection.holdout_samples),
+                        selection.criterion_horizon);
+  const double chosen = selection.candidates[selection.chosen].score;
+  return !(std::isfinite(chosen) && BeatsByMargin(chosen, held, options));
+}
+
 bool LinearWinsTheNewSamples(const NarxModel& fuzzy, const NarxModel& linear, const Series& fresh,
                              int criterion_horizon) {
   // A few rows decide nothing.
@@ -167,7 +193,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, 
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
-       incumbent = landed_, unseen = pending_at_ - landed_at_, judged, closing,
+       incumbent = landed_, unseen = pending_at_ - landed_at_, judged, closing, expert = expert_,
        cancel = cancel_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
@@ -239,6 +265,27 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, 
                             fit.selection->criterion_horizon,
                             LinearRest(*fit.selection),
                             LinearBeside(*fit.selection)};
+          // An expert's rules stay, refined, unless this refit's own choice beats them on the
+          // hold-out by the margin (ExpertHoldsItsOwn).
+          bool expert_replaced = false;
+          if (expert && fit.selection) {
+            if (ExpertHoldsItsOwn(*expert, *fit.selection, series, o.selection)) {
+              NarxModel kept_rules = RefineExpert(*expert, series);
+              kept_rules.FitEnvelope(series);
+              ConsequentTracker rules_tracker = ConsequentTracker::Build(kept_rules, kept);
+              Refitted out{std::move(kept_rules),
+                           std::move(rules_tracker),
+                           std::nullopt,
+                           false,
+                           refused,
+                           std::nullopt,
+                           ConsequentTracker{},
+                           0};
+              out.expert_kept = true;
+              return out;
+            }
+            expert_replaced = true;
+          }
           if (!closing && incumbent && fit.selection && fit.selection->holdout_samples <= unseen &&
               IncumbentHoldsItsOwn(*incumbent, *fit.selection, series, o.selection))
             return keep_incumbent(refused);
@@ -251,6 +298,7 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, 
                        std::nullopt,
                        ConsequentTracker{},
                        0};
+          out.expert_replaced = expert_replaced;
           // The linear model on the same samples, for the landing to judge the fuzzy one
           // against on the samples that come in meanwhile (LinearWinsTheNewSamples).
           const Chosen* setting = out.chosen ? &*out.chosen : (reuse ? &*reuse : nullptr);
@@ -298,6 +346,11 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   }
   ++refits_;
   if (refitted->steady_state_refused) ++steady_state_refused_;
+  if (refitted->expert_kept) ++experts_kept_;
+  if (refitted->expert_replaced && expert_) {
+    expert_.reset();  // a refit beat the expert's rules: later refits are free
+    expert_replaced_ = true;
+  }
   // The samples kept since the refit began; the judgement scores the newest of them (all in the
   // recent run), at most kLandingCheckSamples.
   const auto since = static_cast<std::size_t>(KeptSinceStart() - pending_at_);
@@ -372,7 +425,10 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
   // counted, the Silverbox's replays ended on the linear model twice in six (docs/identifier.md
   // §6.3). Counts decide, so a replay makes the same choices.
   const bool informed = chosen_ && chosen_->samples >= static_cast<std::size_t>(schedule_.buffer);
-  Start(model, !(informed && schedule_.every > 0 && learned >= schedule_.every));
+  // While an expert's rules stand, every refit selects: a steady-state refit has no hold-out to
+  // judge them on.
+  Start(model,
+        expert_.has_value() || !(informed && schedule_.every > 0 && learned >= schedule_.every));
   last_started_ = learned;
   return landed;
 }
@@ -412,6 +468,9 @@ void ScheduledRefitter::Clear() {
   tracker_ = ConsequentTracker{};
   chosen_.reset();
   landed_.reset();
+  expert_.reset();
+  experts_kept_ = 0;
+  expert_replaced_ = false;
   landed_at_ = pending_at_ = 0;
   closing_ = false;
   recent_.clear();

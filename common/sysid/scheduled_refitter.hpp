@@ -132,6 +132,17 @@ class ScheduledRefitter {
   /// Forgets everything (a model from elsewhere replaced this one); a refit in flight is
   /// cancelled (it stops at its next training pass or step) and dropped. The destructor too.
   void Clear();
+  /// Rules an expert wrote (the .fis or model file the identifier started from): every refit
+  /// selects, and its own choice replaces them only when it beats them — their consequents
+  /// refined by least squares on the same fit slice, their premises as written — on the
+  /// hold-out by the margin a candidate needs over a simpler one (ExpertHoldsItsOwn). Otherwise
+  /// the refit lands the expert's rules with their consequents refined on every sample kept.
+  /// Once replaced, they are gone (later refits are free).
+  void SetExpert(NarxModel expert) { expert_ = std::move(expert); }
+  bool has_expert() const { return expert_.has_value(); }
+  /// Refits that landed the expert's rules, refined; and whether a refit replaced them.
+  int64_t experts_kept() const { return experts_kept_; }
+  bool expert_replaced() const { return expert_replaced_; }
 
   const RefitSchedule& schedule() const { return schedule_; }
   std::size_t kept() const { return recent_.size() + archive_.size(); }
@@ -207,8 +218,13 @@ class ScheduledRefitter {
     std::optional<NarxModel> linear;
     ConsequentTracker linear_tracker;
     int criterion_horizon = 0;
+    bool expert_kept = false;      // the expert's rules, refined, are this refit's model
+    bool expert_replaced = false;  // this refit's choice beat the expert's rules
   };
   std::optional<NarxModel> landed_;  ///< the last refit's model as it landed
+  std::optional<NarxModel> expert_;  ///< rules an expert gave, until a refit beats them
+  int64_t experts_kept_ = 0;
+  bool expert_replaced_ = false;
   /// Samples kept since the start (or Clear) when the refit in flight, and the one that landed
   /// last, began: the samples since the latter are ones its model never saw.
   int64_t pending_at_ = 0, landed_at_ = 0;
@@ -247,6 +263,16 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
 /// linear candidate), at rest where the linear model is. The incumbent is held to the same.
 bool SteadyStateHolds(const NarxModel& model, const Series& series, int criterion_horizon,
                       double linear_rest);
+
+/// `expert`'s rules with every consequent refitted by least squares on `series` (premises as
+/// they are; the expert's scaling): the expert's local models refined on the vehicle's samples.
+NarxModel RefineExpert(const NarxModel& expert, const Series& series);
+
+/// The refit's own choice replaces an expert's rules only when it beats them — refined on the
+/// selection's fit slice — on its hold-out by the margin a candidate needs over a simpler one
+/// (false: they stay). A search on blocks of a longer buffer has no such slice: they stay.
+bool ExpertHoldsItsOwn(const NarxModel& expert, const SelectionResult& selection,
+                       const Series& series, const SelectionOptions& options);
 
 /// At a landing, the samples that came in while the refit ran are ones neither the refit's
 /// fuzzy model nor the linear model trained beside it (on the same samples) has seen: the linear

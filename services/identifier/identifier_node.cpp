@@ -40,6 +40,9 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
   core_.set_max_gap(config_.max_gap);
+  // A model given at start is an expert's: refits refine its rules, and replace them only when
+  // their own choice beats them (docs/identifier.md §6.3).
+  if (initial) core_.KeepExpertRules();
   // Samples are formed from the first message on; while it waits for a snapshot they are kept.
   stream_.Start();
   // A landing that must wait for its refit blocks this thread, and with it the heartbeat timer.
@@ -249,6 +252,19 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
                  : ", chosen again (the steady-state model ran away or did not come to rest)";
     else if (kept)
       why = ", the last refit's model kept (it predicts the newest samples better)";
+    // The rules the identifier started from: kept (refined) or replaced, said each time.
+    if (core_.experts_kept() != experts_reported_) {
+      experts_reported_ = core_.experts_kept();
+      why +=
+          ", the rules it started from kept, their consequents refined (the refit's own choice "
+          "did not beat them on its hold-out by the margin)";
+    }
+    if (core_.expert_replaced() && !expert_replaced_reported_) {
+      expert_replaced_reported_ = true;
+      why +=
+          ", the rules it started from replaced (the refit's own choice beat them on its "
+          "hold-out by the margin)";
+    }
     // A refit whose fuzzy model lost to the linear one on the samples since it began.
     const bool linear = core_.linear_landed() != linear_reported_;
     linear_reported_ = core_.linear_landed();
@@ -359,6 +375,10 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"gaps", static_cast<double>(core_.gaps())},
           {"bridged", static_cast<double>(core_.bridged())},
           {"not_learned", static_cast<double>(not_learned_)},
+          // The rules it started from (a .fis or model file): refits that kept them, refined, and
+          // whether one replaced them.
+          {"expert_rules_kept", static_cast<double>(core_.experts_kept())},
+          {"expert_rules_replaced", core_.expert_replaced() ? 1.0 : 0.0},
           // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
           {"samples_predicted", static_cast<double>(core_.samples_predicted())},
           {"samples_outside", static_cast<double>(core_.samples_outside())}};

@@ -78,7 +78,9 @@ class IdentifierNode {
   int64_t incumbents_reported_ = 0;  ///< of them, those that kept the last refit's model
   int64_t refused_reported_ = 0;     ///< of them, steady-state models refused (SteadyStateHolds)
   int64_t linear_reported_ = 0;      ///< of them, linear models landed (LinearWinsTheNewSamples)
-  std::string state_before_refit_;   ///< the heartbeat state to go back to after "refitting"
+  int64_t experts_reported_ = 0;     ///< of them, those that kept the rules it started from
+  bool expert_replaced_reported_ = false;
+  std::string state_before_refit_;  ///< the heartbeat state to go back to after "refitting"
   int64_t snapshot_seq_ = 0;
   // Why the newest vehicle message was refused (empty once one is taken again), and how many
   // were: a configuration naming a signal the vehicle does not send must not look like a quiet

@@ -491,6 +491,56 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOneA
             rows.x.rows() - BuildRegression(id.model().spec(), refit_samples).x.rows());
 }
 
+// An expert's rules (issue 47 point 4): an identifier started from a model someone gave keeps
+// its rules through the refits, their consequents refined on the vehicle's samples, unless a
+// refit's own choice beats them on its hold-out by the margin; then they are replaced, once.
+TEST(OnlineIdentifier, AnExpertsRulesSurviveTheRefitsUnlessBeaten) {
+  const Series expert_data = testing::NarendraTrain(1500, 3);
+  const Series flight = testing::NarendraTrain(1600, 4);
+  RefitSchedule refit;
+  refit.first = 500;
+  refit.every = 1000;
+  refit.buffer = 5000;
+  OfflineFitOptions fo;
+  fo.selection.simulation = DefaultSimulationStages();
+  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
+  const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, expert_data);
+  // A good expert: odonata-fit's model of the same plant.
+  const NarxModel good =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, expert_data, fo).model;
+  ASSERT_GT(good.total_rules(), 1);
+  OnlineIdentifier kept(good, refit);
+  kept.KeepExpertRules();
+  ASSERT_TRUE(kept.has_expert());
+  for (Eigen::Index k = 0; k < flight.samples(); ++k) kept.Push(Row(flight, k));
+  kept.Freeze();
+  kept.Settle();
+  EXPECT_GE(kept.experts_kept(), 1);
+  EXPECT_FALSE(kept.expert_replaced());
+  ASSERT_EQ(kept.model().total_rules(), good.total_rules()) << "the expert's rules stay";
+  for (int j = 0; j < good.total_rules(); ++j)
+    for (int i = 0; i < good.spec().size(); ++i)
+      EXPECT_EQ(kept.model().model(0).rule_base().centre(j, i),
+                good.model(0).rule_base().centre(j, i));
+  // A linear "expert" on this strongly nonlinear plant: the first refit's choice beats it.
+  fuzzy::FuzzyModelConfig one = empty.model(0).config();
+  one.entropy.threshold = 0.0;  // no rule beyond the first (the refits search H̄ themselves)
+  NarxModel linear(empty.spec(), one);
+  linear.SetScaling(empty.scaling());
+  TrainOptions t;
+  t.fit_scaling = false;
+  linear.Train(expert_data, t);
+  ASSERT_EQ(linear.total_rules(), 1);
+  OnlineIdentifier replaced(linear, refit);
+  replaced.KeepExpertRules();
+  for (Eigen::Index k = 0; k < flight.samples(); ++k) replaced.Push(Row(flight, k));
+  replaced.Freeze();
+  replaced.Settle();
+  EXPECT_TRUE(replaced.expert_replaced());
+  EXPECT_FALSE(replaced.has_expert()) << "once replaced, later refits are free";
+  EXPECT_GT(replaced.model().total_rules(), 1);
+}
+
 TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
   const Series train = testing::NarendraTrain(800);
   OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train));
