@@ -73,7 +73,10 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
         for (std::size_t p = 0; p < c; ++p) {
           if (cells[p] == cells[c]) {
             throw CsvError(source_name + ":" + std::to_string(line_no) + ": column name '" +
-                           cells[c] + "' appears twice in the header");
+                           cells[c] + "' appears twice in the header (columns " +
+                           std::to_string(p + 1) + " and " + std::to_string(c + 1) +
+                           "): rename one of them in that line, e.g. to '" + cells[c] +
+                           "_2', and name it so in --output or --input");
           }
         }
       }

@@ -6,6 +6,7 @@
 // the identifier's too: a plant restart starts one once the plant confirms it.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace odonata::log_export {
@@ -49,11 +50,16 @@ struct SignalsExportSummary {
   long dropped = 0;      ///< duplicates, stale seqs and unconfirmed leaps (all runs)
   long foreign = 0;      ///< messages of the run whose signal names differ from its first one
   long lost = 0;         ///< seqs missing in the run (rows not written: see the seq column)
+  /// Vehicle signals written under another name, (theirs, the column's): a signal named like a
+  /// column the export adds (seq, t_s), or like an earlier signal, would make a header that no
+  /// CSV reader takes. Said in the file's header comment too.
+  std::vector<std::pair<std::string, std::string>> renamed;
 };
 
 /// Any vehicle's signals_t on `channel` (docs/lcm.md §14) as CSV: columns seq, t_s (seconds since
 /// the run's first message, from utime) and every signal of the run's first message, in its
-/// order; one row per sample the identifier would take, in the order it would take them
+/// order (one named like a column before it gets the suffix _vehicle, or _vehicle2 …: renamed); one
+/// row per sample the identifier would take, in the order it would take them
 /// (sequence/sample_sequence.hpp: runs, gaps and drops alike). `run` as in ExportOptions.
 /// @throws std::runtime_error on unreadable logs, no signals, or write errors.
 SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_paths,

@@ -116,6 +116,12 @@ int main(int argc, char** argv) {
                    "%ld undecodable, %ld out of sequence, %ld with other signal names skipped\n",
                    s.rows, s.exported_run, s.runs, csv.c_str(), s.lost, s.undecodable, s.dropped,
                    s.foreign);
+      for (const auto& [name, column] : s.renamed)
+        std::fprintf(stderr,
+                     "odonata-logger: the vehicle's signal '%s' is written as column '%s' (its "
+                     "name is taken by an earlier column; give odonata-fit --output or --input "
+                     "%s)\n",
+                     name.c_str(), column.c_str(), column.c_str());
     }
     if (*exp && !signals) {
       const auto s = odonata::log_export::ExportLogToCsv(logs, csv, ex);

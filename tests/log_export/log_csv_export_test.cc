@@ -8,12 +8,15 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "io/csv_table.hpp"
 #include "messages/plant_state_message.hpp"
 #include "messages/wing_command_message.hpp"
+#include "odonata/signals_t.hpp"
 
 namespace odonata::log_export {
 namespace {
@@ -158,6 +161,57 @@ TEST(LogCsvExport, ALogWithoutCommandsSaysSo) {
     FAIL() << "a log without commands exported";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "no commands on DIMAV_COMMAND in the log");
+  }
+}
+
+// A vehicle that publishes its own t_s (issue 48 point 3): the export adds seq and t_s, so a
+// header of seq,t_s,t_s,… would be refused by every CSV reader. The vehicle's t_s is written as
+// t_s_vehicle, said in the header comment and in the summary, and the file reads.
+TEST(LogCsvExport, AVehicleSignalNamedLikeAnAddedColumnIsRenamed) {
+  TempDir dir;
+  const std::string log_path = dir.path() + "/log.00";
+  {
+    lcm::LogFile log(log_path, "w");
+    for (int64_t k = 0; k < 5; ++k) {
+      odonata::signals_t m;
+      m.utime = 1000000 + 10000 * k;
+      m.seq = k;
+      m.source = "flapper";
+      m.names = {"t_s", "m1", "seq", "t_s_vehicle"};
+      m.values = {0.01 * static_cast<double>(k), 0.5, 7.0, 9.0};
+      m.num_signals = 4;
+      Write(log, "VEHICLE_SIGNALS", m, m.utime);
+    }
+  }
+  const std::string csv = dir.path() + "/out.csv";
+  const SignalsExportSummary s = ExportSignalsToCsv({log_path}, "VEHICLE_SIGNALS", csv);
+  EXPECT_EQ(s.rows, 5);
+  ASSERT_EQ(s.renamed.size(), 3u);
+  EXPECT_EQ(s.renamed[0], (std::pair<std::string, std::string>{"t_s", "t_s_vehicle"}));
+  EXPECT_EQ(s.renamed[1], (std::pair<std::string, std::string>{"seq", "seq_vehicle"}));
+  // Its own t_s_vehicle comes after the renamed t_s: it gets the next free name.
+  EXPECT_EQ(s.renamed[2],
+            (std::pair<std::string, std::string>{"t_s_vehicle", "t_s_vehicle_vehicle"}));
+  const io::CsvTable t = io::CsvTable::Read(csv);
+  EXPECT_EQ(t.names(), (std::vector<std::string>{"seq", "t_s", "t_s_vehicle", "m1", "seq_vehicle",
+                                                 "t_s_vehicle_vehicle"}));
+  EXPECT_DOUBLE_EQ(t.Column("t_s_vehicle")[3], 0.03);
+  EXPECT_DOUBLE_EQ(t.Column("seq_vehicle")[0], 7.0);
+  std::ifstream in(csv);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first.rfind("# the vehicle's signal 't_s' is column 't_s_vehicle'", 0), 0u) << first;
+}
+
+TEST(CsvTable, ADuplicateColumnNameSaysWhichAndHowToFixIt) {
+  try {
+    io::CsvTable::Parse("seq,t_s,t_s,m1\n0,0,0,1\n", "flight.csv");
+    FAIL() << "a duplicate column was accepted";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'t_s' appears twice"), std::string::npos) << what;
+    EXPECT_NE(what.find("columns 2 and 3"), std::string::npos) << what;
+    EXPECT_NE(what.find("rename one of them"), std::string::npos) << what;
   }
 }
 
