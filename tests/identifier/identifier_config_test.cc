@@ -43,6 +43,13 @@ TEST(IdentifierConfig, TheExampleLoads) {
 TEST(IdentifierConfig, AnUnknownKeyIsAnErrorNamingIt) {
   const std::string e = LoadEdited([](nlohmann::json& j) { j["entropy_treshold"] = 0.2; });
   EXPECT_NE(e.find("unknown key \"entropy_treshold\""), std::string::npos) << e;
+  // A typo gets the key it was meant to be (issue 48's first-hour papercuts); a stranger does not.
+  EXPECT_NE(e.find("did you mean \"entropy_threshold\"?"), std::string::npos) << e;
+  const std::string swapped = LoadEdited([](nlohmann::json& j) { j["refit_horzion"] = 50; });
+  EXPECT_NE(swapped.find("did you mean \"refit_horizon\"?"), std::string::npos) << swapped;
+  const std::string stranger = LoadEdited([](nlohmann::json& j) { j["colour"] = "blue"; });
+  EXPECT_NE(stranger.find("unknown key \"colour\""), std::string::npos) << stranger;
+  EXPECT_EQ(stranger.find("did you mean"), std::string::npos) << stranger;
 }
 
 TEST(IdentifierConfig, IntegersAreNeverSilentlyConverted) {
