@@ -310,6 +310,12 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
     case odonata::control_t::FREEZE:
       core_.Freeze();
       if (started_ && input_problem_.empty()) bus_.SetState("frozen");
+      // A freeze before anything was learned is obeyed, but not in silence: the model it keeps
+      // predicting with is empty (a vehicle that never reached it, a wrong channel or name).
+      if (core_.model().total_rules() == 0)
+        return "frozen with an empty model: no sample learned yet (" +
+               std::to_string(core_.samples_learned()) +
+               " samples); check that the vehicle's samples reach it (get, the heartbeat)";
       return "frozen: predicting, not learning";
     case odonata::control_t::RESUME:
       core_.Resume();
@@ -329,6 +335,12 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       core_.SetForgetting(msg.value);
       return "forgetting factor set";
     case odonata::control_t::SAVE_MODEL: {
+      // Asked for a model that holds nothing, the operator hears so rather than getting a file
+      // with no rule (--save-model at shutdown still writes what there is).
+      if (core_.model().total_rules() == 0)
+        throw std::invalid_argument("the model is empty (" +
+                                    std::to_string(core_.samples_learned()) +
+                                    " samples learned): nothing to save yet");
       // A name from the bus: only a plain file name, written inside --models-dir.
       const std::string path =
           msg.path.empty() ? save_model_path_ : io::ConfinedPath(models_dir_, msg.path);

@@ -319,6 +319,34 @@ TEST_F(IdentifierNodeTest, EveryControlCommandActs) {
 
 // Every command addressed to the identifier is answered on ODONATA_CONTROL_REPLY, matched to
 // its request by sender and seq: accepted with the value now in force, or rejected with why.
+// Freeze and save-model before anything was learned (issue 48's first-hour papercuts): the
+// freeze is obeyed and says the model is empty; save-model is refused with why, no file written.
+TEST_F(IdentifierNodeTest, AnEmptyModelIsSaidSoOnFreezeAndNotSaved) {
+  Start();
+  std::vector<odonata::control_reply_t> replies;
+  bus_->Subscribe<odonata::control_reply_t>(bus_->channels().control_reply,
+                                            [&](const auto& r) { replies.push_back(r); });
+  Control(odonata::control_t::FREEZE);
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_TRUE(replies[0].accepted);
+  EXPECT_NE(replies[0].reason.find("empty model"), std::string::npos) << replies[0].reason;
+  replies.clear();
+  Control(odonata::control_t::SAVE_MODEL, 0, "empty.json");
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_FALSE(replies[0].accepted);
+  EXPECT_NE(replies[0].reason.find("nothing to save"), std::string::npos) << replies[0].reason;
+  EXPECT_FALSE(std::filesystem::exists(models_dir_ + "/empty.json"));
+  // Once it has learned, both are as before.
+  Control(odonata::control_t::RESUME);
+  Run(0, 50);
+  replies.clear();
+  Control(odonata::control_t::FREEZE);
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].reason, "frozen: predicting, not learning");
+  Control(odonata::control_t::SAVE_MODEL, 0, "learned.json");
+  EXPECT_TRUE(std::filesystem::is_regular_file(models_dir_ + "/learned.json"));
+}
+
 TEST_F(IdentifierNodeTest, EveryCommandIsAnsweredWithTheValueInForce) {
   Start();
   std::vector<odonata::control_reply_t> replies;
