@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_command_line.hpp"
 #include "io/json_integer.hpp"
 
 namespace odonata::identifier {
@@ -106,28 +107,13 @@ Int IntegerField(const nlohmann::json& j, const std::string& key, Int fallback, 
 
 namespace {
 
-// Edits (insert, delete, substitute, swap two neighbours) that turn a into b.
-std::size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t k = 0; k <= b.size(); ++k) d[0][k] = k;
-  for (std::size_t i = 1; i <= a.size(); ++i)
-    for (std::size_t k = 1; k <= b.size(); ++k) {
-      d[i][k] = std::min(
-          {d[i - 1][k] + 1, d[i][k - 1] + 1, d[i - 1][k - 1] + (a[i - 1] == b[k - 1] ? 0 : 1)});
-      if (i > 1 && k > 1 && a[i - 1] == b[k - 2] && a[i - 2] == b[k - 1])
-        d[i][k] = std::min(d[i][k], d[i - 2][k - 2] + 1);
-    }
-  return d[a.size()][b.size()];
-}
-
 // " (did you mean \"refit_horizon\"?)" for the known key nearest a mistyped one, when it is near
 // enough to be a typo (at most a third of its letters, and two, changed); "" otherwise.
 std::string DidYouMean(const std::string& key) {
   std::string best;
   std::size_t best_distance = std::min<std::size_t>(2, key.size() / 3);
   for (const std::string& known : kKnownKeys) {
-    const std::size_t d = EditDistance(key, known);
+    const std::size_t d = cli::EditDistance(key, known);
     if (d <= best_distance && (best.empty() || d < best_distance)) {
       best = known;
       best_distance = d;
