@@ -45,7 +45,7 @@ DataEnvelope DataEnvelope::Fit(const std::vector<fuzzy::FuzzyModel>& models,
 namespace {
 
 // 0 at or below 0, 1 from 1 on, smoothstep between: the prediction's slope stays continuous. A
-// NaN is 0 (Apply keeps the fuzzy NaN).
+// NaN is 0 (Blend keeps the fuzzy NaN).
 double Smoothstep(double t) {
   if (!(t > 0.0)) return 0.0;
   if (t >= 1.0) return 1.0;
@@ -67,9 +67,8 @@ double DataEnvelope::LinearShare(int output, const Eigen::Ref<const Eigen::Vecto
   return std::max(Smoothstep(by_rules), Smoothstep(beyond / kBoxBlendSpan));
 }
 
-double DataEnvelope::Apply(int output, const Eigen::Ref<const Eigen::VectorXd>& x, double fuzzy,
-                           double distance_widths) const {
-  const double share = LinearShare(output, x, distance_widths);
+double DataEnvelope::Blend(int output, const Eigen::Ref<const Eigen::VectorXd>& x, double fuzzy,
+                           double share) const {
   if (share == 0.0) return fuzzy;
   const Eigen::VectorXd& th = outputs[static_cast<std::size_t>(output)].linear;
   const double linear = th(0) + th.tail(th.size() - 1).dot(x);

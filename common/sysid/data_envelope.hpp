@@ -64,9 +64,9 @@ struct DataEnvelope {
   double LinearShare(int output, const Eigen::Ref<const Eigen::VectorXd>& x,
                      double distance_widths) const;
   /// The blended prediction (scaled units) of output o at scaled regressor x, whose fuzzy
-  /// prediction is `fuzzy` and whose nearest rule lies `distance_widths` away.
-  double Apply(int output, const Eigen::Ref<const Eigen::VectorXd>& x, double fuzzy,
-               double distance_widths) const;
+  /// prediction is `fuzzy`, with the linear model's share `share` (LinearShare).
+  double Blend(int output, const Eigen::Ref<const Eigen::VectorXd>& x, double fuzzy,
+               double share) const;
   /// Wrong sizes, a non-finite coefficient or radius; empty when fine.
   std::string Problems(int outputs, int regressors) const;
   nlohmann::json ToJson() const;

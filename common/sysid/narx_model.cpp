@@ -113,12 +113,8 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   // The envelope is the trained model's: while it trains, every prediction is the rules' own.
   envelope_ = DataEnvelope{};
   const Eigen::Index rows = d.x.rows();
-  Eigen::MatrixXd xs(rows, d.x.cols());
-  Eigen::MatrixXd ys(rows, d.y.cols());
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    xs.row(r) = scaling_.ScaleRegressor(d.x.row(r).transpose()).transpose();
-    for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, d.y(r, o));
-  }
+  const Eigen::MatrixXd xs = scaling_.ScaleRegressorRows(d.x);
+  const Eigen::MatrixXd ys = scaling_.ScaleOutputRows(d.y);
   // Training loss (scaled units, summed over outputs) and one-step FIT, mean over outputs.
   auto evaluate = [&](double* fit) {
     double loss = 0.0, fit_sum = 0.0;
@@ -277,8 +273,9 @@ Eigen::VectorXd NarxModel::Predict(const Eigen::VectorXd& regressor,
     if (envelope_.any()) {
       double distance = 0.0;
       const double fuzzy = m.PredictWithDistance(x, &distance);  // sets distance first
-      scaled = envelope_.Apply(o, x, fuzzy, distance);
-      if (linear_share) (*linear_share)(o) = envelope_.LinearShare(o, x, distance);
+      const double share = envelope_.LinearShare(o, x, distance);
+      scaled = envelope_.Blend(o, x, fuzzy, share);
+      if (linear_share) (*linear_share)(o) = share;
     } else {
       scaled = m.Predict(x);
     }
@@ -295,12 +292,8 @@ void NarxModel::SetEnvelope(const DataEnvelope& envelope) {
 
 void NarxModel::FitEnvelope(const Series& train) {
   const RegressionData d = BuildRegression(spec_, train);
-  Eigen::MatrixXd xs(d.x.rows(), d.x.cols()), ys(d.y.rows(), d.y.cols());
-  for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
-    xs.row(r) = scaling_.ScaleRegressor(d.x.row(r).transpose()).transpose();
-    for (int o = 0; o < outputs(); ++o) ys(r, o) = scaling_.ScaleOutput(o, d.y(r, o));
-  }
-  envelope_ = DataEnvelope::Fit(models_, xs, ys);
+  envelope_ =
+      DataEnvelope::Fit(models_, scaling_.ScaleRegressorRows(d.x), scaling_.ScaleOutputRows(d.y));
 }
 
 void NarxModel::SetLimits(const OutputLimits& limits) {

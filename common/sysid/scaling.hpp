@@ -23,6 +23,18 @@ struct Scaling {
     return ((x - regressor_mid).array() / regressor_half.array()).matrix();
   }
   double ScaleOutput(int o, double y) const { return (y - output_mean(o)) / output_std(o); }
+  /// Every row of x (rows × regressors) and of y (rows × outputs) scaled as ScaleRegressor and
+  /// ScaleOutput scale one, element for element the same arithmetic.
+  Eigen::MatrixXd ScaleRegressorRows(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
+    return ((x.rowwise() - regressor_mid.transpose()).array().rowwise() /
+            regressor_half.transpose().array())
+        .matrix();
+  }
+  Eigen::MatrixXd ScaleOutputRows(const Eigen::Ref<const Eigen::MatrixXd>& y) const {
+    return ((y.rowwise() - output_mean.transpose()).array().rowwise() /
+            output_std.transpose().array())
+        .matrix();
+  }
   double UnscaleOutput(int o, double ys) const { return output_mean(o) + output_std(o) * ys; }
 
   /// Every problem (sizes that differ, a range or deviation that is not positive and finite,

@@ -103,12 +103,8 @@ bool IncumbentHoldsItsOwn(const NarxModel& incumbent, const SelectionResult& sel
 NarxModel RefineExpert(const NarxModel& expert, const Series& series) {
   NarxModel refined = expert;
   const RegressionData d = BuildRegression(expert.spec(), series);
-  const Scaling& sc = expert.scaling();
-  Eigen::MatrixXd xs(d.x.rows(), d.x.cols()), ys(d.y.rows(), d.y.cols());
-  for (Eigen::Index r = 0; r < d.x.rows(); ++r) {
-    xs.row(r) = sc.ScaleRegressor(d.x.row(r).transpose()).transpose();
-    for (int o = 0; o < expert.outputs(); ++o) ys(r, o) = sc.ScaleOutput(o, d.y(r, o));
-  }
+  const Eigen::MatrixXd xs = expert.scaling().ScaleRegressorRows(d.x);
+  const Eigen::MatrixXd ys = expert.scaling().ScaleOutputRows(d.y);
   // The solve's own ridge (TrainOptions::ridge); a failed solve leaves that output as written.
   for (int o = 0; o < expert.outputs(); ++o)
     refined.mutable_model(o).RefineConsequents(xs, ys.col(o), TrainOptions{}.ridge);

@@ -107,9 +107,9 @@ TEST(DataEnvelope, TheBlendIsSmoothAndMonotoneInTheDistance) {
   EXPECT_EQ(e.LinearShare(0, out, 0.0), 1.0);
   EXPECT_NEAR(e.LinearShare(0, mid, 0.0), 0.5, 1e-12);
   EXPECT_NEAR(e.LinearShare(0, -mid, 0.0), 0.5, 1e-12);
-  EXPECT_EQ(e.Apply(0, x, 3.0, 1.0), 3.0);
-  EXPECT_EQ(e.Apply(0, x, 3.0, 4.0), 1.0);
-  EXPECT_NEAR(e.Apply(0, x, 3.0, 2.5), 2.0, 1e-12);
+  EXPECT_EQ(e.Blend(0, x, 3.0, e.LinearShare(0, x, 1.0)), 3.0);
+  EXPECT_EQ(e.Blend(0, x, 3.0, e.LinearShare(0, x, 4.0)), 1.0);
+  EXPECT_NEAR(e.Blend(0, x, 3.0, e.LinearShare(0, x, 2.5)), 2.0, 1e-12);
 }
 
 TEST(DataEnvelope, ARoundTripThroughAModelFileKeepsEveryPrediction) {

@@ -382,6 +382,20 @@ TEST(RefitSchedule, TheLinearModelLandsOnlyWhenItWinsTheNewSamples) {
   EXPECT_FALSE(LinearWinsTheNewSamples(runs_away, linear, SliceSeries(series, 0, 8), 0));
 }
 
+// The two refit tests' identifier: the default configuration at declared ranges, refits begun at
+// 500 samples and landing at 1 000, then at every 1 000.
+NarxModel EmptyOn(const SignalRanges& declared) {
+  NarxModel empty(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
+  empty.SetScaling(ScalingFromRanges(empty.spec(), declared));
+  return empty;
+}
+RefitSchedule RefitsFrom500Every1000() {
+  RefitSchedule refit;
+  refit.first = 500;
+  refit.every = 1000;
+  return refit;
+}
+
 // A plant that drifts out of the range its first refit learned, into one where the fuzzy model's
 // nearest rule has an unstable local model (the linear one's single slope stays stable): y(k+1) =
 // (0.5 + 1.2 min(y(k)², 0.2)) y(k) + u(k), u in [−0.25, 0.25] for 1 000 samples, then in
@@ -406,15 +420,7 @@ TEST(OnlineIdentifier, OutsideItsDataARefitsFuzzyModelFallsBackToItsLinearModel)
     s.outputs(k + 1, 0) = (0.5 + 1.2 * std::min(y * y, 0.2)) * y + s.inputs(k, 0);
   }
   for (Eigen::Index k = 0; k < n; ++k) s.outputs(k, 0) += noise(rng);
-  const SignalRanges declared = {{"y", {-3.0, 3.0}}, {"u", {-1.0, 1.0}}};
-  fuzzy::FuzzyModelConfig cfg;
-  NarxModel empty(testing::NarendraSpec(), cfg);
-  const Scaling scaling = ScalingFromRanges(empty.spec(), declared);
-  empty.SetScaling(scaling);
-  RefitSchedule refit;
-  refit.first = 500;
-  refit.every = 1000;
-  OnlineIdentifier id(empty, refit);
+  OnlineIdentifier id(EmptyOn({{"y", {-3.0, 3.0}}, {"u", {-1.0, 1.0}}}), RefitsFrom500Every1000());
   Eigen::Index k = 0;
   for (; k <= 1000; ++k) id.Push(Row(s, k));
   // The refit begun at 500 landed at 1 000: its fuzzy model won the samples of the first range.
@@ -454,14 +460,7 @@ TEST(OnlineIdentifier, ARefitWhoseFuzzyModelLosesTheNewSamplesLandsTheLinearOneA
     s.outputs(k + 1, 0) = 0.5 * s.outputs(k, 0) + u + (k < 1000 ? 0.8 * u * u : 0.0);
   }
   for (Eigen::Index k = 0; k < n; ++k) s.outputs(k, 0) += noise(rng);
-  const SignalRanges declared = {{"y", {-4.0, 4.0}}, {"u", {-1.0, 1.0}}};
-  fuzzy::FuzzyModelConfig cfg;
-  NarxModel empty(testing::NarendraSpec(), cfg);
-  empty.SetScaling(ScalingFromRanges(empty.spec(), declared));
-  RefitSchedule refit;
-  refit.first = 500;
-  refit.every = 1000;
-  OnlineIdentifier id(empty, refit);
+  OnlineIdentifier id(EmptyOn({{"y", {-4.0, 4.0}}, {"u", {-1.0, 1.0}}}), RefitsFrom500Every1000());
   Eigen::Index k = 0;
   for (; k <= 1000; ++k) id.Push(Row(s, k));
   ASSERT_EQ(id.refits(), 1);
