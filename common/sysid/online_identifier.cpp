@@ -1,7 +1,10 @@
 #include "sysid/online_identifier.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace odonata::sysid {
 
@@ -26,6 +29,13 @@ void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
 void OnlineIdentifier::Freeze() {
   if (learning_) refitter_.BeginClosing(model_);
   learning_ = false;
+}
+
+void OnlineIdentifier::set_ahead_horizon(int horizon) {
+  if (horizon < 0 || horizon == 1)
+    throw std::invalid_argument("the horizon must be 0 (none) or K >= 2 steps ahead, not " +
+                                std::to_string(horizon));
+  ahead_horizon_ = horizon;
 }
 
 void OnlineIdentifier::SetForgetting(double lambda) {
@@ -93,7 +103,8 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   // model's own simulation of that sample.
   free_history_.push_back(s.outputs);
   arx_free_history_.push_back(s.outputs);
-  while (history_.size() > t0 + 1) {
+  // K-step predictions need the last K samples besides the regressor's lags.
+  while (history_.size() > t0 + static_cast<std::size_t>(std::max(ahead_horizon_, 1))) {
     history_.pop_front();
     free_history_.pop_front();
     arx_free_history_.pop_front();
@@ -120,11 +131,29 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   spec.Fill(t, f, u, x);
   // A diverging output holds the last value of its own history rather than poisoning
   // everything with NaN.
-  const auto hold = [&](Eigen::VectorXd v, const Eigen::MatrixXd& past) {
+  const auto hold_at = [&](Eigen::Index r, Eigen::VectorXd v, const Eigen::MatrixXd& past) {
     for (Eigen::Index o = 0; o < no; ++o)
-      if (!std::isfinite(v(o))) v(o) = t > 0 ? past(t - 1, o) : y(t, o);
+      if (!std::isfinite(v(o))) v(o) = r > 0 ? past(r - 1, o) : y(r, o);
     return v;
   };
+  const auto hold = [&](Eigen::VectorXd v, const Eigen::MatrixXd& past) {
+    return hold_at(t, std::move(v), past);
+  };
+  if (ahead_horizon_ >= 2) {
+    // ŷ(k | k−K) by the model in force now, as PredictAhead computes it offline: measured
+    // outputs up to k−K (or the segment's start), then the model's own predictions.
+    const Eigen::Index first =
+        std::max<Eigen::Index>(static_cast<Eigen::Index>(t0), n - ahead_horizon_);
+    Eigen::MatrixXd g = y, ga = y;
+    for (Eigen::Index r = first; r < n; ++r) {
+      spec.Fill(r, g, u, x);
+      g.row(r) = hold_at(r, model_.Predict(x), g).transpose();
+      spec.Fill(r, ga, u, x);
+      ga.row(r) = hold_at(r, arx_.Predict(x), ga).transpose();
+    }
+    rep.ahead = g.row(t).transpose();
+    rep.arx_ahead = ga.row(t).transpose();
+  }
   rep.free_run = hold(model_.Predict(x), f);
   free_history_.back() = rep.free_run;
   spec.Fill(t, fa, u, x);

@@ -30,6 +30,11 @@ struct SampleReport {
   /// The live linear baseline on the same regressors (RecursiveArx): ŷ(k | k−1) and its own
   /// free run, so a consumer sees whether the fuzzy model beats linear.
   Eigen::VectorXd arx_predicted, arx_free_run;
+  /// With a horizon K ≥ 2 (OnlineIdentifier::set_ahead_horizon), ŷ(k | k−K): the model's own
+  /// simulation over the last K samples from the measured outputs before them (or from its
+  /// segment's start), as odonata-fit's PredictAhead scores it; and the live ARX's, likewise.
+  /// Empty without a horizon.
+  Eigen::VectorXd ahead, arx_ahead;
   /// Per output, the share of the model's global linear model in `predicted`: 0 when the
   /// regressor lies within the data the model was trained on, up to 1 beyond it (DataEnvelope).
   Eigen::VectorXd linear_share;
@@ -107,6 +112,11 @@ class OnlineIdentifier {
   int max_gap() const { return max_gap_; }
   /// @pre max_gap >= 0.
   void set_max_gap(int max_gap) { max_gap_ = max_gap; }
+  /// K ≥ 2: every report carries ŷ(k | k−K) of the model and of the live ARX (SampleReport::
+  /// ahead), for loops that integrate, where one step ahead says little; 0: none. Costs K model
+  /// evaluations per sample. @throws std::invalid_argument for 1 or a negative K.
+  void set_ahead_horizon(int horizon);
+  int ahead_horizon() const { return ahead_horizon_; }
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
   int64_t refits() const { return refitter_.refits(); }
   int64_t failed_refits() const { return refitter_.failed(); }
@@ -128,7 +138,7 @@ class OnlineIdentifier {
 
   NarxModel model_;
   bool learning_ = true;
-  std::deque<Sample> history_;                // consecutive samples, newest last
+  std::deque<Sample> history_;  // consecutive samples, newest last: first_target() + max(K, 1)
   std::deque<Eigen::VectorXd> free_history_;  // free-run outputs aligned with history_
   RecursiveArx arx_;
   std::deque<Eigen::VectorXd> arx_free_history_;  // the ARX's own free run, likewise
@@ -140,6 +150,7 @@ class OnlineIdentifier {
   int64_t predicted_ = 0;
   int64_t outside_ = 0;
   int max_gap_ = 0;
+  int ahead_horizon_ = 0;
   ScheduledRefitter refitter_;
 };
 

@@ -12,6 +12,7 @@
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
 #include "sysid/arx_model.hpp"
+#include "sysid/free_run.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -558,6 +559,52 @@ TEST(OnlineIdentifier, ReportsAPrioriPredictionsAndAFreeRun) {
   }
   EXPECT_LT(last_err, 2.0);
   EXPECT_GT(id.model().total_rules(), 1);
+}
+
+// Issue 47 point 5: with a horizon the identifier reports ŷ(k | k−K) for the model and the live
+// ARX, exactly as odonata-fit's PredictAhead computes them on the same series with the same
+// model — so the monitor's K-step score is odonata-fit's, not a look-alike.
+TEST(OnlineIdentifier, KStepPredictionsAreOdonataFitsPredictAheadBitForBit) {
+  const Series train = testing::NarendraTrain(1200);
+  const Series check = testing::NarendraTrain(700, /*seed=*/9);
+  constexpr int kHorizon = 12;
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train));
+  EXPECT_THROW(id.set_ahead_horizon(1), std::invalid_argument);
+  id.set_ahead_horizon(kHorizon);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) {
+    const auto rep = id.Push(Row(train, k));
+    if (rep) {
+      EXPECT_EQ(rep->ahead.size(), 1);
+    }
+  }
+  id.Freeze();
+  // A new run: the history restarts at the gap, as a segment starts offline.
+  std::vector<double> ahead, arx_ahead;
+  for (Eigen::Index k = 0; k < check.samples(); ++k) {
+    Sample s = Row(check, k);
+    s.index += train.samples() + 10;
+    if (const auto rep = id.Push(s)) {
+      ahead.push_back(rep->ahead(0));
+      arx_ahead.push_back(rep->arx_ahead(0));
+    }
+  }
+  const NarxModel& model = id.model();
+  const RecursiveArx& arx = id.arx();
+  const Eigen::MatrixXd want = PredictAhead(
+      model.spec(), check, [&](const Eigen::VectorXd& x) { return model.Predict(x); }, kHorizon);
+  const Eigen::MatrixXd want_arx = PredictAhead(
+      model.spec(), check, [&](const Eigen::VectorXd& x) { return arx.Predict(x); }, kHorizon);
+  ASSERT_EQ(static_cast<Eigen::Index>(ahead.size()), want.rows());
+  for (Eigen::Index r = 0; r < want.rows(); ++r) {
+    ASSERT_EQ(ahead[static_cast<std::size_t>(r)], want(r, 0)) << "row " << r;
+    ASSERT_EQ(arx_ahead[static_cast<std::size_t>(r)], want_arx(r, 0)) << "row " << r;
+  }
+  // And K steps ahead is not one step ahead: the comparison above is not of copies.
+  EXPECT_GT((want - PredictOneStep(model.spec(), check,
+                                   [&](const Eigen::VectorXd& x) { return model.Predict(x); }))
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-3);
 }
 
 TEST(OnlineIdentifier, GapsRestartTheHistoryAndAreCounted) {
