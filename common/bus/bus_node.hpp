@@ -40,7 +40,7 @@ struct BusOptions {
   std::string service;   ///< e.g. odonata-identifier
   std::string instance;  ///< unique name of this copy (defaults to service)
   ChannelConfig channels;
-  double heartbeat_period_s = 1.0;
+  double heartbeat_period_s = 1.0;  ///< 0: no heartbeat at all (a one-shot tool, not a peer)
   /// Senders whose RESET and SHUTDOWN this process obeys (control_gate.hpp).
   std::vector<std::string> control_senders = DefaultControlSenders();
   /// The shared key's file (message_signer.hpp; empty: no key). With a key every message this

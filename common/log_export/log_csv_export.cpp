@@ -22,7 +22,7 @@
 #include "messages/signals_message.hpp"
 #include "messages/wing_command_message.hpp"
 #include "model_messages/model_snapshot_message.hpp"
-#include "monitoring/prediction_scoreboard.hpp"
+#include "monitoring/prediction_from_message.hpp"
 #include "odonata/prediction_t.hpp"
 #include "sequence/sample_sequence.hpp"
 
@@ -297,11 +297,23 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
     all.push_back(std::move(p));
   });
   if (all.empty()) throw std::runtime_error("no predictions on " + channel + " in the log");
+  // K-step columns when every prediction carries them with one horizon (a CSV has no empty
+  // cells for the ones that do not).
+  const int horizon = all.front().horizon;
+  const bool ahead = horizon > 1 && std::all_of(all.begin(), all.end(), [&](const auto& p) {
+                       return p.horizon == horizon && p.ahead.size() == p.names.size() &&
+                              p.arx_ahead.size() == p.names.size();
+                     });
   std::vector<std::string> header{"run", "sample", "learning"};
-  for (const auto& name : all.front().names)
+  for (const auto& name : all.front().names) {
     for (const char* f : {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy",
                           "_arx_predicted", "_arx_free_run"})
       header.push_back(name + f);
+    if (ahead) {
+      header.push_back(name + "_ahead_" + std::to_string(horizon));
+      header.push_back(name + "_arx_ahead_" + std::to_string(horizon));
+    }
+  }
   io::CsvWriter out(csv_path, header);
   int run = 0;
   int64_t last = -1;
@@ -317,6 +329,10 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
       for (double v : {p.measured[o], p.predicted[o], p.free_run[o], next, double(p.rules[o]),
                        p.max_entropy[o], p.arx_predicted[o], p.arx_free_run[o]})
         row.push_back(v);
+      if (ahead) {
+        row.push_back(p.ahead[o]);
+        row.push_back(p.arx_ahead[o]);
+      }
     }
     out.WriteRow(row);
     ++rows;
@@ -333,8 +349,7 @@ long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std
     odonata::prediction_t p;
     if (!SafeDecode(&p, ev.data, ev.datalen) || p.num_outputs <= 0) return;
     try {
-      board.Add({p.sample, p.names, p.measured, p.predicted, p.free_run, p.rules, p.arx_predicted,
-                 p.arx_free_run});
+      board.Add(monitoring::PredictionFromMessage(p));
       ++scored;
     } catch (const std::invalid_argument&) {
       // a prediction the monitor would drop too (ragged, NaN, a duplicate or a leap)

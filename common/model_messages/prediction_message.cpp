@@ -25,6 +25,12 @@ odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
     p.arx_free_run.push_back(report.arx_free_run(o));
   }
   p.learning = report.learned ? 1 : 0;
+  p.horizon = report.ahead.size() > 0 ? report.horizon : 0;
+  p.num_ahead = p.horizon > 0 ? p.num_outputs : 0;
+  for (Eigen::Index o = 0; o < report.ahead.size() && p.horizon > 0; ++o) {
+    p.ahead.push_back(report.ahead(o));
+    p.arx_ahead.push_back(report.arx_ahead(o));
+  }
   return p;
 }
 

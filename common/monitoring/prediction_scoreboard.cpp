@@ -15,6 +15,11 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
   }
   const bool arx = !p.arx_predicted.empty();
+  const bool ahead = p.horizon > 0;
+  if (p.horizon < 0 || p.horizon == 1 || (ahead && p.ahead.size() != n) ||
+      p.arx_ahead.size() != (ahead && arx ? n : 0) || (!ahead && !p.ahead.empty()))
+    throw std::invalid_argument("prediction's K-step arrays disagree with its horizon " +
+                                std::to_string(p.horizon));
   const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
   if (!leap.empty()) throw std::invalid_argument(leap);
   if (last_sample_ >= 0 && p.sample == last_sample_) {
@@ -25,7 +30,8 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   for (std::size_t o = 0; o < n; ++o) {
     if (!std::isfinite(p.measured[o]) || !std::isfinite(p.predicted[o]) ||
         !std::isfinite(p.free_run[o]) ||
-        (arx && (!std::isfinite(p.arx_predicted[o]) || !std::isfinite(p.arx_free_run[o])))) {
+        (arx && (!std::isfinite(p.arx_predicted[o]) || !std::isfinite(p.arx_free_run[o]))) ||
+        (ahead && !std::isfinite(p.ahead[o])) || (ahead && arx && !std::isfinite(p.arx_ahead[o]))) {
       throw std::invalid_argument("prediction with NaN or Inf for " + p.names[o]);
     }
   }
@@ -67,24 +73,37 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
       order_.push_back(name);
     }
     Output& out = it->second;
-    out.total_one_step.Add(p.measured[o], p.predicted[o]);
-    out.window_one_step.Add(p.measured[o], p.predicted[o]);
-    out.total_free_run.Add(p.measured[o], p.free_run[o]);
-    out.window_free_run.Add(p.measured[o], p.free_run[o]);
+    const double y = p.measured[o];
+    out.one_step.Add(y, p.predicted[o]);
+    out.free_run.Add(y, p.free_run[o]);
     out.rules = p.rules[o];
+    if (ahead) {
+      // A horizon changed within a run (a reconfigured identifier): its K-step scores start again.
+      if (out.horizon != p.horizon) {
+        out.ahead = ModeScore(options_.window_samples);
+        out.arx_ahead = ModeScore(options_.window_samples);
+        out.horizon = p.horizon;
+      }
+      out.ahead.Add(y, p.ahead[o]);
+      if (arx) out.arx_ahead.Add(y, p.arx_ahead[o]);
+    }
     if (arx) {
-      out.arx_total_one_step.Add(p.measured[o], p.arx_predicted[o]);
-      out.arx_window_one_step.Add(p.measured[o], p.arx_predicted[o]);
-      out.arx_total_free_run.Add(p.measured[o], p.arx_free_run[o]);
-      out.arx_window_free_run.Add(p.measured[o], p.arx_free_run[o]);
-      if (out.window_one_step.full() && out.arx_window_one_step.full()) {
-        const double fit = out.window_one_step.Get().fit_percent;
-        const double linear = out.arx_window_one_step.Get().fit_percent;
-        if (fit <= linear && !out.behind_arx) {
-          events.push_back({ScoreEvent::Kind::kBehindArx, name, p.sample, 0, fit, linear});
+      out.arx_one_step.Add(y, p.arx_predicted[o]);
+      out.arx_free_run.Add(y, p.arx_free_run[o]);
+      // Like with like: K steps ahead when the predictions carry a horizon (a loop that
+      // integrates, where one step ahead says little), else one step ahead.
+      const bool k_step = out.horizon > 0 && out.arx_ahead.scored();
+      const ModeScore& mine = k_step ? out.ahead : out.one_step;
+      const ModeScore& linear = k_step ? out.arx_ahead : out.arx_one_step;
+      if (mine.window.full() && linear.window.full()) {
+        const double fit = mine.window.Get().fit_percent;
+        const double reference = linear.window.Get().fit_percent;
+        const int h = k_step ? out.horizon : 1;
+        if (fit <= reference && !out.behind_arx) {
+          events.push_back({ScoreEvent::Kind::kBehindArx, name, p.sample, 0, fit, reference, h});
           out.behind_arx = true;
-        } else if (fit > linear + options_.arx_margin_points && out.behind_arx) {
-          events.push_back({ScoreEvent::Kind::kAheadOfArx, name, p.sample, 0, fit, linear});
+        } else if (fit > reference + options_.arx_margin_points && out.behind_arx) {
+          events.push_back({ScoreEvent::Kind::kAheadOfArx, name, p.sample, 0, fit, reference, h});
           out.behind_arx = false;
         }
       }
@@ -92,7 +111,7 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     if (const auto a = out.alarm.Push(static_cast<long>(p.sample), p.measured[o], p.predicted[o])) {
       const bool alarm = a->kind == metrics::AccuracyEvent::Kind::kAlarm;
       events.push_back({alarm ? ScoreEvent::Kind::kAlarm : ScoreEvent::Kind::kRecovered, name,
-                        a->sample, 0, a->window_fit, a->reference_fit});
+                        a->sample, 0, a->window_fit, a->reference_fit, 1});
       if (out.alarm_events.size() >= kMaxAlarmEvents) {
         out.alarm_events.erase(out.alarm_events.begin());
       }
@@ -101,13 +120,13 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
                                   {"tracking_fit", a->window_fit},
                                   {"reference_fit", a->reference_fit}});
     }
-    if (out.window_one_step.full()) {
-      const double fit = out.window_one_step.Get().fit_percent;
+    if (out.one_step.window.full()) {
+      const double fit = out.one_step.window.Get().fit_percent;
       if (fit < options_.warn_fit_percent && !out.warned) {
-        events.push_back({ScoreEvent::Kind::kLowFit, name, p.sample, 0, fit, 0});
+        events.push_back({ScoreEvent::Kind::kLowFit, name, p.sample, 0, fit, 0, 1});
         out.warned = true;
       } else if (fit >= options_.warn_fit_percent && out.warned) {
-        events.push_back({ScoreEvent::Kind::kLowFitCleared, name, p.sample, 0, fit, 0});
+        events.push_back({ScoreEvent::Kind::kLowFitCleared, name, p.sample, 0, fit, 0, 1});
         out.warned = false;
       }
     }
@@ -143,21 +162,29 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
   j["gaps"] = gaps_;
   for (const auto& name : order_) {
     const Output& o = outputs_.at(name);
-    j["outputs"][name] = {{"rules", o.rules},
-                          {"one_step", metrics::AccuracyToJson(o.total_one_step.Get())},
-                          {"free_run", metrics::AccuracyToJson(o.total_free_run.Get())},
-                          {"window_one_step", metrics::AccuracyToJson(o.window_one_step.Get())},
-                          {"window_free_run", metrics::AccuracyToJson(o.window_free_run.Get())},
-                          {"alarm_events", o.alarm_events},
-                          {"alarmed", o.alarm.alarmed()}};
+    // The same keys for the model and for the live ARX, so a reader compares like with like.
+    const auto scores = [&o](const ModeScore& one_step, const ModeScore& free_run,
+                             const ModeScore& ahead) {
+      nlohmann::json s = {{"one_step", metrics::AccuracyToJson(one_step.total.Get())},
+                          {"free_run", metrics::AccuracyToJson(free_run.total.Get())},
+                          {"window_one_step", metrics::AccuracyToJson(one_step.window.Get())},
+                          {"window_free_run", metrics::AccuracyToJson(free_run.window.Get())}};
+      if (ahead.scored()) {
+        s["ahead"] = metrics::AccuracyToJson(ahead.total.Get());
+        s["window_ahead"] = metrics::AccuracyToJson(ahead.window.Get());
+        s["horizon"] = o.horizon;
+      }
+      return s;
+    };
+    nlohmann::json out = scores(o.one_step, o.free_run, o.ahead);
+    out["rules"] = o.rules;
+    out["alarm_events"] = o.alarm_events;
+    out["alarmed"] = o.alarm.alarmed();
     if (o.has_arx()) {
-      j["outputs"][name]["arx"] = {
-          {"one_step", metrics::AccuracyToJson(o.arx_total_one_step.Get())},
-          {"free_run", metrics::AccuracyToJson(o.arx_total_free_run.Get())},
-          {"window_one_step", metrics::AccuracyToJson(o.arx_window_one_step.Get())},
-          {"window_free_run", metrics::AccuracyToJson(o.arx_window_free_run.Get())}};
-      j["outputs"][name]["behind_arx"] = o.behind_arx;
+      out["arx"] = scores(o.arx_one_step, o.arx_free_run, o.arx_ahead);
+      out["behind_arx"] = o.behind_arx;
     }
+    j["outputs"][name] = out;
   }
   return j;
 }

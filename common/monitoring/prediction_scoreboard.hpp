@@ -27,6 +27,10 @@ struct Prediction {
   /// The identifier's live ARX baseline (prediction_t.arx_*): empty when not carried (a
   /// prediction from an older writer), or one entry per output.
   std::vector<double> arx_predicted, arx_free_run;
+  /// With a horizon K ≥ 2 (prediction_t.horizon): ŷ(k | k−K) of the model and of the live ARX,
+  /// one entry per output; 0 and empty without.
+  int horizon = 0;
+  std::vector<double> ahead, arx_ahead;
 };
 
 struct ScoreboardOptions {
@@ -34,7 +38,8 @@ struct ScoreboardOptions {
   double warn_fit_percent = 80.0;    ///< warn when the window's one-step FIT drops below
   std::size_t alarm_window_samples = 100;
   double alarm_drop_points = 5.0;
-  /// Behind the live ARX once the window's fuzzy one-step FIT is not above the ARX's; ahead again
+  /// Behind the live ARX once the window's fuzzy FIT is not above the ARX's (K steps ahead when
+  /// the predictions carry a horizon, else one step ahead); ahead again
   /// only when it leads by more than this many points, so a model that is as good as linear (one
   /// rule is a linear model) is said once, not at every sample the two swap places.
   double arx_margin_points = 0.5;
@@ -48,8 +53,9 @@ struct ScoreEvent {
     kRecovered,      ///< back to `fit` against the `reference` before the alarm
     kLowFit,         ///< the window's one-step FIT `fit` fell below the warning level
     kLowFitCleared,  ///< back to `fit`
-    kBehindArx,      ///< over a full window the fuzzy one-step FIT `fit` is not above the
-                     ///< live ARX's `reference`: the rules are not paying for themselves
+    kBehindArx,      ///< over a full window the fuzzy FIT `fit` is not above the live ARX's
+                     ///< `reference` (`horizon` steps ahead, 1: one step): the rules are not
+                     ///< paying for themselves
     kAheadOfArx      ///< the fuzzy model leads ARX again by more than arx_margin_points
   };
   Kind kind = Kind::kNewRun;
@@ -57,6 +63,19 @@ struct ScoreEvent {
   int64_t sample = 0;
   int64_t previous = 0;  ///< kNewRun: the last sample of the run that ended
   double fit = 0, reference = 0;
+  int horizon = 1;  ///< kBehindArx, kAheadOfArx: the mode compared
+};
+
+/// One mode's score (one step ahead, K steps ahead or free run) over the run and the window.
+struct ModeScore {
+  metrics::CumulativeAccuracy total;
+  metrics::WindowAccuracy window;
+  explicit ModeScore(std::size_t window_samples) : window(window_samples) {}
+  void Add(double measured, double predicted) {
+    total.Add(measured, predicted);
+    window.Add(measured, predicted);
+  }
+  bool scored() const { return total.samples() > 0; }
 };
 
 class PredictionScoreboard {
@@ -67,25 +86,27 @@ class PredictionScoreboard {
   /// prediction naming more (300 forged ones of 1000 names each once held 1.2 GB) is refused.
   static constexpr std::size_t kMaxOutputs = 256;
 
-  /// One output's scores in the current run.
+  /// One output's scores in the current run: the fuzzy model's and, over the same samples, the
+  /// live ARX's (none counted when predictions carry none), in each mode.
   struct Output {
-    metrics::CumulativeAccuracy total_one_step, total_free_run;
-    metrics::WindowAccuracy window_one_step, window_free_run;
-    /// The live ARX's scores over the same samples (none counted when predictions carry none).
-    metrics::CumulativeAccuracy arx_total_one_step, arx_total_free_run;
-    metrics::WindowAccuracy arx_window_one_step, arx_window_free_run;
+    ModeScore one_step, free_run, ahead;
+    ModeScore arx_one_step, arx_free_run, arx_ahead;
+    int horizon = 0;  ///< K of `ahead` (0: predictions carry none)
     bool behind_arx = false;
     metrics::AccuracyAlarm alarm;
     std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents
     int rules = 0;
     bool warned = false;
     Output(std::size_t w, const metrics::AccuracyAlarmOptions& a)
-        : window_one_step(w),
-          window_free_run(w),
-          arx_window_one_step(w),
-          arx_window_free_run(w),
+        : one_step(w),
+          free_run(w),
+          ahead(w),
+          arx_one_step(w),
+          arx_free_run(w),
+          arx_ahead(w),
           alarm(a) {}
-    bool has_arx() const { return arx_total_one_step.samples() > 0; }
+    bool has_arx() const { return arx_one_step.scored(); }
+    bool has_ahead() const { return ahead.scored(); }
   };
 
   explicit PredictionScoreboard(ScoreboardOptions options) : options_(options) {}
@@ -105,12 +126,14 @@ class PredictionScoreboard {
   int64_t gaps() const { return gaps_; }  ///< samples missing within the current run
   bool Warned(const std::string& output) const;
   bool Alarmed(const std::string& output) const;
-  /// Over the last full window the fuzzy model's one-step FIT was not above the live ARX's.
+  /// Over the last full window the fuzzy model's FIT was not above the live ARX's (K steps ahead
+  /// with a horizon, else one step ahead).
   bool BehindArx(const std::string& output) const;
 
   /// The current run: last_sample, gaps and per output rules, one_step, free_run,
-  /// window_one_step, window_free_run, alarm_events, alarmed, and, when predictions carry the
-  /// live ARX, "arx" (the same four scores) and behind_arx.
+  /// window_one_step, window_free_run, with a horizon `horizon`, ahead and window_ahead,
+  /// alarm_events, alarmed, and, when predictions carry the live ARX, "arx" (the same scores)
+  /// and behind_arx.
   nlohmann::json RunSummary() const;
   /// RunSummary() with "previous_runs" (the latest kMaxFinishedRuns) when there were any.
   nlohmann::json Summary() const;

@@ -153,6 +153,7 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
     }
     rep.ahead = g.row(t).transpose();
     rep.arx_ahead = ga.row(t).transpose();
+    rep.horizon = ahead_horizon_;
   }
   rep.free_run = hold(model_.Predict(x), f);
   free_history_.back() = rep.free_run;

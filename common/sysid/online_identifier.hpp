@@ -35,6 +35,7 @@ struct SampleReport {
   /// segment's start), as odonata-fit's PredictAhead scores it; and the live ARX's, likewise.
   /// Empty without a horizon.
   Eigen::VectorXd ahead, arx_ahead;
+  int horizon = 0;  ///< K of `ahead`
   /// Per output, the share of the model's global linear model in `predicted`: 0 when the
   /// regressor lies within the data the model was trained on, up to 1 beyond it (DataEnvelope).
   Eigen::VectorXd linear_share;

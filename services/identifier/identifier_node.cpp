@@ -40,6 +40,8 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
   core_.set_max_gap(config_.max_gap);
+  // Refits that choose K steps ahead are scored so live too: every prediction carries ŷ(k | k−K).
+  if (config_.refit.horizon >= 2) core_.set_ahead_horizon(config_.refit.horizon);
   // A model given at start is an expert's: refits refine its rules, and replace them only when
   // their own choice beats them (docs/identifier.md §6.3).
   if (initial) core_.KeepExpertRules();

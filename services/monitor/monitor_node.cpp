@@ -5,8 +5,39 @@
 #include <cstdio>
 #include <fstream>
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+#include <string>
+
+#include "monitoring/prediction_from_message.hpp"
+
 namespace odonata::monitor {
 namespace {
+// The terminal's width in columns (80 when stdout is not a terminal that says).
+std::size_t TerminalColumns() {
+  winsize w{};
+  if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col > 0) return w.ws_col;
+  return 80;
+}
+
+// Each line of `text` cut to `columns` bytes (the table is ASCII).
+std::string ClipLines(const std::string& text, std::size_t columns) {
+  std::string out;
+  std::size_t begin = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    out += text.substr(begin, std::min(end - begin, columns));
+    out += '\n';
+    begin = end + 1;
+  }
+  return out;
+}
+
+// "one-step" or "50-step": the mode a score or a comparison is in.
+std::string ModeName(int horizon) {
+  return horizon > 1 ? std::to_string(horizon) + "-step" : std::string("one-step");
+}
 std::chrono::microseconds Period(double seconds) {
   return std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6));
 }
@@ -46,8 +77,7 @@ MonitorNode::MonitorNode(bus::BusNode& bus, MonitorOptions options)
 void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
   if (m.num_outputs < 0 || m.names.size() != static_cast<std::size_t>(m.num_outputs))
     throw std::invalid_argument("prediction arrays disagree with num_outputs");
-  const monitoring::Prediction p{m.sample,   m.names, m.measured,      m.predicted,
-                                 m.free_run, m.rules, m.arx_predicted, m.arx_free_run};
+  const monitoring::Prediction p = monitoring::PredictionFromMessage(m);
   const char* me = bus_.options().instance.c_str();
   using Kind = monitoring::ScoreEvent::Kind;
   for (const auto& e : scores_.Add(p)) {
@@ -80,16 +110,16 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
       case Kind::kBehindArx:
         std::fprintf(stderr,
                      "[%s] WARNING: %s: the fuzzy model does not beat linear at sample %lld: "
-                     "one-step FIT %.2f %% against the live ARX's %.2f %% over the last %zu "
-                     "samples\n",
-                     me, output, static_cast<long long>(e.sample), e.fit, e.reference,
-                     options_.window_samples);
+                     "%s FIT %.2f %% against the live ARX's %.2f %% over the last %zu samples\n",
+                     me, output, static_cast<long long>(e.sample), ModeName(e.horizon).c_str(),
+                     e.fit, e.reference, options_.window_samples);
         break;
       case Kind::kAheadOfArx:
         std::fprintf(stderr,
-                     "[%s] %s: the fuzzy model beats the live ARX again at sample %lld: %.2f %% "
-                     "against %.2f %%\n",
-                     me, output, static_cast<long long>(e.sample), e.fit, e.reference);
+                     "[%s] %s: the fuzzy model beats the live ARX again at sample %lld: %s FIT "
+                     "%.2f %% against %.2f %%\n",
+                     me, output, static_cast<long long>(e.sample), ModeName(e.horizon).c_str(),
+                     e.fit, e.reference);
         break;
     }
   }
@@ -195,27 +225,34 @@ void MonitorNode::PublishAccuracy() {
     vaf->push_back(score.vaf_percent);
     rmse->push_back(score.rmse);
   };
+  a.horizon = 0;
   for (const auto& name : order) {
     const auto& o = scores_.output(name);
-    a.window_samples = static_cast<int32_t>(o.window_one_step.size());
-    a.total_samples = o.total_one_step.samples();
-    append(o.window_one_step.Get(), &a.window_fit_one_step, &a.window_vaf_one_step,
+    a.window_samples = static_cast<int32_t>(o.one_step.window.size());
+    a.total_samples = o.one_step.total.samples();
+    append(o.one_step.window.Get(), &a.window_fit_one_step, &a.window_vaf_one_step,
            &a.window_rmse_one_step);
-    append(o.total_one_step.Get(), &a.total_fit_one_step, &a.total_vaf_one_step,
+    append(o.one_step.total.Get(), &a.total_fit_one_step, &a.total_vaf_one_step,
            &a.total_rmse_one_step);
-    append(o.window_free_run.Get(), &a.window_fit_free_run, &a.window_vaf_free_run,
+    append(o.free_run.window.Get(), &a.window_fit_free_run, &a.window_vaf_free_run,
            &a.window_rmse_free_run);
-    append(o.total_free_run.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
+    append(o.free_run.total.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
            &a.total_rmse_free_run);
     a.rules.push_back(o.rules);
-    // NaN when the predictions carry no baseline (an older identifier).
-    const auto arx_fit = [&o](const auto& score) {
-      return o.has_arx() ? score.Get().fit_percent : std::nan("");
+    // NaN where the predictions carry no such score (no baseline, no horizon).
+    const auto fit = [](const monitoring::ModeScore& score, bool window) {
+      if (!score.scored()) return std::nan("");
+      return (window ? score.window.Get() : score.total.Get()).fit_percent;
     };
-    a.window_fit_one_step_arx.push_back(arx_fit(o.arx_window_one_step));
-    a.total_fit_one_step_arx.push_back(arx_fit(o.arx_total_one_step));
-    a.window_fit_free_run_arx.push_back(arx_fit(o.arx_window_free_run));
-    a.total_fit_free_run_arx.push_back(arx_fit(o.arx_total_free_run));
+    a.window_fit_one_step_arx.push_back(fit(o.arx_one_step, true));
+    a.total_fit_one_step_arx.push_back(fit(o.arx_one_step, false));
+    a.window_fit_free_run_arx.push_back(fit(o.arx_free_run, true));
+    a.total_fit_free_run_arx.push_back(fit(o.arx_free_run, false));
+    if (o.has_ahead()) a.horizon = o.horizon;
+    a.window_fit_ahead.push_back(fit(o.ahead, true));
+    a.total_fit_ahead.push_back(fit(o.ahead, false));
+    a.window_fit_ahead_arx.push_back(fit(o.arx_ahead, true));
+    a.total_fit_ahead_arx.push_back(fit(o.arx_ahead, false));
   }
   bus_.Publish(bus_.channels().accuracy, a);
 }
@@ -229,53 +266,56 @@ nlohmann::json MonitorNode::Summary() const {
 void MonitorNode::Print() {
   std::string text;
   char line[320];
-  // Fuzzy beside the live ARX, over the window and since the run began; "<= ARX" marks an output
-  // whose rules do not beat linear over the window (one step ahead or in free run).
-  std::snprintf(line, sizeof line, "%-16s %5s %19s %19s %19s %19s %10s %9s\n", "output", "rules",
-                "FIT win % (ARX)", "FIT all % (ARX)", "free win % (ARX)", "free all % (ARX)",
-                "RMSE", "samples");
+  // One row per mode, fuzzy beside the live ARX over the window and since the run began, so the
+  // table fits an 80-column terminal: one step ahead, K steps ahead with a horizon (loops that
+  // integrate), and free run. "<= ARX" marks a mode whose rules do not beat linear over the
+  // window (one step or K steps ahead: the comparison the alarm makes; free run where ARX's own
+  // simulation holds: two diverging runs say nothing).
+  std::snprintf(line, sizeof line, "%-12s %5s %-8s %17s %17s %7s\n", "output", "rules", "mode",
+                "FIT window (ARX)", "FIT run (ARX)", "samples");
   text += line;
   // A FIT below −100 % (errors over twice the signal's spread) is a diverging simulation, not
   // a figure to read digits from (odonata-compare's cut too).
-  const auto fit_text = [](double fit, int width) {
+  const auto fit_text = [](double fit) {
     char cell[24];
     if (fit < -100.0)
-      std::snprintf(cell, sizeof cell, "%*s", width, "diverges");
+      std::snprintf(cell, sizeof cell, "%7s", "< -100");
     else
-      std::snprintf(cell, sizeof cell, "%*.2f", width, fit);
+      std::snprintf(cell, sizeof cell, "%7.2f", fit);
     return std::string(cell);
   };
   const auto pair = [&fit_text](double fuzzy, double arx, bool has_arx) {
-    return fit_text(fuzzy, 8) + " (" + (has_arx ? fit_text(arx, 8) : std::string(7, ' ') + "-") +
-           ")";
+    return fit_text(fuzzy) + " (" + (has_arx ? fit_text(arx) : std::string(6, ' ') + "-") + ")";
   };
   for (const auto& name : scores_.outputs()) {
     const auto& o = scores_.output(name);
-    const auto t = o.total_one_step.Get();
     const bool arx = o.has_arx();
-    const double win = o.window_one_step.Get().fit_percent;
-    const double win_free = o.window_free_run.Get().fit_percent;
-    const double arx_win = o.arx_window_one_step.Get().fit_percent;
-    const double arx_win_free = o.arx_window_free_run.Get().fit_percent;
-    std::string mark;
-    if (scores_.BehindArx(name)) mark += "  <= ARX one-step";
-    // In free run only where ARX's own simulation holds: two diverging runs say nothing.
-    if (arx && arx_win_free >= -100.0 && win_free <= arx_win_free) mark += "  <= ARX free run";
-    std::snprintf(
-        line, sizeof line, "%-16s %5d %19s %19s %19s %19s %10.4g %9ld%s\n", name.c_str(), o.rules,
-        pair(win, arx_win, arx).c_str(),
-        pair(t.fit_percent, o.arx_total_one_step.Get().fit_percent, arx).c_str(),
-        pair(win_free, arx_win_free, arx).c_str(),
-        pair(o.total_free_run.Get().fit_percent, o.arx_total_free_run.Get().fit_percent, arx)
-            .c_str(),
-        t.rmse, t.samples, mark.c_str());
-    text += line;
+    const bool k_step = o.has_ahead();
+    const auto row = [&](const std::string& label, const std::string& mode,
+                         const monitoring::ModeScore& mine, const monitoring::ModeScore& linear,
+                         bool behind) {
+      const std::string rules = label.empty() ? "" : std::to_string(o.rules);
+      const std::string samples = label.empty() ? "" : std::to_string(mine.total.samples());
+      std::snprintf(
+          line, sizeof line, "%-12s %5s %-8s %17s %17s %7s%s\n", label.c_str(), rules.c_str(),
+          mode.c_str(),
+          pair(mine.window.Get().fit_percent, linear.window.Get().fit_percent, arx).c_str(),
+          pair(mine.total.Get().fit_percent, linear.total.Get().fit_percent, arx).c_str(),
+          samples.c_str(), behind ? "  <= ARX" : "");
+      text += line;
+    };
+    const bool behind = scores_.BehindArx(name);
+    row(name, "1 step", o.one_step, o.arx_one_step, behind && !k_step);
+    if (k_step) row("", std::to_string(o.horizon) + " steps", o.ahead, o.arx_ahead, behind);
+    const double free = o.free_run.window.Get().fit_percent;
+    const double arx_free = o.arx_free_run.window.Get().fit_percent;
+    row("", "free run", o.free_run, o.arx_free_run, arx && arx_free >= -100.0 && free <= arx_free);
   }
   for (const auto& [instance, peer] : peers_.peers()) {
     const monitoring::Heartbeat& p = peer.last;
     std::snprintf(line, sizeof line,
-                  "  %-22s %-10s decode errors %lld, dropped %lld, gaps %lld, skipped %lld, "
-                  "repeated %lld%s\n",
+                  "  %-20s %-9s errors %lld, dropped %lld, gaps %lld, skipped %lld, repeated "
+                  "%lld%s\n",
                   instance.c_str(), p.state.c_str(), static_cast<long long>(p.decode_errors),
                   static_cast<long long>(p.dropped), static_cast<long long>(p.gaps),
                   static_cast<long long>(p.skipped), static_cast<long long>(p.repeated),
@@ -283,7 +323,10 @@ void MonitorNode::Print() {
     text += line;
   }
   if (options_.live_table) {
-    // Move up over the previous table and redraw it in place.
+    // Move up over the previous table and redraw it in place. A line wider than the terminal
+    // would wrap and the move up would miss it (the table crept down the screen): each line is
+    // cut to the terminal's width.
+    text = ClipLines(text, TerminalColumns());
     if (printed_lines_ > 0) std::printf("\033[%zuA\033[J", printed_lines_);
     std::fputs(text.c_str(), stdout);
     printed_lines_ = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));

@@ -45,6 +45,10 @@ odonata::prediction_t Prediction() {
   p.arx_predicted = {0.3, 0.4};
   p.arx_free_run = {0.5, 0.6};
   p.learning = 1;
+  p.horizon = 20;
+  p.num_ahead = 2;
+  p.ahead = {0.7, 0.8};
+  p.arx_ahead = {0.9, 1.0};
   return p;
 }
 
@@ -52,12 +56,13 @@ odonata::accuracy_t Accuracy() {
   odonata::accuracy_t a{};
   a.num_outputs = 2;
   a.names = {"a", "bb"};
-  for (auto* v : {&a.window_fit_one_step, &a.window_vaf_one_step, &a.window_rmse_one_step,
-                  &a.total_fit_one_step, &a.total_vaf_one_step, &a.total_rmse_one_step,
-                  &a.window_fit_free_run, &a.window_vaf_free_run, &a.window_rmse_free_run,
-                  &a.total_fit_free_run, &a.total_vaf_free_run, &a.total_rmse_free_run,
+  for (auto* v : {&a.window_fit_one_step,     &a.window_vaf_one_step,    &a.window_rmse_one_step,
+                  &a.total_fit_one_step,      &a.total_vaf_one_step,     &a.total_rmse_one_step,
+                  &a.window_fit_free_run,     &a.window_vaf_free_run,    &a.window_rmse_free_run,
+                  &a.total_fit_free_run,      &a.total_vaf_free_run,     &a.total_rmse_free_run,
                   &a.window_fit_one_step_arx, &a.total_fit_one_step_arx, &a.window_fit_free_run_arx,
-                  &a.total_fit_free_run_arx})
+                  &a.total_fit_free_run_arx,  &a.window_fit_ahead,       &a.total_fit_ahead,
+                  &a.window_fit_ahead_arx,    &a.total_fit_ahead_arx})
     *v = {1.5, 2.5};
   a.rules = {3, 4};
   a.gaps = 7;

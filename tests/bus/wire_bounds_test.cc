@@ -173,11 +173,13 @@ odonata::prediction_t Prediction(int outputs) {
   for (int i = 0; i < outputs; ++i) {
     p.names.push_back("out" + std::to_string(i));
     for (auto* v : {&p.measured, &p.predicted, &p.free_run, &p.next, &p.max_entropy,
-                    &p.arx_predicted, &p.arx_free_run})
+                    &p.arx_predicted, &p.arx_free_run, &p.ahead, &p.arx_ahead})
       v->push_back(i + 0.5);
     p.rules.push_back(i + 1);
   }
   p.learning = 1;
+  p.horizon = 50;
+  p.num_ahead = outputs;
   return p;
 }
 
@@ -187,12 +189,14 @@ odonata::accuracy_t Accuracy(int outputs) {
   a.num_outputs = outputs;
   for (int i = 0; i < outputs; ++i) {
     a.names.push_back(std::string(static_cast<std::size_t>(i + 1), 'a'));
-    for (auto* v : {&a.window_fit_one_step, &a.window_vaf_one_step, &a.window_rmse_one_step,
-                    &a.total_fit_one_step, &a.total_vaf_one_step, &a.total_rmse_one_step,
-                    &a.window_fit_free_run, &a.window_vaf_free_run, &a.window_rmse_free_run,
-                    &a.total_fit_free_run, &a.total_vaf_free_run, &a.total_rmse_free_run,
-                    &a.window_fit_one_step_arx, &a.total_fit_one_step_arx,
-                    &a.window_fit_free_run_arx, &a.total_fit_free_run_arx})
+    for (auto* v :
+         {&a.window_fit_one_step,     &a.window_vaf_one_step,    &a.window_rmse_one_step,
+          &a.total_fit_one_step,      &a.total_vaf_one_step,     &a.total_rmse_one_step,
+          &a.window_fit_free_run,     &a.window_vaf_free_run,    &a.window_rmse_free_run,
+          &a.total_fit_free_run,      &a.total_vaf_free_run,     &a.total_rmse_free_run,
+          &a.window_fit_one_step_arx, &a.total_fit_one_step_arx, &a.window_fit_free_run_arx,
+          &a.total_fit_free_run_arx,  &a.window_fit_ahead,       &a.total_fit_ahead,
+          &a.window_fit_ahead_arx,    &a.total_fit_ahead_arx})
       v->push_back(97.5 - i);
     a.rules.push_back(3 + i);
   }

@@ -3,13 +3,19 @@
 # identified end to end over udpm: the identifier (source "signals") learns every sample, the
 # monitor scores it, the logger records it, `odonata-logger export --signals` turns the log into
 # the CSV odonata-fit reads, and odonata-fit on that CSV gives the online model bit for bit.
+# A vertical velocity integrates the throttle, so the config asks for refits scored 20 steps
+# ahead: the monitor then scores the model and the live ARX 20 steps ahead too (issue 47 point
+# 5), over the very predictions the logger recorded.
 source "$(dirname "$0")/lib.sh"
 enter_netns "$@"
 OUT=$(mktemp -d)
 trap 'stop_all; rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7686?ttl=0'
 VEHICLE=$BUILD/examples/own_vehicle/own-vehicle
-CFG=$SRC/examples/own_vehicle/identifier.json
+CFG=$OUT/identifier.json
+K=20
+"$PY" -c "import json,sys; c=json.load(open(sys.argv[1])); c['refit_horizon']=$K; json.dump(c, open(sys.argv[2], 'w'))" \
+  "$SRC/examples/own_vehicle/identifier.json" "$CFG"
 N=2000
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL"
 start monitor "$MONITOR" --lcm-url "$URL" --summary-json "$OUT/monitor.json"
@@ -29,7 +35,28 @@ fit=$(json_get "$OUT/monitor.json" "j['outputs']['vz_mps']['one_step']['fit']")
 "$LOGGER" export "$OUT"/log.* --signals -o "$OUT/samples.csv" >"$OUT/export.log" 2>&1 || { cat "$OUT/export.log"; fail "export --signals failed"; }
 head -1 "$OUT/samples.csv" | grep -q "^seq,t_s,vz_mps,throttle,battery_v$" || fail "unexpected columns: $(head -1 "$OUT/samples.csv")"
 vehicle_offline_equal "$CFG" "$OUT/samples.csv" "$OUT/model.json" $N
+# K steps ahead: the monitor's scores are the FIT of the logged ŷ(k | k−K), the model's and the
+# live ARX's, recomputed here from the exported predictions.
+"$LOGGER" export "$OUT"/log.* --signals -o "$OUT/again.csv" --predictions "$OUT/pred.csv" >"$OUT/export2.log" 2>&1 ||
+  { cat "$OUT/export2.log"; fail "export --predictions failed"; }
+ahead=$("$PY" - "$OUT/monitor.json" "$OUT/pred.csv" $K <<'PYEOF'
+import csv, json, math, sys
+summary, pred, k = json.load(open(sys.argv[1])), sys.argv[2], sys.argv[3]
+out = summary["outputs"]["vz_mps"]
+assert out["horizon"] == int(k) and out["arx"]["horizon"] == int(k), out.get("horizon")
+rows = list(csv.DictReader(l for l in open(pred) if not l.startswith("#")))
+def fit(col):
+    y = [float(r["vz_mps_measured"]) for r in rows]
+    e = [float(r["vz_mps_" + col]) - v for r, v in zip(rows, y)]
+    m = sum(y) / len(y)
+    return 100 * (1 - math.sqrt(sum(x * x for x in e)) / math.sqrt(sum((v - m) ** 2 for v in y)))
+for mine, col in ((out["ahead"], "ahead_" + k), (out["arx"]["ahead"], "arx_ahead_" + k)):
+    assert mine["samples"] == len(rows), (mine["samples"], len(rows))
+    assert abs(mine["fit"] - fit(col)) < 1e-6, (col, mine["fit"], fit(col))
+print("%d steps ahead %.2f %% against the live ARX %.2f %%" % (int(k), out["ahead"]["fit"], out["arx"]["ahead"]["fit"]))
+PYEOF
+) || fail "the monitor's K-step scores are not those of the logged predictions"
 rules=$(json_get "$OUT/model.json" "len(j['models'][0]['rules'])")
 # The live ARX beside it, scored on the same samples (docs/identifier.md §6.4).
 live=$(json_get "$OUT/monitor.json" "'free run %.2f %% against the live ARX %.2f %%' % (j['outputs']['vz_mps']['free_run']['fit'], j['outputs']['vz_mps']['arx']['free_run']['fit'])")
-pass "own vehicle over signals_t: $LEARNED samples learned, $rules rules, live one-step FIT $fit %, $live, $SAME"
+pass "own vehicle over signals_t: $LEARNED samples learned, $rules rules, live one-step FIT $fit %, $live, $ahead, $SAME"

@@ -14,12 +14,18 @@ namespace odonata::monitoring {
 namespace {
 
 Prediction At(int64_t k, double y, double yhat) {
-  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {}, {}};
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {}, {}, 0, {}, {}};
 }
 
 // A prediction carrying the live ARX baseline (prediction_t.arx_*).
 Prediction WithArx(int64_t k, double y, double yhat, double arx) {
-  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {arx}, {arx}};
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {arx}, {arx}, 0, {}, {}};
+}
+
+// And K steps ahead: the model's ŷ(k | k−K) `ahead`, the live ARX's `arx_ahead`; one step ahead
+// both are exact, so only the K-step scores can tell them apart.
+Prediction WithAhead(int64_t k, double y, double ahead, double arx_ahead) {
+  return {k, {"y"}, {y}, {y}, {y}, {3}, {y}, {y}, 50, {ahead}, {arx_ahead}};
 }
 
 // Over a full window the fuzzy model is scored against the live ARX on the same samples: the
@@ -55,6 +61,42 @@ TEST(PredictionScoreboard, SaysWhenTheFuzzyModelDoesNotBeatTheLiveArx) {
   EXPECT_FALSE(s["behind_arx"].get<bool>());
 }
 
+// Issue 47 point 5: with a horizon the comparison with linear is made K steps ahead, where a
+// loop that integrates is judged, and the summary carries both K-step scores.
+TEST(PredictionScoreboard, WithAHorizonTheModelIsComparedWithArxKStepsAhead) {
+  ScoreboardOptions o;
+  o.window_samples = 20;
+  PredictionScoreboard board(o);
+  const auto y = [](int64_t k) { return std::sin(0.3 * static_cast<double>(k)); };
+  std::vector<ScoreEvent> heard;
+  const auto add = [&](const Prediction& p) {
+    for (const auto& e : board.Add(p))
+      if (e.kind == ScoreEvent::Kind::kBehindArx || e.kind == ScoreEvent::Kind::kAheadOfArx)
+        heard.push_back(e);
+  };
+  for (int64_t k = 0; k < 40; ++k) add(WithAhead(k, y(k), y(k) + 0.01, y(k) + 0.1));
+  EXPECT_TRUE(heard.empty());
+  // Equal one step ahead (both exact), behind K steps ahead: said, and said as 50-step.
+  for (int64_t k = 40; k < 80; ++k) add(WithAhead(k, y(k), y(k) + 0.1, y(k) + 0.01));
+  ASSERT_EQ(heard.size(), 1u);
+  EXPECT_EQ(heard[0].kind, ScoreEvent::Kind::kBehindArx);
+  EXPECT_EQ(heard[0].horizon, 50);
+  EXPECT_TRUE(board.BehindArx("y"));
+  const auto s = board.Summary()["outputs"]["y"];
+  EXPECT_EQ(s["horizon"], 50);
+  EXPECT_EQ(s["ahead"]["samples"], 80);
+  EXPECT_EQ(s["arx"]["horizon"], 50);
+  EXPECT_LT(s["window_ahead"]["fit"].get<double>(), s["arx"]["window_ahead"]["fit"].get<double>());
+  // The K-step arrays must agree with the horizon: a horizon of 1 or a missing array is refused.
+  Prediction bad = WithAhead(80, 0, 0, 0);
+  bad.horizon = 1;
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+  bad.horizon = 50;
+  bad.arx_ahead.clear();
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+  EXPECT_EQ(board.last_sample(), 79);
+}
+
 TEST(PredictionScoreboard, PredictionsWithoutTheBaselineScoreAsBefore) {
   PredictionScoreboard board(ScoreboardOptions{});
   for (int64_t k = 0; k < 10; ++k) board.Add(At(k, 1.0 * k, 1.0 * k));
@@ -72,7 +114,7 @@ TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBac
   PredictionScoreboard board(ScoreboardOptions{});
   for (int64_t k = 0; k < 50; ++k) board.Add(At(k, std::sin(0.1 * k), std::sin(0.1 * k) + 0.01));
   EXPECT_EQ(board.last_sample(), 49);
-  EXPECT_EQ(board.output("y").total_one_step.samples(), 50);
+  EXPECT_EQ(board.output("y").one_step.total.samples(), 50);
   board.Add(At(52, 0.0, 0.0));
   EXPECT_EQ(board.gaps(), 2);
   const auto events = board.Add(At(0, 0.5, 0.5));
@@ -80,7 +122,7 @@ TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBac
   EXPECT_EQ(events[0].kind, ScoreEvent::Kind::kNewRun);
   EXPECT_EQ(events[0].previous, 52);
   EXPECT_EQ(board.gaps(), 0);
-  EXPECT_EQ(board.output("y").total_one_step.samples(), 1);
+  EXPECT_EQ(board.output("y").one_step.total.samples(), 1);
   const auto s = board.Summary();
   ASSERT_EQ(s["previous_runs"].size(), 1u);
   EXPECT_EQ(s["previous_runs"][0]["last_sample"], 52);
@@ -98,7 +140,7 @@ TEST(PredictionScoreboard, ABadPredictionChangesNothing) {
   EXPECT_THROW(board.Add(ragged), std::invalid_argument);
   EXPECT_EQ(board.last_sample(), 0);
   EXPECT_NO_THROW(board.Add(At(1, 1.0, 1.0)));  // the genuine sample 1 still counts
-  EXPECT_EQ(board.output("y").total_one_step.samples(), 2);
+  EXPECT_EQ(board.output("y").one_step.total.samples(), 2);
 }
 
 // Forged predictions with ever new output names cannot grow the board: at most kMaxOutputs per

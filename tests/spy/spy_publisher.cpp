@@ -147,6 +147,10 @@ int main(int argc, char** argv) {
     pred.max_entropy = {0.75};
     pred.arx_predicted = {0.09};
     pred.arx_free_run = {0.08};
+    pred.horizon = 20;
+    pred.num_ahead = 1;
+    pred.ahead = {0.09};
+    pred.arx_ahead = {0.07};
     pred.learning = 1;
     failures += PublishSigned(bus, signer, "ODONATA_PREDICTION", pred) != 0;
 
@@ -158,14 +162,17 @@ int main(int argc, char** argv) {
     acc.total_samples = k;
     acc.num_outputs = 1;
     acc.names = {"roll_rad"};
-    for (auto* v : {&acc.window_fit_one_step, &acc.window_vaf_one_step, &acc.window_rmse_one_step,
-                    &acc.total_fit_one_step, &acc.total_vaf_one_step, &acc.total_rmse_one_step,
-                    &acc.window_fit_free_run, &acc.window_vaf_free_run, &acc.window_rmse_free_run,
-                    &acc.total_fit_free_run, &acc.total_vaf_free_run, &acc.total_rmse_free_run,
-                    &acc.window_fit_one_step_arx, &acc.total_fit_one_step_arx,
-                    &acc.window_fit_free_run_arx, &acc.total_fit_free_run_arx})
+    for (auto* v :
+         {&acc.window_fit_one_step,     &acc.window_vaf_one_step,    &acc.window_rmse_one_step,
+          &acc.total_fit_one_step,      &acc.total_vaf_one_step,     &acc.total_rmse_one_step,
+          &acc.window_fit_free_run,     &acc.window_vaf_free_run,    &acc.window_rmse_free_run,
+          &acc.total_fit_free_run,      &acc.total_vaf_free_run,     &acc.total_rmse_free_run,
+          &acc.window_fit_one_step_arx, &acc.total_fit_one_step_arx, &acc.window_fit_free_run_arx,
+          &acc.total_fit_free_run_arx,  &acc.window_fit_ahead,       &acc.total_fit_ahead,
+          &acc.window_fit_ahead_arx,    &acc.total_fit_ahead_arx})
       *v = {95.5};
     acc.rules = {3};
+    acc.horizon = 20;
     failures += PublishSigned(bus, signer, "ODONATA_ACCURACY", acc) != 0;
 
     odonata::control_t ctl{};

@@ -1,0 +1,27 @@
+#pragma once
+// prediction_t → the scoreboard's Prediction: one home for the conversion the monitor and the
+// log export's scoring both need, so a field added to the message is scored by both.
+
+#include "monitoring/prediction_scoreboard.hpp"
+#include "odonata/prediction_t.hpp"
+
+namespace odonata::monitoring {
+
+/// The arrays as sent; PredictionScoreboard::Add checks that they agree.
+inline Prediction PredictionFromMessage(const odonata::prediction_t& m) {
+  Prediction p;
+  p.sample = m.sample;
+  p.names = m.names;
+  p.measured = m.measured;
+  p.predicted = m.predicted;
+  p.free_run = m.free_run;
+  p.rules = m.rules;
+  p.arx_predicted = m.arx_predicted;
+  p.arx_free_run = m.arx_free_run;
+  p.horizon = m.horizon;
+  p.ahead = m.ahead;
+  p.arx_ahead = m.arx_ahead;
+  return p;
+}
+
+}  // namespace odonata::monitoring
