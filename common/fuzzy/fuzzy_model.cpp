@@ -59,7 +59,8 @@ FuzzyModel::FuzzyModel(const FuzzyModel& other)
       utility_sum_(other.utility_sum_),
       born_(other.born_),
       clock_(other.clock_),
-      pruned_(other.pruned_) {
+      pruned_(other.pruned_),
+      names_(other.names_) {
   AllocateScratch();
 }
 
@@ -72,6 +73,7 @@ FuzzyModel& FuzzyModel::operator=(const FuzzyModel& other) {
     born_ = other.born_;
     clock_ = other.clock_;
     pruned_ = other.pruned_;
+    names_ = other.names_;
     AllocateScratch();
   }
   return *this;
@@ -135,7 +137,12 @@ void FuzzyModel::RemoveRule(int rule) {
     utility_sum_.segment(rule, tail) = utility_sum_.segment(rule + 1, tail).eval();
     born_.segment(rule, tail) = born_.segment(rule + 1, tail).eval();
   }
+  names_.erase(names_.begin() + rule);
   ++pruned_;
+}
+
+bool FuzzyModel::named() const {
+  return std::any_of(names_.begin(), names_.end(), [](const RuleNames& n) { return !n.empty(); });
 }
 
 double FuzzyModel::Predict(const Eigen::Ref<const Eigen::VectorXd>& x) const {
@@ -203,6 +210,7 @@ LearnResult FuzzyModel::Learn(const Eigen::Ref<const Eigen::VectorXd>& x, double
         rules_.AddRule(x, sigma);
         utility_sum_(j) = 0.0;
         born_(j) = clock_ - 1;
+        names_.emplace_back();  // the model's own rule: no expert named it
         rules_.Evaluate(x, &scratch_);
         result.rule_added = true;
       }
@@ -462,6 +470,7 @@ FuzzyModelState FuzzyModel::State() const {
     rule.output_width = rules_.output_width(r);
     rule.utility_sum = utility_sum_(r);
     rule.born = born_(r);
+    rule.names = names_[static_cast<std::size_t>(r)];
     s.rules.push_back(std::move(rule));
   }
   s.consequent = consequent_->State();
@@ -495,12 +504,15 @@ FuzzyModel FuzzyModel::FromState(const FuzzyModelState& s) {
       if (!std::isfinite(rule.output_width) || !std::isfinite(rule.utility_sum)) {
         throw std::runtime_error("a rule's output width or utility is not finite");
       }
+      const std::string names = rule.names.Problem(inputs);
+      if (!names.empty()) throw std::runtime_error("a rule's names: " + names);
       const int k = model.rules_.rules();
       model.rules_.AddRule(Eigen::Map<const Eigen::VectorXd>(rule.centre.data(), inputs),
                            Eigen::Map<const Eigen::VectorXd>(rule.sigma.data(), inputs),
                            rule.output_width);
       model.utility_sum_(k) = rule.utility_sum;
       model.born_(k) = rule.born;
+      model.names_.push_back(rule.names);
     }
     model.consequent_ = ConsequentFromState(s.consequent, inputs, s.config.entropy.max_rules);
     if (model.consequent_->rules() != model.rules_.rules()) {
@@ -543,6 +555,9 @@ nlohmann::json FuzzyModel::ToJson() const {
                      {"output_width", r.output_width},
                      {"utility_sum", r.utility_sum},
                      {"born", r.born}});
+    // Only an expert's rules carry names, so every other model file reads as it always did.
+    if (!r.names.empty())
+      rules.back()["names"] = {{"terms", r.names.terms}, {"output", r.names.output}};
   }
   j["rules"] = rules;
   const ConsequentState& c = s.consequent;
@@ -610,6 +625,11 @@ FuzzyModelState FuzzyModel::StateFromJson(const nlohmann::json& j) {
       r.output_width = rule.at("output_width").get<double>();
       r.utility_sum = rule.value("utility_sum", 0.0);
       r.born = io::JsonInteger<int64_t>(rule, "born", s.clock);
+      if (rule.contains("names")) {
+        const auto& names = rule.at("names");
+        r.names.terms = names.value("terms", std::vector<std::string>{});
+        r.names.output = names.value("output", std::string());
+      }
       s.rules.push_back(std::move(r));
     }
     ConsequentState& c = s.consequent;

@@ -12,6 +12,7 @@
 #include "fuzzy/consequent.hpp"
 #include "fuzzy/entropy_rule_generator.hpp"
 #include "fuzzy/gaussian_rule_base.hpp"
+#include "fuzzy/rule_names.hpp"
 
 namespace odonata::fuzzy {
 
@@ -129,6 +130,9 @@ class FuzzyModel {
   int PruneUnsupported(const Eigen::Ref<const Eigen::MatrixXd>& X, double per_parameter);
 
   int rules() const { return rules_.rules(); }
+  /// Rule `rule`'s names, when an expert gave them (RuleNames); empty for the model's own rules.
+  const RuleNames& names(int rule) const { return names_.at(static_cast<std::size_t>(rule)); }
+  bool named() const;  ///< some rule has a name
   int inputs() const { return config_.inputs; }
   const FuzzyModelConfig& config() const { return config_; }
   const GaussianRuleBase& rule_base() const { return rules_; }
@@ -189,6 +193,7 @@ class FuzzyModel {
   Eigen::Array<long long, Eigen::Dynamic, 1> born_;
   long long clock_ = 0;
   long long pruned_ = 0;
+  std::vector<RuleNames> names_;  // one per rule, in step with rules_
 
   // Scratch space, sized once, so Predict() and Learn() never allocate.
   mutable Inference scratch_;

@@ -9,6 +9,7 @@
 
 #include "fuzzy/consequent.hpp"
 #include "fuzzy/fuzzy_model.hpp"
+#include "fuzzy/rule_names.hpp"
 
 namespace odonata::fuzzy {
 
@@ -18,6 +19,7 @@ struct RuleState {
   double output_width = 0;
   double utility_sum = 0;  ///< Σ φ_j since the rule's creation
   int64_t born = 0;        ///< the model's clock when the rule was created
+  RuleNames names;
 };
 
 /// The consequents and their learners' state, rule by rule.

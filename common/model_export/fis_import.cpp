@@ -10,6 +10,28 @@
 #include "sysid/narx_model_state.hpp"
 
 namespace odonata::model_export {
+namespace {
+
+// odonata-export names each rule's functions after the rule ("r3"): a placeholder, not a word
+// an expert chose, so a model exported and read back carries no names.
+bool Placeholder(const std::string& name) {
+  return name.size() > 1 && name[0] == 'r' &&
+         std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+fuzzy::RuleNames ExpertNames(const inference::TskRule& r) {
+  fuzzy::RuleNames names;
+  bool any = false;
+  for (const auto& t : r.terms) {
+    names.terms.push_back(Placeholder(t) ? "" : t);
+    any = any || !names.terms.back().empty();
+  }
+  if (!any) names.terms.clear();
+  if (!Placeholder(r.output_term)) names.output = r.output_term;
+  return names;
+}
+
+}  // namespace
 
 sysid::NarxModel ModelFromTsk(const inference::TskModel& tsk, const sysid::NarxModel& empty,
                               const std::string& source) {
@@ -69,6 +91,7 @@ sysid::NarxModel ModelFromTsk(const inference::TskModel& tsk, const sysid::NarxM
     }
     // Weight w_j = 1 / (s_j² + ε) up to a common factor that cancels: s_j² = 1/w_j − ε.
     rs.output_width = std::sqrt(std::max(1.0 / r.weight - fuzzy::kEpsilon, fuzzy::kEpsilon));
+    rs.names = ExpertNames(r);
     f.rules.push_back(std::move(rs));
     // y = b0 + Σ b_i x_i (raw, MATLAB's order: slopes, then the constant) → the scaled network's
     // a0 (first) and a_i: a_i = b_i h_i / sd, a0 = (b0 − mean)/sd + Σ a_i m_i / h_i.

@@ -1,5 +1,6 @@
 #include "model_messages/model_snapshot_message.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,16 @@ odonata::fuzzy_rules_t ToRules(const std::string& output, const fuzzy::FuzzyMode
     f.output_widths.push_back(r.output_width);
     f.utility_sums.push_back(r.utility_sum);
     f.born.push_back(r.born);
+  }
+  const bool named = std::any_of(s.rules.begin(), s.rules.end(),
+                                 [](const fuzzy::RuleState& r) { return !r.names.empty(); });
+  f.num_named = named ? f.num_rules : 0;
+  for (const auto& r : s.rules) {
+    if (!named) break;
+    f.output_terms.push_back(r.names.output);
+    f.term_names.push_back(r.names.terms.empty()
+                               ? std::vector<std::string>(static_cast<std::size_t>(f.num_inputs))
+                               : r.names.terms);
   }
   const auto& e = s.config.entropy;
   f.entropy_threshold = e.threshold;
@@ -67,7 +78,10 @@ fuzzy::FuzzyModelState FromRules(const odonata::fuzzy_rules_t& f) {
   const auto n = static_cast<std::size_t>(f.num_rules < 0 ? 0 : f.num_rules);
   if (f.num_rules < 0 || f.centres.size() != n || f.sigmas.size() != n ||
       f.output_widths.size() != n || f.utility_sums.size() != n || f.born.size() != n ||
-      f.coefficients.size() != n || f.covariances.size() != n) {
+      f.coefficients.size() != n || f.covariances.size() != n ||
+      (f.num_named != 0 && f.num_named != f.num_rules) ||
+      f.output_terms.size() != static_cast<std::size_t>(f.num_named < 0 ? 0 : f.num_named) ||
+      f.term_names.size() != f.output_terms.size()) {
     throw std::runtime_error("snapshot: the rule arrays disagree with num_rules");
   }
   fuzzy::FuzzyModelState s;
@@ -103,7 +117,15 @@ fuzzy::FuzzyModelState FromRules(const odonata::fuzzy_rules_t& f) {
   for (int r = 0; r < f.num_rules; ++r) {
     const auto k = static_cast<std::size_t>(r);
     s.rules.push_back(
-        {f.centres[k], f.sigmas[k], f.output_widths[k], f.utility_sums[k], f.born[k]});
+        {f.centres[k], f.sigmas[k], f.output_widths[k], f.utility_sums[k], f.born[k], {}});
+    if (f.num_named > 0) {
+      fuzzy::RuleNames& names = s.rules.back().names;
+      names.output = f.output_terms[k];
+      // A rule with no term named carries none, as in a model file.
+      if (std::any_of(f.term_names[k].begin(), f.term_names[k].end(),
+                      [](const std::string& t) { return !t.empty(); }))
+        names.terms = f.term_names[k];
+    }
   }
   fuzzy::ConsequentState& c = s.consequent;
   c.kind = cfg.consequent;

@@ -8,6 +8,8 @@
 
 namespace odonata::sysid {
 namespace {
+// Scaled widths above this leave a premise flat over the input's range [−1, 1].
+constexpr double kFlatWidth = 10.0;
 std::string Number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -35,15 +37,25 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
   std::vector<std::string> lines;
   const bool one = rb.rules() == 1;  // fires fully everywhere: the model is its consequent
   for (int j = 0; j < rb.rules(); ++j) {
+    // An expert's words where the rule has them (a .fis's names), the band's label elsewhere.
+    const fuzzy::RuleNames& given = fm.names(j);
     std::string s = one ? "" : "IF ";
+    bool first = true;
     for (int i = 0; i < n && !one; ++i) {
+      // A premise ten times wider than the input's range ("don't care" in a .fis) changes the
+      // firing by under 2 % anywhere in it: the rule does not depend on that input.
+      if (rb.sigma(j, i) > kFlatWidth) continue;
       const double c = rb.centre(j, i);
       const double raw = sc.regressor_mid(i) + sc.regressor_half(i) * c;
       const double width = sc.regressor_half(i) * rb.sigma(j, i);
-      if (i) s += " AND ";
-      s += names[static_cast<std::size_t>(i)] + " is " + LinguisticLabel(c) + " (≈" + Number(raw) +
-           " ±" + Number(width) + ")";
+      const auto k = static_cast<std::size_t>(i);
+      const std::string term =
+          k < given.terms.size() && !given.terms[k].empty() ? given.terms[k] : LinguisticLabel(c);
+      s += (first ? "" : " AND ") + names[k] + " is " + term + " (≈" + Number(raw) + " ±" +
+           Number(width) + ")";
+      first = false;
     }
+    if (!one && first) s += "always";  // every input left out
     const double ys = sc.output_std(output);
     if (fm.consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
       const auto& cons = static_cast<const fuzzy::SingletonConsequent&>(fm.consequent());
@@ -65,6 +77,7 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
       s += one ? target + " = " + Number(constant) + terms + " (one rule: a linear model, as ARX)"
                : " THEN " + target + " ≈ " + Number(constant) + terms;
     }
+    if (!given.output.empty()) s += " [" + given.output + "]";
     lines.push_back(s);
   }
   return lines;

@@ -8,9 +8,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
 #include "model_export/fis_import.hpp"
 #include "model_export/fis_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
+
+#include "sysid/rule_listing.hpp"
 #include "sysid/signal_ranges.hpp"
 #include "trained_narendra_model.hpp"
 
@@ -94,6 +97,37 @@ TEST(FisImport, ARuleThatLeavesAnInputOutIsRead) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("line"), std::string::npos) << e.what();
   }
+}
+
+// An expert's words stay with the rules (issue 47 point 4): the membership functions' names are
+// the rules' term names, read into the model, printed in its rules and kept in its file; the
+// placeholder names odonata-export writes ("r1") are not names.
+TEST(FisImport, TheExpertsTermNamesAreKeptAndPrinted) {
+  const sysid::NarxModel trained = Trained(fuzzy::ConsequentKind::kLinear);
+  ASSERT_GE(trained.total_rules(), 2);
+  const std::string exported = ToFis(ToRawTsk(trained, 0, "narendra"));
+  const sysid::NarxModel plain =
+      ModelFromTsk(Parsed(exported), Empty(fuzzy::ConsequentKind::kLinear), "plain.fis");
+  EXPECT_FALSE(plain.model(0).named()) << "odonata-export's r1, r2 … are placeholders";
+  std::string fis = exported;
+  // Input 1's first function and the first output function get an expert's names.
+  fis.replace(fis.find("MF1='r1':'gaussmf'"), 18, "MF1='low':'gaussmf'");
+  fis.replace(fis.find("MF1='r1':'linear'"), 17, "MF1='hover':'linear'");
+  const sysid::NarxModel named =
+      ModelFromTsk(Parsed(fis), Empty(fuzzy::ConsequentKind::kLinear), "named.fis");
+  ASSERT_TRUE(named.model(0).named());
+  EXPECT_EQ(named.model(0).names(0).terms.at(0), "low");
+  EXPECT_EQ(named.model(0).names(0).terms.at(1), "");
+  EXPECT_EQ(named.model(0).names(0).output, "hover");
+  EXPECT_TRUE(named.model(0).names(1).empty());
+  const auto rules = sysid::DescribeRules(named, 0);
+  EXPECT_NE(rules.at(0).find(" is low (≈"), std::string::npos) << rules.at(0);
+  EXPECT_NE(rules.at(0).find("[hover]"), std::string::npos) << rules.at(0);
+  const sysid::NarxModel reread = sysid::NarxModel::FromJson(named.ToJson());
+  EXPECT_EQ(reread.model(0).names(0), named.model(0).names(0));
+  // Predictions do not depend on the names.
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(named.spec().size(), -0.3, 0.4);
+  EXPECT_EQ(named.Predict(x), plain.Predict(x));
 }
 
 TEST(FisImport, AFileThatDoesNotFitIsRefusedWithWhy) {

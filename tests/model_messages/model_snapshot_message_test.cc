@@ -146,5 +146,31 @@ TEST(ModelState, TheFileAndTheStateAreTheSameModel) {
   }
 }
 
+// An expert's names for its rules cross the bus with them, so a resumed or a watching process
+// prints the rules as the expert wrote them; a snapshot whose names disagree with its rules is
+// refused.
+TEST(Snapshot, AnExpertsRuleNamesCrossTheBus) {
+  sysid::NarxModelState state = Trained(fuzzy::ConsequentKind::kLinear).State();
+  auto& rules = state.models[0].rules;
+  ASSERT_GE(rules.size(), 2u);
+  rules[0].names.terms.assign(rules[0].centre.size(), "");
+  rules[0].names.terms[1] = "fast";
+  rules[1].names.output = "hover";
+  const sysid::NarxModel named = sysid::NarxModel::FromState(state);
+  const odonata::model_snapshot_t msg = EncodeSnapshot(named);
+  EXPECT_EQ(msg.models[0].num_named, msg.models[0].num_rules);
+  const sysid::NarxModel back = DecodeSnapshot(msg);
+  EXPECT_EQ(back.ToJson(), named.ToJson());
+  EXPECT_EQ(back.model(0).names(0).terms[1], "fast");
+  EXPECT_TRUE(back.model(0).names(1).terms.empty());
+  EXPECT_EQ(back.model(0).names(1).output, "hover");
+  odonata::model_snapshot_t bad = msg;
+  bad.models[0].term_names[0].pop_back();
+  bad.models[0].term_names[0].push_back(std::string(100, 'x'));
+  EXPECT_NE(DecodeError(bad).find("names"), std::string::npos) << DecodeError(bad);
+  // An unnamed model's snapshot carries none.
+  EXPECT_EQ(EncodeSnapshot(Trained(fuzzy::ConsequentKind::kLinear)).models[0].num_named, 0);
+}
+
 }  // namespace
 }  // namespace odonata::model_messages

@@ -13,6 +13,7 @@
 #include "online_fixtures.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/narx_model_state.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/signal_ranges.hpp"
@@ -506,9 +507,20 @@ TEST(OnlineIdentifier, AnExpertsRulesSurviveTheRefitsUnlessBeaten) {
   fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
   const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, expert_data);
   // A good expert: odonata-fit's model of the same plant.
-  const NarxModel good =
-      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, expert_data, fo).model;
+  // The expert named its rules' terms (as a .fis's membership functions): the names stay with
+  // the rules through the refits that refine them (issue 47 point 4).
+  NarxModelState named =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, expert_data, fo)
+          .model.State();
+  for (std::size_t j = 0; j < named.models[0].rules.size(); ++j) {
+    auto& n = named.models[0].rules[j].names;
+    n.terms.assign(static_cast<std::size_t>(empty.spec().size()), "");
+    n.terms[0] = "term" + std::to_string(j);
+    n.output = "regime" + std::to_string(j);
+  }
+  const NarxModel good = NarxModel::FromState(named);
   ASSERT_GT(good.total_rules(), 1);
+  ASSERT_TRUE(good.model(0).named());
   OnlineIdentifier kept(good, refit);
   kept.KeepExpertRules();
   ASSERT_TRUE(kept.has_expert());
@@ -522,6 +534,12 @@ TEST(OnlineIdentifier, AnExpertsRulesSurviveTheRefitsUnlessBeaten) {
     for (int i = 0; i < good.spec().size(); ++i)
       EXPECT_EQ(kept.model().model(0).rule_base().centre(j, i),
                 good.model(0).rule_base().centre(j, i));
+  for (int j = 0; j < good.total_rules(); ++j)
+    EXPECT_EQ(kept.model().model(0).names(j), good.model(0).names(j)) << "rule " << j;
+  // And in the model file, read back.
+  const NarxModel reread = NarxModel::FromJson(kept.model().ToJson());
+  EXPECT_EQ(reread.model(0).names(1).output, "regime1");
+  EXPECT_EQ(reread.model(0).names(1).terms[0], "term1");
   // A linear "expert" on this strongly nonlinear plant: the first refit's choice beats it.
   fuzzy::FuzzyModelConfig one = empty.model(0).config();
   one.entropy.threshold = 0.0;  // no rule beyond the first (the refits search H̄ themselves)

@@ -42,6 +42,10 @@ struct TskRule {
   double weight = 1.0;  ///< rule weight in (0, 1]
   /// Linear: a_j1 … a_jN then a_j0 (MATLAB's order, constant last); constant: a_j0 only.
   std::vector<double> coefficients;
+  /// The names of the membership functions the rule uses, one per input ("" where it leaves
+  /// the input out), and of its output function: the expert's words ("low", "hover").
+  std::vector<std::string> terms;
+  std::string output_term;
 };
 
 struct TskModel {
@@ -90,6 +94,7 @@ struct TskModel {
     const int nr = Count(sys, "NumRules", 1, 10000000);
 
     std::vector<std::vector<std::vector<double>>> mfs(static_cast<std::size_t>(n));
+    std::vector<std::vector<std::string>> mf_names(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
       const auto& in_sec = s.Get("Input" + std::to_string(i + 1));
       m.input_names.push_back(Text(in_sec, "Name"));
@@ -103,6 +108,8 @@ struct TskModel {
         if (p.size() != 2 || !(p[0] > 0))
           Fail(in_sec, "MF" + std::to_string(f + 1), "gaussmf needs [sigma>0 c]");
         mfs[static_cast<std::size_t>(i)].push_back(p);
+        mf_names[static_cast<std::size_t>(i)].push_back(
+            MembershipName(in_sec, "MF" + std::to_string(f + 1)));
       }
     }
     const auto& out = s.Get("Output1");
@@ -113,6 +120,7 @@ struct TskModel {
     m.output_high = orange[1];
     const int k = Count(out, "NumMFs", 1, 10000000);
     std::vector<std::vector<double>> outs;
+    std::vector<std::string> out_names;
     for (int f = 0; f < k; ++f) {
       const std::string key = "MF" + std::to_string(f + 1);
       const std::string type = MembershipType(out, key);
@@ -125,6 +133,7 @@ struct TskModel {
              m.linear ? "a linear output needs NumInputs + 1 coefficients"
                       : "a constant output needs one value");
       outs.push_back(std::move(p));
+      out_names.push_back(MembershipName(out, key));
     }
 
     if (s.rule_lines.size() != static_cast<std::size_t>(nr))
@@ -150,14 +159,18 @@ struct TskModel {
           // membership is 1 for every value (a Gaussian of infinite width).
           r.sigma.push_back(std::numeric_limits<double>::infinity());
           r.centre.push_back(0.0);
+          r.terms.emplace_back();
           continue;
         }
         const auto idx =
             Index(v[static_cast<std::size_t>(i)], mfs[static_cast<std::size_t>(i)].size(), line_no);
         r.sigma.push_back(mfs[static_cast<std::size_t>(i)][idx][0]);
         r.centre.push_back(mfs[static_cast<std::size_t>(i)][idx][1]);
+        r.terms.push_back(mf_names[static_cast<std::size_t>(i)][idx]);
       }
-      r.coefficients = outs[Index(v[static_cast<std::size_t>(n)], outs.size(), line_no)];
+      const std::size_t out_index = Index(v[static_cast<std::size_t>(n)], outs.size(), line_no);
+      r.coefficients = outs[out_index];
+      r.output_term = out_names[out_index];
       r.weight = v[static_cast<std::size_t>(n) + 1];
       if (!(r.weight > 0 && r.weight <= 1))
         throw std::runtime_error("fis line " + std::to_string(line_no) +
@@ -257,6 +270,14 @@ struct TskModel {
     if (colon == std::string::npos || comma == std::string::npos || comma < colon)
       Fail(s, key, "expected 'name':'type',[params]");
     return v.substr(colon + 3, comma - colon - 3);
+  }
+  // The 'name' of MFk='name':'type',[params].
+  static std::string MembershipName(const Section& s, const std::string& key) {
+    const std::string& v = Raw(s, key);
+    const auto colon = v.find("':'");
+    if (v.empty() || v[0] != '\'' || colon == std::string::npos)
+      Fail(s, key, "expected 'name':'type',[params]");
+    return v.substr(1, colon - 1);
   }
   static std::vector<double> Membership(const Section& s, const std::string& key,
                                         const std::string& type) {
