@@ -270,7 +270,7 @@ void BusNode::SetState(const std::string& state) {
 void BusNode::PublishHeartbeat() {
   // A one-shot tool (odonata-control) sends none: a monitor would list it, then warn that it
   // went silent once it had done its job and exited.
-  if (options_.heartbeat_period_s <= 0) return;
+  if (options_.one_shot) return;
   odonata::heartbeat_t hb;
   hb.utime = NowUtime();
   hb.seq = heartbeat_seq_++;

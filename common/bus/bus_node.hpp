@@ -40,7 +40,10 @@ struct BusOptions {
   std::string service;   ///< e.g. odonata-identifier
   std::string instance;  ///< unique name of this copy (defaults to service)
   ChannelConfig channels;
-  double heartbeat_period_s = 1.0;  ///< 0: no heartbeat at all (a one-shot tool, not a peer)
+  double heartbeat_period_s = 1.0;  ///< 0: only on a change of state
+  /// A one-shot tool (odonata-control, a tool that only asks): no heartbeat at all, so
+  /// a monitor neither lists it nor warns that it went silent once it has done its job.
+  bool one_shot = false;
   /// Senders whose RESET and SHUTDOWN this process obeys (control_gate.hpp).
   std::vector<std::string> control_senders = DefaultControlSenders();
   /// The shared key's file (message_signer.hpp; empty: no key). With a key every message this

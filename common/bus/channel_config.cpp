@@ -9,7 +9,7 @@ namespace odonata::bus {
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
   for (std::string* s : {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat,
-                         &control, &control_reply, &ack, &signals})
+                         &control, &control_reply, &ack, &signals, &signals_ack})
     *s += "_" + suffix;
 }
 
@@ -26,6 +26,7 @@ void ChannelConfig::Override(const nlohmann::json& j) {
                           : key == "control_reply" ? &control_reply
                           : key == "ack"           ? &ack
                           : key == "signals"       ? &signals
+                          : key == "signals_ack"   ? &signals_ack
                                                    : nullptr;
     if (!target) throw std::runtime_error("channels: unknown channel '" + key + "'");
     *target = value.get<std::string>();

@@ -21,6 +21,9 @@ struct ChannelConfig {
   std::string control_reply = "ODONATA_CONTROL_REPLY";  ///< every service's answer to a command
   std::string ack = "ODONATA_ACK";          ///< lockstep receipts from consumers to the generator
   std::string signals = "VEHICLE_SIGNALS";  ///< any vehicle's samples by name (signals_t)
+  /// Receipts of signals_t samples (ack_t, state_seq = the newest sample held), for a replay in
+  /// lockstep (odonata-replay): apart from `ack`, so a plant's generator never mistakes them.
+  std::string signals_ack = "VEHICLE_SIGNALS_ACK";
 
   /// Appends `_SUFFIX` to every name (no-op for an empty suffix).
   void ApplySuffix(const std::string& suffix);

@@ -25,9 +25,8 @@ inline void AddChannelOptions(CLI::App* app, ChannelOptions* options) {
   app->add_option("--channel-suffix", options->suffix, "append _SUFFIX to every channel name");
   app->add_option("--channel", options->names,
                   "rename one channel, KEY=NAME with KEY one of command, state, beat_state, "
-                  "prediction, model, accuracy, heartbeat, control, control_reply, ack "
-                  "(repeatable; applied after "
-                  "--channel-suffix)");
+                  "prediction, model, accuracy, heartbeat, control, control_reply, ack, "
+                  "signals, signals_ack (repeatable; applied after --channel-suffix)");
   app->add_option("--key", options->key_path,
                   "shared key file (64 hex digits, readable by its owner only): sign every "
                   "message this program publishes and refuse every one it receives that is not "

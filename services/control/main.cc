@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
     o.key_path = channels.key_path;
     o.service = "odonata-control";
     o.instance = sender;
-    o.heartbeat_period_s = 0;  // a one-shot tool, not a peer to watch
+    o.heartbeat_period_s = 0;
+    o.one_shot = true;  // not a peer to watch
     channels.ApplyTo(&o.channels);
     odonata::bus::BusNode bus(o);
 

@@ -37,6 +37,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
       save_model_path_(std::move(save_model_path)),
       models_dir_(std::move(models_dir)),
       acks_(bus, config_.channels.ack),
+      signal_acks_(bus, config_.channels.signals_ack),
       core_(initial ? *initial : EmptyModel(), config_.refit),
       stream_(core_.model().spec(), config_.decimate) {
   core_.set_max_gap(config_.max_gap);
@@ -127,6 +128,7 @@ void IdentifierNode::StartLearning(const std::string& how) {
   waiting_.clear();
   Handle(held);
   Acknowledge();  // a lockstep generator waiting on them hears that they are held
+  AcknowledgeSignals();
 }
 
 void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
@@ -173,7 +175,18 @@ void IdentifierNode::Acknowledge(int64_t state_seq) {
   if (started_) acks_.Publish(stream_.newest_held_state(), state_seq);
 }
 
+void IdentifierNode::AcknowledgeSignals(int64_t seq) {
+  if (started_ && config_.source == SampleSource::kSignals)
+    signal_acks_.Publish(stream_.newest_signals(), seq);
+}
+
 void IdentifierNode::OnSignals(const odonata::signals_t& msg) {
+  // The newest sample again: a lockstep replay resending it because its receipt was lost (or
+  // sent before this identifier had started). Answered, neither learned twice nor counted.
+  if (msg.seq >= 0 && msg.seq == stream_.newest_signals()) {
+    AcknowledgeSignals(msg.seq);
+    return;
+  }
   std::vector<SampleStream::Event> events;
   try {
     events = stream_.OnSignals(msg);
@@ -189,6 +202,7 @@ void IdentifierNode::OnSignals(const odonata::signals_t& msg) {
     if (started_) bus_.SetState(core_.learning() ? "running" : "frozen");
   }
   Handle(events);
+  AcknowledgeSignals(msg.seq);
 }
 
 void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {

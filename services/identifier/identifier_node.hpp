@@ -55,6 +55,9 @@ class IdentifierNode {
   // Publishes the lockstep receipt (ack_t): after every state (a resend's too, so a lost receipt
   // is repaired), else only when it advanced.
   void Acknowledge(int64_t state_seq = -1);
+  // The receipt of signals_t samples on the signals_ack channel (odonata-replay --lockstep):
+  // `seq` is the sample just handled, answered even when it was a resend.
+  void AcknowledgeSignals(int64_t seq = -1);
   void Learn(const sysid::Sample& sample);
   void PublishSnapshot();
   void SaveModel(const std::string& path);
@@ -64,6 +67,7 @@ class IdentifierNode {
   std::string save_model_path_;
   std::string models_dir_;  // where SAVE_MODEL with a file name writes ("" = refused)
   bus::AckPublisher acks_;
+  bus::AckPublisher signal_acks_;
   sysid::OnlineIdentifier core_;
   bool started_ = false;  // false while waiting for a snapshot to resume from
   SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)

@@ -52,6 +52,9 @@ class SampleStream {
   bool needs_beat_states() const { return pairer_.needs().beat || pairer_.needs().next_beat; }
   /// What a lockstep receipt acknowledges (pipeline::SamplePairer::newest_held_state()).
   int64_t newest_held_state() const { return pairer_.newest_held_state(); }
+  /// The newest signals_t sample taken in order (−1 before any): what a replay's lockstep receipt
+  /// acknowledges, and the seq whose repeat is a resend.
+  int64_t newest_signals() const { return signals_sequence_.newest(); }
 
  private:
   std::vector<Event> Form(const std::vector<messages::PairedMessages>& paired);

@@ -3,6 +3,7 @@
 #include "bus/event_log_format.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/plant_state_t.hpp"
+#include "odonata/signals_t.hpp"
 #include "odonata/wing_command_t.hpp"
 
 #include <algorithm>
@@ -16,7 +17,8 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
     : bus_(bus),
       options_(options),
       writer_(options.prefix, options.split_bytes),
-      acks_(bus, bus.channels().ack) {
+      acks_(bus, bus.channels().ack),
+      signal_acks_(bus, bus.channels().signals_ack) {
   bus_.SubscribeRaw(
       options_.channels_regex, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         // LCM 1.3.1 hands on a datagram whose channel name has no terminating NUL with
@@ -95,6 +97,18 @@ void LoggerNode::Track(const std::string& channel, const lcm::ReceiveBuffer& rbu
     odonata::beat_state_t m;
     if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
     marks_.OnBeat(m.seq);
+  } else if (channel == ch.signals) {
+    odonata::signals_t m;
+    if (!bus::SafeDecode(&m, rbuf.data, rbuf.data_size) || m.seq < 0) return;
+    // A resend of the newest (its receipt was lost) is answered again; an accepted sample
+    // moves the receipt. Flushed first, as for states: a receipt says the sample is safe.
+    const bool resend = m.seq == signals_sequence_.newest();
+    if (!resend &&
+        signals_sequence_.Next(m.seq).kind == pipeline::SampleSequence::Verdict::Kind::kDrop)
+      return;
+    writer_.Flush();
+    signal_acks_.Publish(signals_sequence_.newest(), m.seq);
+    return;
   } else {
     return;
   }

@@ -10,6 +10,7 @@
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
 #include "bus/event_log_writer.hpp"
+#include "sequence/sample_sequence.hpp"
 #include "sequence/written_run_marks.hpp"
 
 namespace odonata::logger {
@@ -47,6 +48,10 @@ class LoggerNode {
   int64_t flushed_held_ = -1;  // the newest held state whose events were flushed
   bool over_budget_ = false;   // the disk budget is spent: nothing more is written
   bus::AckPublisher acks_;
+  // signals_t samples (any vehicle's, or odonata-replay's): the newest written in order, by the
+  // rule the export follows, acknowledged on the signals_ack channel.
+  pipeline::SampleSequence signals_sequence_;
+  bus::AckPublisher signal_acks_;
 };
 
 }  // namespace odonata::logger
