@@ -50,7 +50,7 @@ done
 "$stage/bin/odonata-compare" --version >/dev/null || fail "the installed odonata-compare does not find its modules"
 
 # Man pages made from --help, and bash completion of options and odonata-control's commands.
-for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,run,compare}; do
+for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,replay,run,compare}; do
   page=$stage/share/man/man1/$p.1
   [[ -s $page ]] || fail "no man page $p.1"
   MANWIDTH=100 man -l "$page" 2>/dev/null | grep -q "^NAME" || fail "$p.1 does not render"
@@ -63,8 +63,10 @@ completion=$(PATH=$stage/bin:$PATH bash -c '
   c() { COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); COMP_LINE="$*"; COMP_POINT=${#COMP_LINE}; COMPREPLY=()
         f=$(complete -p "$1" | sed -E "s/.*-F ([^ ]+).*/\1/"); "$f" "$1" "${COMP_WORDS[COMP_CWORD]}" ""
         echo "${COMPREPLY[*]}"; }
-  c odonata-fit --inp; c odonata-control fr; c odonata-logger export --str' bash "$stage")
-[[ $completion == $'--input\nfreeze\n--strict' ]] || fail "bash completion gave: $completion"
+  c odonata-fit --inp; c odonata-control fr; c odonata-logger export --str; c odonata-fit --hori
+  c odonata-replay --lock' bash "$stage")
+# --horizon once, though a description mentions it too.
+[[ $completion == $'--input\nfreeze\n--strict\n--horizon\n--lockstep' ]] || fail "bash completion gave: $completion"
 echo "PASS: man pages for every program, bash completion of options and commands"
 
 # The installed own-vehicle example builds on its own, as a vehicle's project would: lcm-gen on

@@ -1,0 +1,106 @@
+// odonata-replay: a recorded flight (CSV, or a PX4 ULog) onto the bus as VEHICLE_SIGNALS, so
+// the live identifier, monitor and logger run on it exactly as next to the vehicle.
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "bus_cli/channel_options.hpp"
+#include "cli/parse_command_line.hpp"
+#include "io/csv_table.hpp"
+#include "replay/flight_rows.hpp"
+#include "replay_node.hpp"
+
+int main(int argc, char** argv) {
+  std::string path, summary_json, lcm_url, instance = "replay", delimiter = ",", decimal = ".";
+  odonata::replay::FlightRowsOptions rows;
+  odonata::replay::ReplayOptions o;
+  CLI::App app{
+      "Publishes a recorded flight as VEHICLE_SIGNALS (signals_t, one message per row, seq = "
+      "row): at its own pace (--speed 1), faster (--speed N), or in lockstep with the "
+      "identifiers' and loggers' receipts (--lockstep: as fast as the slowest learns, nothing "
+      "lost). Prints what it sent."};
+  app.add_option("file", path, "the flight: a CSV (as odonata-fit reads it)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--signals", rows.signals,
+                 "columns to send, in order (comma-separated or repeated; default: every column "
+                 "but the time and seq columns)")
+      ->delimiter(',');
+  app.add_option("--time", rows.time_column,
+                 "time column in seconds (default: t_s when the file has one)");
+  app.add_option("--rate", rows.rate_hz, "samples per second of a file without a time column")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--speed", o.speed, "the flight's time runs this many times faster")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
+  app.add_flag("--lockstep", o.lockstep,
+               "send each sample once every identifier and logger holds the last one "
+               "(VEHICLE_SIGNALS_ACK): the live model then equals odonata-fit's on this file");
+  app.add_option("--wait-for", o.wait_for,
+                 "lockstep: a consumer instance whose receipt of each sample the next one waits "
+                 "for (repeatable)");
+  app.add_option("--discover", o.discover_s,
+                 "lockstep: seconds to listen for identifier and logger heartbeats first; each "
+                 "one heard is waited for too (0: only --wait-for)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--timeout-ms", o.timeout_ms, "lockstep: resend a sample after this long")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 600000));
+  app.add_option("--max-resends", o.max_resends,
+                 "lockstep: resends of one sample before giving up on a consumer")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--source", o.source,
+                 "signals_t.source, the vehicle's name (default: the "
+                 "file's name)");
+  app.add_option("--summary-json", summary_json, "also write what was sent here");
+  app.add_option("--delimiter", delimiter, "what separates the CSV's cells: ',' ';' or tab")
+      ->capture_default_str()
+      ->check(CLI::IsMember({",", ";", "tab", "\t"}));
+  app.add_option("--decimal", decimal, "the CSV's decimal mark: '.' or ','")
+      ->capture_default_str()
+      ->check(CLI::IsMember({".", ","}));
+  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
+  app.add_option("--instance", instance, "instance name")->capture_default_str();
+  odonata::cli::ChannelOptions channels;
+  odonata::cli::AddChannelOptions(&app, &channels);
+  if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
+  try {
+    odonata::io::CsvFormat format;
+    format.delimiter = delimiter == "tab" ? '\t' : delimiter[0];
+    format.decimal = decimal[0];
+    if (format.delimiter == format.decimal)
+      throw std::runtime_error("--delimiter and --decimal cannot both be '" +
+                               std::string(1, format.decimal) + "'");
+    const auto table =
+        odonata::io::CsvTable::Read(path, odonata::io::MissingCells::kKeepAsNaN, format);
+    odonata::replay::FlightRows flight = odonata::replay::FlightRowsFromTable(table, rows);
+    if (o.source.empty()) o.source = std::filesystem::path(path).stem().string();
+    odonata::bus::BusOptions opts;
+    opts.lcm_url = lcm_url;
+    opts.key_path = channels.key_path;
+    opts.service = "odonata-replay";
+    opts.instance = instance;
+    channels.ApplyTo(&opts.channels);
+    odonata::bus::BusNode bus(opts);
+    odonata::replay::ReplayNode node(bus, std::move(flight), o);
+    const int code = bus.Run();
+    std::printf("odonata-replay: %s\n", node.SummaryLine().c_str());
+    if (!summary_json.empty()) {
+      std::ofstream out(summary_json);
+      out << node.Summary().dump(1) << "\n";
+      if (!out) throw std::runtime_error(summary_json + ": cannot write the summary");
+    }
+    return code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "odonata-replay: error: %s\n", e.what());
+    return 1;
+  }
+}
