@@ -3,7 +3,7 @@
 # installs clang if needed, builds the harnesses with ASan+UBSan in build-fuzz/, and runs each
 # for SECONDS (default 60) from a copy of its seed corpus. Crashes land in build-fuzz/crashes/.
 # Usage: deploy/fuzz.sh [SECONDS] [HARNESS...]   (harnesses: csv_reader model_json
-#        identifier_config udpm_datagrams bus_messages event_log message_signer)
+#        identifier_config udpm_datagrams bus_messages event_log message_signer ulog_reader)
 #        FUZZ_RUNS=N deploy/fuzz.sh ...   also stops each harness after N executions
 # Every library is instrumented for coverage (-fsanitize=fuzzer-no-link), not only the harness:
 # libFuzzer is guided by the code under test, where the bugs are.
@@ -13,7 +13,7 @@ SECONDS_EACH=${1:-60}
 shift || true
 HARNESSES=("$@")
 ((${#HARNESSES[@]})) || HARNESSES=(csv_reader model_json identifier_config udpm_datagrams bus_messages event_log
-  message_signer)
+  message_signer ulog_reader)
 if ! command -v clang++ >/dev/null || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
   SUDO=""
   [[ $(id -u) -ne 0 ]] && SUDO=sudo

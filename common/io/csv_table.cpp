@@ -128,6 +128,30 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
   return t;
 }
 
+CsvTable CsvTable::FromColumns(std::string source, std::vector<std::string> names,
+                               std::vector<std::vector<double>> columns) {
+  if (names.size() != columns.size())
+    throw CsvError(source + ": " + std::to_string(names.size()) + " column names for " +
+                   std::to_string(columns.size()) + " columns");
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (names[c].empty())
+      throw CsvError(source + ": column " + std::to_string(c + 1) + " has no name");
+    for (std::size_t p = 0; p < c; ++p)
+      if (names[p] == names[c])
+        throw CsvError(source + ": column name '" + names[c] + "' appears twice (columns " +
+                       std::to_string(p + 1) + " and " + std::to_string(c + 1) + ")");
+    if (columns[c].size() != columns.front().size())
+      throw CsvError(source + ": column '" + names[c] + "' has " +
+                     std::to_string(columns[c].size()) + " rows, column '" + names.front() + "' " +
+                     std::to_string(columns.front().size()));
+  }
+  CsvTable t;
+  t.source_ = std::move(source);
+  t.names_ = std::move(names);
+  t.columns_ = std::move(columns);
+  return t;
+}
+
 bool CsvTable::HasColumn(const std::string& name) const {
   for (const auto& n : names_)
     if (n == name) return true;

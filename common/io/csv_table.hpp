@@ -37,6 +37,12 @@ class CsvTable {
   /// @throws std::invalid_argument when the format's delimiter and decimal mark are the same.
   static CsvTable Parse(const std::string& text, const std::string& source_name,
                         MissingCells missing = MissingCells::kReject, CsvFormat format = {});
+  /// A table of columns made in memory (e.g. signals resampled from a flight log). The values are
+  /// taken as they are: NaN marks a missing value, as MissingCells::kKeepAsNaN reads it.
+  /// @throws CsvError naming `source` for a name that is empty or appears twice, or for a number
+  ///   of names other than of columns, or columns of different lengths.
+  static CsvTable FromColumns(std::string source, std::vector<std::string> names,
+                              std::vector<std::vector<double>> columns);
 
   const std::vector<std::string>& names() const { return names_; }
   std::size_t rows() const { return columns_.empty() ? 0 : columns_.front().size(); }

@@ -152,7 +152,10 @@ class MessageWalk {
       // Zeros where the writer reserved room it never filled (before appended data, or at the
       // end of a file the autopilot preallocated): no message, nothing lost.
       out_.notes.push_back(std::to_string(left) + " zero bytes at byte " + std::to_string(pos) +
-                           " skipped");
+                           (before_appended
+                                ? " before the data appended at byte " + std::to_string(end)
+                                : std::string(" at the end")) +
+                           ": skipped");
       pos = end;
       return true;
     }
@@ -180,9 +183,9 @@ class MessageWalk {
   // The log was cut mid-message and data appended after it (as the spec has appenders do): the
   // cut message is dropped and reading goes on where the appended data starts.
   bool SkipToAppended(std::size_t& pos, std::size_t end, const std::string& what) {
-    out_.notes.push_back(what + " at byte " + std::to_string(pos) + " before the data appended at byte " +
-                         std::to_string(end) + ": " + std::to_string(end - pos) +
-                         " bytes skipped");
+    out_.notes.push_back(what + " at byte " + std::to_string(pos) +
+                         " before the data appended at byte " + std::to_string(end) + ": " +
+                         std::to_string(end - pos) + " bytes skipped");
     pos = end;
     return true;
   }
@@ -235,8 +238,9 @@ class MessageWalk {
 
   void FlagBitsMessage(PayloadCursor& in, std::size_t payload_size, std::size_t pos) {
     if (pos != kFileHeaderSize || out_.flags.present)
-      throw MessageDamage{"the flag bits message must be the first message, right after the "
-                          "header"};
+      throw MessageDamage{
+          "the flag bits message must be the first message, right after the "
+          "header"};
     if (payload_size < kFlagBitsSize)
       throw MessageDamage{"the flag bits message has " + std::to_string(payload_size) +
                           " bytes, it needs " + std::to_string(kFlagBitsSize)};
@@ -261,8 +265,8 @@ class MessageWalk {
     unknown_compat[0] &= 0xfe;
     if (std::any_of(unknown_compat.begin(), unknown_compat.end(),
                     [](std::uint8_t b) { return b != 0; }))
-      out_.notes.push_back("unknown compatible flag bits are set (compat_flags " +
-                           Hex(f.compat) + "); ignored, as the spec allows");
+      out_.notes.push_back("unknown compatible flag bits are set (compat_flags " + Hex(f.compat) +
+                           "); ignored, as the spec allows");
     const std::size_t end = pos + kMessageHeaderSize + payload_size;
     for (const std::uint64_t o : f.appended_offsets) {
       if (o == 0) continue;
@@ -376,8 +380,8 @@ class MessageWalk {
     const Layout& layout = *s.layout;
     const std::string_view data = in.Rest();
     if (data.size() < layout.logged_size || data.size() > layout.size)
-      throw MessageDamage{"data of '" + s.topic + "' (msg_id " + std::to_string(msg_id) +
-                          ") has " + std::to_string(data.size()) + " bytes, its format " +
+      throw MessageDamage{"data of '" + s.topic + "' (msg_id " + std::to_string(msg_id) + ") has " +
+                          std::to_string(data.size()) + " bytes, its format " +
                           (data.size() < layout.logged_size
                                ? "needs at least " + std::to_string(layout.logged_size)
                                : "has only " + std::to_string(layout.size))};

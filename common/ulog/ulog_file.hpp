@@ -37,8 +37,8 @@ struct FlagBits {
 /// One 'A' message and the data ('D') messages logged under its msg_id.
 struct Subscription {
   std::uint16_t msg_id = 0;
-  std::uint8_t multi_id = 0;  ///< instance of a topic logged several times (0: the first)
-  std::string topic;          ///< the format's name
+  std::uint8_t multi_id = 0;        ///< instance of a topic logged several times (0: the first)
+  std::string topic;                ///< the format's name
   std::uint64_t subscribed_at = 0;  ///< byte offset of the 'A' message
   std::shared_ptr<const Layout> layout;
   std::vector<std::uint64_t> timestamps_us;  ///< each sample's "timestamp" field, in file order
@@ -75,7 +75,7 @@ struct DefaultParameter {
 
 /// An 'L' (printf output) or 'C' (tagged) message.
 struct LogMessage {
-  std::uint8_t level = 0;             ///< '0' (emergency) … '7' (debug), as the kernel's
+  std::uint8_t level = 0;            ///< '0' (emergency) … '7' (debug), as the kernel's
   std::optional<std::uint16_t> tag;  ///< set for 'C' messages
   std::uint64_t timestamp_us = 0;
   std::string text;

@@ -16,12 +16,12 @@ struct BasicTypeInfo {
 };
 
 constexpr BasicTypeInfo kBasicTypes[] = {
-    {"int8_t", BasicType::kInt8, 1},     {"uint8_t", BasicType::kUint8, 1},
-    {"int16_t", BasicType::kInt16, 2},   {"uint16_t", BasicType::kUint16, 2},
-    {"int32_t", BasicType::kInt32, 4},   {"uint32_t", BasicType::kUint32, 4},
-    {"int64_t", BasicType::kInt64, 8},   {"uint64_t", BasicType::kUint64, 8},
-    {"float", BasicType::kFloat, 4},     {"double", BasicType::kDouble, 8},
-    {"bool", BasicType::kBool, 1},       {"char", BasicType::kChar, 1},
+    {"int8_t", BasicType::kInt8, 1},   {"uint8_t", BasicType::kUint8, 1},
+    {"int16_t", BasicType::kInt16, 2}, {"uint16_t", BasicType::kUint16, 2},
+    {"int32_t", BasicType::kInt32, 4}, {"uint32_t", BasicType::kUint32, 4},
+    {"int64_t", BasicType::kInt64, 8}, {"uint64_t", BasicType::kUint64, 8},
+    {"float", BasicType::kFloat, 4},   {"double", BasicType::kDouble, 8},
+    {"bool", BasicType::kBool, 1},     {"char", BasicType::kChar, 1},
 };
 
 // SizeOf and TypeName index the table by the enumerator.
@@ -39,16 +39,15 @@ std::string Quoted(std::string_view s) { return "'" + std::string(s) + "'"; }
 
 // Names end up in signal names ("topic/1.inner[2].x"): the characters that structure those, and
 // blanks or control bytes, are refused so that every name reads back unambiguously.
-bool IsNameByte(unsigned char c, bool field) {
+bool IsNameByte(unsigned char c) {
   if (c <= 0x20 || c == 0x7f) return false;
-  if (c == ';' || c == ':' || c == '[' || c == ']') return false;
-  return !(field && c == '.');
+  return c != ';' && c != ':' && c != '[' && c != ']' && c != '.';
 }
 
-void CheckName(std::string_view name, bool field, std::string_view what) {
+void CheckName(std::string_view name, std::string_view what) {
   if (name.empty()) throw UlogError(std::string(what) + " is empty");
   for (const char c : name)
-    if (!IsNameByte(static_cast<unsigned char>(c), field))
+    if (!IsNameByte(static_cast<unsigned char>(c)))
       throw UlogError(std::string(what) + " " + Quoted(name) + " holds the character " +
                       (static_cast<unsigned char>(c) < 0x21 ? "with code " + std::to_string(+c)
                                                             : Quoted(std::string_view(&c, 1))));
@@ -159,12 +158,11 @@ TypeRef ParseTypeRef(std::string_view text) {
   TypeRef t;
   const auto open = text.find('[');
   if (open == std::string_view::npos) {
-    CheckName(text, false, "type name");
+    CheckName(text, "type name");
     t.name = std::string(text);
     return t;
   }
-  if (text.back() != ']')
-    throw UlogError("type " + Quoted(text) + " is not of the form name[N]");
+  if (text.back() != ']') throw UlogError("type " + Quoted(text) + " is not of the form name[N]");
   const std::string_view digits = text.substr(open + 1, text.size() - open - 2);
   // Five digits reach 99999, past any size a message can hold; longer would only overflow.
   if (digits.empty() || digits.size() > 5 ||
@@ -174,7 +172,7 @@ TypeRef ParseTypeRef(std::string_view text) {
   for (const char c : digits) n = n * 10 + static_cast<std::size_t>(c - '0');
   if (n > kMaxMessagePayload)
     throw UlogError("type " + Quoted(text) + " has more elements than a message can hold");
-  CheckName(text.substr(0, open), false, "type name");
+  CheckName(text.substr(0, open), "type name");
   t.name = std::string(text.substr(0, open));
   t.array_length = n;
   return t;
@@ -185,7 +183,7 @@ Format ParseFormat(std::string_view text) {
   if (colon == std::string_view::npos)
     throw UlogError("format " + Quoted(text.substr(0, 60)) + " has no ':' after its name");
   Format f;
-  CheckName(text.substr(0, colon), false, "format name");
+  CheckName(text.substr(0, colon), "format name");
   f.name = std::string(text.substr(0, colon));
   if (ParseBasicType(f.name))
     throw UlogError("format " + Quoted(f.name) + " has the name of a basic type");
@@ -203,7 +201,7 @@ Format ParseFormat(std::string_view text) {
     FormatField field;
     field.type = ParseTypeRef(TrimBlanks(piece.substr(0, blank)));
     const std::string_view name = piece.substr(blank + 1);
-    CheckName(name, true, "field name");
+    CheckName(name, "field name");
     if (!seen.insert(name).second)
       throw UlogError("field " + Quoted(name) + " appears twice in format " + Quoted(f.name));
     field.name = std::string(name);
