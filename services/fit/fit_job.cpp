@@ -14,6 +14,7 @@
 #include "metrics/accuracy_json.hpp"
 #include "metrics/running_accuracy.hpp"
 #include "progress_bar.hpp"
+#include "records/record_file.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
 #include "sysid/offline_fit.hpp"
@@ -32,12 +33,20 @@ namespace {
 sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                          const sysid::RegressorSpec& spec, nlohmann::json* data,
                          nlohmann::json* warnings) {
-  const io::CsvTable table = io::CsvTable::Read(path, io::MissingCells::kKeepAsNaN, o.csv_format);
+  // A CSV as it is, or a PX4 ULog's signals resampled onto one grid (--rate) with a t_s column.
+  records::RecordOptions ro;
+  ro.csv_format = o.csv_format;
+  ro.signals = spec.outputs;
+  ro.signals.insert(ro.signals.end(), spec.inputs.begin(), spec.inputs.end());
+  ro.rate_hz = o.rate_hz;
+  ro.max_gap = o.max_gap;
+  records::Record record = records::ReadRecord(path, ro);
+  const io::CsvTable& table = record.table;
   sysid::SeriesOptions so;
   so.outputs = spec.outputs;
   so.inputs = spec.inputs;
-  so.time_column = o.time_column;
-  so.rate_hz = o.rate_hz;
+  so.time_column = o.time_column.empty() ? record.time_column : o.time_column;
+  so.rate_hz = o.rate_hz > 0 ? o.rate_hz : record.rate_hz;
   so.max_gap = o.max_gap;
   // Every segment kept has at least two targets, so a file that passes can be scored.
   so.min_segment = spec.first_target() + 2;
@@ -50,8 +59,10 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                       {"bridged", r.bridged},
                       {"missing", r.missing},
                       {"dropped_segments", r.dropped_segments}};
-  if (!o.time_column.empty()) d["rate_hz"] = r.rate_hz;
+  if (!so.time_column.empty()) d["rate_hz"] = r.rate_hz;
   if (data) (*data)[path] = d;
+  if (warnings)
+    for (const auto& w : record.warnings) warnings->push_back(w);
   if (warnings && (r.bridged > 0 || r.missing > 0 || r.segments > 1)) {
     warnings->push_back(path + ": " + std::to_string(r.bridged) + " missing values bridged, " +
                         std::to_string(r.missing) + " samples dropped in longer gaps, " +

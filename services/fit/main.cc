@@ -25,7 +25,10 @@ int main(int argc, char** argv) {
       "row. Settings not given (consequent, entropy threshold, kappa, epochs) are chosen on the "
       "last part of the training file by simulation accuracy; the validation file is only "
       "scored. Reports FIT/VAF/RMSE one-step and free-run, beside linear ARX and persistence."};
-  app.add_option("--train", o.train_csv, "training CSV")->check(CLI::ExistingFile);
+  app.add_option("--train", o.train_csv,
+                 "training CSV, or a PX4 ULog (.ulg: --output and --input name its signals "
+                 "topic.field, topic.field[i], topic/1.field; resampled onto --rate)")
+      ->check(CLI::ExistingFile);
   app.add_option("--validate", o.validate_csv, "validation CSV (a different excitation)")
       ->check(CLI::ExistingFile);
   app.add_option("--output", o.outputs,
@@ -33,7 +36,9 @@ int main(int argc, char** argv) {
   app.add_option("--time", o.time_column,
                  "time column in seconds: samples are resampled onto a fixed rate (--rate) by "
                  "linear interpolation");
-  app.add_option("--rate", o.rate_hz, "with --time: the rate in Hz (default: the file's median)")
+  app.add_option("--rate", o.rate_hz,
+                 "with --time or a ULog: the rate in Hz (default: the file's median; for a ULog "
+                 "the fastest chosen signal's)")
       ->check(CLI::Range(1e-6, 1e7));
   app.add_option("--max-gap", o.max_gap,
                  "missing samples (empty or NaN cells, or time gaps) bridged by linear "

@@ -12,6 +12,7 @@
 #include "bus_cli/channel_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "io/csv_table.hpp"
+#include "records/record_file.hpp"
 #include "replay/flight_rows.hpp"
 #include "replay_node.hpp"
 
@@ -24,7 +25,9 @@ int main(int argc, char** argv) {
       "row): at its own pace (--speed 1), faster (--speed N), or in lockstep with the "
       "identifiers' and loggers' receipts (--lockstep: as fast as the slowest learns, nothing "
       "lost). Prints what it sent."};
-  app.add_option("file", path, "the flight: a CSV (as odonata-fit reads it)")
+  app.add_option("file", path,
+                 "the flight: a CSV (as odonata-fit reads it) or a PX4 ULog (with --signals, "
+                 "resampled onto --rate)")
       ->required()
       ->check(CLI::ExistingFile);
   app.add_option("--signals", rows.signals,
@@ -33,7 +36,10 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--time", rows.time_column,
                  "time column in seconds (default: t_s when the file has one)");
-  app.add_option("--rate", rows.rate_hz, "samples per second of a file without a time column")
+  double rate_hz = 0;
+  app.add_option("--rate", rate_hz,
+                 "samples per second: of a CSV without a time column (default 100), or the grid "
+                 "a ULog's signals are resampled onto (default: the fastest one's median)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   app.add_option("--speed", o.speed, "the flight's time runs this many times faster")
@@ -79,9 +85,17 @@ int main(int argc, char** argv) {
     if (format.delimiter == format.decimal)
       throw std::runtime_error("--delimiter and --decimal cannot both be '" +
                                std::string(1, format.decimal) + "'");
-    const auto table =
-        odonata::io::CsvTable::Read(path, odonata::io::MissingCells::kKeepAsNaN, format);
-    odonata::replay::FlightRows flight = odonata::replay::FlightRowsFromTable(table, rows);
+    // A CSV as it is, or a ULog's chosen signals on one grid with a t_s column.
+    odonata::records::RecordOptions ro;
+    ro.csv_format = format;
+    ro.signals = rows.signals;
+    ro.rate_hz = rate_hz;
+    const odonata::records::Record record = odonata::records::ReadRecord(path, ro);
+    for (const auto& w : record.warnings)
+      std::fprintf(stderr, "odonata-replay: warning: %s\n", w.c_str());
+    if (rows.time_column.empty()) rows.time_column = record.time_column;
+    if (rate_hz > 0) rows.rate_hz = rate_hz;
+    odonata::replay::FlightRows flight = odonata::replay::FlightRowsFromTable(record.table, rows);
     if (o.source.empty()) o.source = std::filesystem::path(path).stem().string();
     odonata::bus::BusOptions opts;
     opts.lcm_url = lcm_url;

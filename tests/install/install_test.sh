@@ -50,7 +50,7 @@ done
 "$stage/bin/odonata-compare" --version >/dev/null || fail "the installed odonata-compare does not find its modules"
 
 # Man pages made from --help, and bash completion of options and odonata-control's commands.
-for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,replay,run,compare}; do
+for p in odonata-{plant,signal,identifier,monitor,logger,control,fit,sim,export,replay,ulog,run,compare}; do
   page=$stage/share/man/man1/$p.1
   [[ -s $page ]] || fail "no man page $p.1"
   MANWIDTH=100 man -l "$page" 2>/dev/null | grep -q "^NAME" || fail "$p.1 does not render"

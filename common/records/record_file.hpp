@@ -1,0 +1,43 @@
+#pragma once
+// A recorded flight's file as one table, whatever wrote it: a CSV as it is, or a PX4 ULog's
+// chosen signals resampled onto one time grid (column t_s, seconds since the log's start). Every
+// program that reads a record (odonata-fit, odonata-replay, odonata-ulog export) reads it here,
+// so a .ulg is taken wherever a CSV is, under the same gap rules.
+
+#include <string>
+#include <vector>
+
+#include "io/csv_table.hpp"
+
+namespace odonata::records {
+
+/// True when `path` starts with the ULog magic ("ULog" 01 12 35), whatever its name.
+bool IsUlog(const std::string& path);
+
+struct RecordOptions {
+  io::MissingCells missing = io::MissingCells::kKeepAsNaN;
+  io::CsvFormat csv_format;  ///< CSV only
+  /// ULog only: the signals to take, by name (topic.field, topic.field[i], topic/1.field).
+  std::vector<std::string> signals;
+  /// ULog only: the grid's rate (0: the highest median rate of the chosen signals).
+  double rate_hz = 0;
+  /// ULog only: where a signal's own samples are more than max_gap + 1 grid periods apart its
+  /// cells are missing (NaN), for the reader's gap rules to bridge or split.
+  int max_gap = 3;
+};
+
+struct Record {
+  io::CsvTable table;
+  std::string time_column;  ///< "t_s" for a ULog; "" for a CSV (the caller's choice holds)
+  double rate_hz = 0;       ///< a ULog's grid rate
+  /// What the reader should hear of: a damaged ULog read up to its damage, samples dropped for
+  /// time going backwards, cells left missing by gaps.
+  std::vector<std::string> warnings;
+};
+
+/// @throws io::CsvError (a CSV's problem, with file, line and column) or std::runtime_error /
+///   std::invalid_argument (a ULog that is not one, no --signals for it, an unknown signal with
+///   the nearest names) naming the file.
+Record ReadRecord(const std::string& path, const RecordOptions& options);
+
+}  // namespace odonata::records
