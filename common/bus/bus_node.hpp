@@ -96,6 +96,7 @@ class BusNode {
   bool stopped_by_signal() const { return stopped_by_signal_; }
   /// The code Run() returns, for a shutdown hook that learns the run did not finish.
   void SetExitCode(int code) { exit_code_ = code; }
+  int exit_code() const { return exit_code_; }
 
   /// Runs the loop until Stop() or a signal. Returns the process exit code.
   int Run();

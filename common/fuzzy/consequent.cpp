@@ -3,7 +3,9 @@
 #include "fuzzy/fuzzy_model_state.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 #include "fuzzy/linear_consequent.hpp"
 #include "fuzzy/singleton_consequent.hpp"
@@ -40,6 +42,17 @@ bool Finite(const std::vector<double>& v) {
     if (!std::isfinite(x)) return false;
   return true;
 }
+// Finite and within ±bound: a model whose numbers pass these stays finite on inputs of its range.
+bool Within(const std::vector<double>& v, double bound) {
+  for (double x : v)
+    if (!(std::abs(x) <= bound)) return false;
+  return true;
+}
+std::string Number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
 }  // namespace
 
 std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& s, int inputs,
@@ -48,16 +61,32 @@ std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& s, int in
     throw std::runtime_error("more consequents than the rule capacity");
   }
   if (s.kind == ConsequentKind::kSingleton) {
+    if (!(s.rate >= 0 && s.rate <= kMaxLearnerSetting) ||
+        !(s.regulariser >= 0 && s.regulariser <= kMaxLearnerSetting))
+      throw std::runtime_error("singleton consequent: rate " + Number(s.rate) + " or regulariser " +
+                               Number(s.regulariser) + " is not in [0, " +
+                               Number(kMaxLearnerSetting) + "]");
     auto c = std::make_unique<SingletonConsequent>(capacity, s.rate, s.regulariser);
     const Eigen::ArrayXd none;
     for (const auto& b : s.coefficients) {
       if (b.size() != 1)
         throw std::runtime_error("singleton consequent: a rule has several centres");
-      if (!Finite(b)) throw std::runtime_error("singleton consequent: a centre is not finite");
+      if (!Within(b, kMaxCoefficient))
+        throw std::runtime_error("singleton consequent: a centre is not finite or beyond ±" +
+                                 Number(kMaxCoefficient) + " (scaled units)");
       c->AddRule(Eigen::VectorXd::Zero(inputs), b[0], none);
     }
     return c;
   }
+  // A forgetting factor of 0 divides by zero at the first update; a covariance of 1e300 overflows
+  // it: both gave NaN predictions from the fourth sample on.
+  if (!(s.forgetting > 0 && s.forgetting <= 1))
+    throw std::runtime_error("linear consequent: forgetting " + Number(s.forgetting) +
+                             " is not in (0, 1]");
+  if (!(s.initial_covariance > 0 && s.initial_covariance <= kMaxCovariance))
+    throw std::runtime_error("linear consequent: initial_covariance " +
+                             Number(s.initial_covariance) + " is not in (0, " +
+                             Number(kMaxCovariance) + "]");
   auto c = std::make_unique<LinearConsequent>(inputs, capacity, s.initial_covariance, s.forgetting);
   if (s.coefficients.size() != s.covariances.size()) {
     throw std::runtime_error("linear consequent: coefficient and covariance counts differ");
@@ -74,6 +103,13 @@ std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& s, int in
       throw std::runtime_error("linear consequent: rule " + std::to_string(r + 1) +
                                " has a value that is not finite");
     }
+    if (!Within(coef, kMaxCoefficient))
+      throw std::runtime_error("linear consequent: rule " + std::to_string(r + 1) +
+                               " has a coefficient beyond ±" + Number(kMaxCoefficient) +
+                               " (scaled units)");
+    if (!Within(cov, kMaxCovariance))
+      throw std::runtime_error("linear consequent: rule " + std::to_string(r + 1) +
+                               " has a covariance entry beyond ±" + Number(kMaxCovariance));
     c->theta_.col(static_cast<Eigen::Index>(r)) =
         Eigen::Map<const Eigen::VectorXd>(coef.data(), n1);
     c->covariances_.push_back(Eigen::Map<const Eigen::MatrixXd>(cov.data(), n1, n1));

@@ -76,8 +76,18 @@ class Consequent {
 /// is the recursive learner's λ (linear consequents).
 std::unique_ptr<Consequent> MakeConsequent(ConsequentKind kind, int inputs, int capacity,
                                            double forgetting = 1.0);
+/// The largest magnitudes a model read from a file or a snapshot may hold (ConsequentFromState,
+/// FuzzyModel::FromState): finite but absurd values — a covariance of 1e300, a coefficient of
+/// 1e300 — made every prediction NaN from the fourth sample on. The learners never come near
+/// them: in scaled units the outputs are of order 1, the RLS covariance's trace is capped at
+/// initial_covariance · (inputs + 1) (10³ by default), and a premise a .fis leaves out is 10³ wide.
+inline constexpr double kMaxCoefficient = 1e9;     ///< a consequent's coefficient, scaled units
+inline constexpr double kMaxCovariance = 1e12;     ///< an RLS covariance entry or P₀
+inline constexpr double kMaxLearnerSetting = 1e6;  ///< NLMS rate and regulariser
+inline constexpr double kMaxRuleExtent = 1e6;      ///< a centre's magnitude, a width, scaled units
+
 /// Rebuilds a consequent from its State().
-/// @throws std::runtime_error naming what is wrong (counts, sizes, non-finite values).
+/// @throws std::runtime_error naming what is wrong (counts, sizes, non-finite or absurd values).
 std::unique_ptr<Consequent> ConsequentFromState(const ConsequentState& state, int inputs,
                                                 int capacity);
 

@@ -498,11 +498,21 @@ FuzzyModel FuzzyModel::FromState(const FuzzyModelState& s) {
         throw std::runtime_error("a rule has the wrong number of centres or widths");
       }
       for (double v : rule.centre)
-        if (!std::isfinite(v)) throw std::runtime_error("a rule centre is not finite");
+        if (!(std::abs(v) <= kMaxRuleExtent))
+          throw std::runtime_error("a rule centre is not finite or beyond ±1e6 (scaled units)");
+      // The learners never narrow a width below sigma_min (a width of 1e-300 overflowed the
+      // premise gradients); within rounding of it, a model written and read back passes.
+      const double narrowest = s.config.entropy.sigma_min * (1.0 - 1e-9);
       for (double v : rule.sigma)
-        if (!std::isfinite(v) || v <= 0.0) throw std::runtime_error("a rule width is not positive");
-      if (!std::isfinite(rule.output_width) || !std::isfinite(rule.utility_sum)) {
-        throw std::runtime_error("a rule's output width or utility is not finite");
+        if (!(v >= narrowest && v <= kMaxRuleExtent))
+          throw std::runtime_error("a rule width " + std::to_string(v) +
+                                   " is not in [sigma_min, 1e6] (scaled units; sigma_min " +
+                                   std::to_string(s.config.entropy.sigma_min) + ")");
+      if (!(rule.output_width > 0.0 && rule.output_width <= kMaxRuleExtent) ||
+          !std::isfinite(rule.utility_sum)) {
+        throw std::runtime_error(
+            "a rule's output width is not in (0, 1e6] or its utility is not "
+            "finite");
       }
       const std::string names = rule.names.Problem(inputs);
       if (!names.empty()) throw std::runtime_error("a rule's names: " + names);

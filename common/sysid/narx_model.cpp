@@ -394,9 +394,27 @@ NarxModel NarxModel::FromJson(const nlohmann::json& j) {
   }
 }
 
+bool NarxModel::Readable() const {
+  try {
+    (void)FromState(State());
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 void NarxModel::Save(const std::string& path) const {
+  const nlohmann::json j = ToJson();
+  // A model its own reader refuses is not written: a learner that diverged wrote NaN as null,
+  // which no program could read back, over the last good file.
+  try {
+    (void)FromJson(j);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": not written: the model holds a value no reader takes (" +
+                             e.what() + ")");
+  }
   // Whole or absent: a crash mid-write never leaves a truncated model behind.
-  io::WriteFileAtomically(path, ToJson().dump(1) + "\n");
+  io::WriteFileAtomically(path, j.dump(1) + "\n");
 }
 
 NarxModel NarxModel::Load(const std::string& path) {

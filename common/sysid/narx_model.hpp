@@ -186,6 +186,9 @@ class NarxModel {
   /// @throws std::runtime_error naming what is wrong.
   NarxModelState State() const;
   static NarxModel FromState(const NarxModelState& state);
+  /// Its state passes the reader's checks (FromState): every value finite and within the bounds a
+  /// learner keeps to, so it predicts finitely on inputs of its range. A copy: not per sample.
+  bool Readable() const;
 
   nlohmann::json ToJson() const;
   /// @throws std::runtime_error naming what is wrong.

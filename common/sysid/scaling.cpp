@@ -50,6 +50,18 @@ std::string Scaling::Problems() const {
   if (!positive(regressor_half) || !positive(output_std)) {
     return "scaling: a range or standard deviation is not positive";
   }
+  // Finite but absurd: beyond 1e200 a scaled value overflows on the way, and a range below the
+  // resolution of its own centre scales every input to noise.
+  const auto sane = [](const Eigen::VectorXd& centre, const Eigen::VectorXd& half) {
+    for (Eigen::Index i = 0; i < centre.size(); ++i)
+      if (!(std::abs(centre(i)) <= kMaxMagnitude && half(i) <= kMaxMagnitude &&
+            half(i) >= kMinMagnitude && half(i) >= 1e-12 * std::abs(centre(i))))
+        return false;
+    return true;
+  };
+  if (!sane(regressor_mid, regressor_half) || !sane(output_mean, output_std))
+    return "scaling: a centre, range or standard deviation beyond 1e200, below 1e-200, or below "
+           "1e-12 of its centre";
   return "";
 }
 

@@ -40,6 +40,9 @@ struct Scaling {
   /// Every problem (sizes that differ, a range or deviation that is not positive and finite,
   /// a centre that is not finite), empty when fine.
   std::string Problems() const;
+  /// Problems() refuses centres and ranges beyond these magnitudes (finite but absurd ones).
+  static constexpr double kMaxMagnitude = 1e200;
+  static constexpr double kMinMagnitude = 1e-200;
   nlohmann::json ToJson() const;
   static Scaling FromJson(const nlohmann::json& j);
 };

@@ -115,6 +115,7 @@ sysid::NarxModel IdentifierNode::EmptyModel() const {
 
 void IdentifierNode::StartLearning(const std::string& how) {
   started_ = true;
+  KeepLastGood();  // what a divergence before the first snapshot falls back to
   bus_.SetState(core_.learning() ? "running" : "frozen");
   std::fprintf(stderr, "[%s] learning %s (%d rules)%s\n", config_.instance.c_str(), how.c_str(),
                core_.model().total_rules(),
@@ -292,6 +293,7 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
                  static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
                  why.c_str(), static_cast<long long>(core_.failed_refits()));
   }
+  if (!report->predicted.allFinite()) return Diverged(sample.index);
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,
                                                    prediction_seq_++, bus::NowUtime()));
@@ -409,16 +411,44 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"expert_rules_replaced", core_.expert_replaced() ? 1.0 : 0.0},
           // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
           {"samples_predicted", static_cast<double>(core_.samples_predicted())},
-          {"samples_outside", static_cast<double>(core_.samples_outside())}};
+          {"samples_outside", static_cast<double>(core_.samples_outside())},
+          // Predictions that were not finite: each restored the last good model (Diverged).
+          {"diverged", static_cast<double>(diverged_)}};
 }
 
 void IdentifierNode::RefitLanded() {
   if (bus_.state() == "refitting") bus_.SetState(state_before_refit_);
 }
 
+void IdentifierNode::Diverged(int64_t sample) {
+  // A prediction that is not finite (inputs far beyond any range, a learner that ran away) is an
+  // error the heartbeat, the log and the exit code carry; the model goes back to the last good
+  // one, so the run goes on predicting instead of publishing NaN.
+  ++diverged_;
+  bus_.SetExitCode(kExitDiverged);
+  std::string how =
+      "the last good model (" + std::to_string(last_good_learned_) + " samples learned) restored";
+  if (last_good_)
+    core_.ReplaceModel(*last_good_, last_good_learned_);
+  else
+    how = "no good model to restore";
+  bus_.SetState("error: a prediction was not finite at sample " + std::to_string(sample) + "; " +
+                how);
+  bus_.Report("model diverged", "a prediction was not finite at sample " + std::to_string(sample) +
+                                    ": " + how + " (the run will exit " +
+                                    std::to_string(kExitDiverged) + ")");
+}
+
+void IdentifierNode::KeepLastGood() {
+  if (!core_.model().Readable()) return;
+  last_good_ = core_.model();
+  last_good_learned_ = core_.samples_learned();
+}
+
 void IdentifierNode::PublishSnapshot() {
   core_.Settle();  // a closing refit after a freeze is the model to publish (waits for it)
   RefitLanded();
+  KeepLastGood();
   odonata::model_snapshot_t s = model_messages::EncodeSnapshot(core_.model());
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;

@@ -27,6 +27,9 @@
 
 namespace odonata::identifier {
 
+/// Exit code of a run in which a prediction was not finite (the model diverged and was restored).
+inline constexpr int kExitDiverged = 3;
+
 class IdentifierNode {
  public:
   /// @param initial a saved model to start from; without one the node first asks the bus for
@@ -60,6 +63,10 @@ class IdentifierNode {
   void AcknowledgeSignals(int64_t seq = -1);
   void Learn(const sysid::Sample& sample);
   void PublishSnapshot();
+  // A non-finite prediction at `sample`: error state, exit code, the last good model back.
+  void Diverged(int64_t sample);
+  // The model as it is, when it predicts finitely: what a divergence falls back to.
+  void KeepLastGood();
   void SaveModel(const std::string& path);
   sysid::NarxModel EmptyModel() const;
   bus::BusNode& bus_;
@@ -86,6 +93,10 @@ class IdentifierNode {
   bool expert_replaced_reported_ = false;
   std::string state_before_refit_;  ///< the heartbeat state to go back to after "refitting"
   int64_t snapshot_seq_ = 0;
+  // The last model that predicted finitely (KeepLastGood), and the divergences since start.
+  std::optional<sysid::NarxModel> last_good_;
+  int64_t last_good_learned_ = 0;
+  int64_t diverged_ = 0;
   // Why the newest vehicle message was refused (empty once one is taken again), and how many
   // were: a configuration naming a signal the vehicle does not send must not look like a quiet
   // run (the heartbeat's state and GET's answer say it).

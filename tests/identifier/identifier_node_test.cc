@@ -596,6 +596,51 @@ TEST(IdentifierConfig, WithoutAFileTheRollLoopIsIdentified) {
 // A configuration that names a signal the vehicle does not send is an error the identifier says
 // on its heartbeat and in GET's answer (rejected, with the names the vehicle has), not a quiet
 // "accepted" with nothing learned (issue 23 point 7); once the names match, it runs again.
+// Issue 51 point 1: a prediction that is not finite (here inputs 1e300, finite but far beyond any
+// range) is never published: the identifier says so on its heartbeat, keeps the exit code of a
+// run that diverged, restores the last good model and goes on predicting.
+TEST_F(IdentifierNodeTest, ANonFinitePredictionRestoresTheLastGoodModelAndIsAnError) {
+  IdentifierConfig c = Config();
+  c.source = SampleSource::kSignals;
+  c.spec.outputs = {"vz"};
+  c.spec.inputs = {"throttle"};
+  c.ranges = {{"vz", {-1.0, 1.0}}, {"throttle", {0.0, 1.0}}};
+  c.snapshot_every_samples = 50;
+  Start(std::nullopt, c);
+  std::vector<std::string> states;
+  bus_->Subscribe<odonata::heartbeat_t>(bus_->channels().heartbeat,
+                                        [&](const auto& h) { states.push_back(h.state); });
+  std::vector<odonata::prediction_t> predictions;
+  bus_->Subscribe<odonata::prediction_t>(bus_->channels().prediction,
+                                         [&](const auto& p) { predictions.push_back(p); });
+  const auto send = [&](int64_t k, double throttle) {
+    odonata::signals_t m{};
+    m.seq = k;
+    m.source = "veh";
+    m.num_signals = 2;
+    m.names = {"vz", "throttle"};
+    m.values = {0.5 * std::sin(0.05 * double(k)), throttle};
+    bus_->Publish(bus_->channels().signals, m);
+    Pump(*bus_);
+  };
+  for (int64_t k = 0; k < 120; ++k) send(k, 0.5 + 0.4 * std::sin(0.3 * double(k)));
+  send(120, 1e300);  // applied from 120 on: it reaches the prediction of sample 121
+  const std::size_t before = predictions.size();
+  ASSERT_GT(before, 100u);
+  send(121, 0.5);
+  EXPECT_EQ(predictions.size(), before) << "the non-finite prediction was published";
+  ASSERT_FALSE(states.empty());
+  EXPECT_NE(states.back().find("error: a prediction was not finite at sample 121"),
+            std::string::npos)
+      << states.back();
+  EXPECT_EQ(bus_->exit_code(), kExitDiverged);
+  EXPECT_EQ(node_->core().samples_learned(), 100) << "the snapshot at 100 learned samples is back";
+  EXPECT_TRUE(node_->core().model().Readable());
+  for (int64_t k = 122; k < 130; ++k) send(k, 0.5);
+  EXPECT_GT(predictions.size(), before) << "it predicts again";
+  for (const auto& p : predictions) EXPECT_TRUE(std::isfinite(p.predicted[0]));
+}
+
 TEST_F(IdentifierNodeTest, ASignalNameTheVehicleDoesNotSendIsReportedNotSilent) {
   IdentifierConfig c = Config();
   c.source = SampleSource::kSignals;

@@ -7,8 +7,11 @@
 #include <limits>
 
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -105,7 +108,7 @@ TEST(Snapshot, AnInvalidModelIsRefusedNamingWhatIsWrong) {
   EXPECT_NE(DecodeError(m).find("centre is not finite"), std::string::npos) << DecodeError(m);
   m = good;
   m.models[0].sigmas[0][1] = -1.0;
-  EXPECT_NE(DecodeError(m).find("width is not positive"), std::string::npos) << DecodeError(m);
+  EXPECT_NE(DecodeError(m).find("is not in [sigma_min, 1e6]"), std::string::npos) << DecodeError(m);
   m = good;
   m.models[0].covariances[0][3] = INFINITY;
   EXPECT_NE(DecodeError(m).find("not finite"), std::string::npos) << DecodeError(m);
@@ -129,6 +132,42 @@ TEST(Snapshot, AnInvalidModelIsRefusedNamingWhatIsWrong) {
   m.output_lower[0] = 1.0;
   m.output_upper[0] = 0.0;
   EXPECT_NE(DecodeError(m).find("lower limit is not below"), std::string::npos) << DecodeError(m);
+}
+
+// Issue 51 point 1: finite but absurd values, each of which made a started identifier publish
+// NaN from its fourth sample, are refused naming the field, as snapshots and as model files.
+TEST(Snapshot, FiniteButAbsurdValuesAreRefusedNamingTheField) {
+  const sysid::NarxModel trained = Trained(fuzzy::ConsequentKind::kLinear);
+  const odonata::model_snapshot_t good = EncodeSnapshot(trained);
+  const std::vector<std::pair<std::function<void(odonata::model_snapshot_t*)>, std::string>> cases{
+      {[](auto* m) { m->models[0].covariances[0][0] = 1e300; }, "covariance entry beyond"},
+      {[](auto* m) { m->models[0].rls_forgetting = 0.0; }, "forgetting"},
+      {[](auto* m) { m->models[0].rls_initial_covariance = 1e300; }, "initial_covariance"},
+      {[](auto* m) { m->models[0].coefficients[0][1] = 1e300; }, "coefficient beyond"},
+      {[](auto* m) { m->models[0].sigmas[0][0] = 1e-300; }, "is not in [sigma_min, 1e6]"},
+      {[](auto* m) { m->models[0].centres[0][0] = 1e300; }, "centre is not finite or beyond"},
+      {[](auto* m) { m->models[0].output_widths[0] = 1e300; }, "output width"},
+      {[](auto* m) { m->output_std[0] = 1e300; }, "beyond 1e200"},
+      {[](auto* m) { m->regressor_half[0] = 1e-300; }, "below 1e-200"},
+  };
+  for (const auto& [spoil, want] : cases) {
+    odonata::model_snapshot_t m = good;
+    spoil(&m);
+    EXPECT_NE(DecodeError(m).find(want), std::string::npos) << want << ": " << DecodeError(m);
+  }
+  EXPECT_EQ(DecodeError(good), "");
+  // The same checks for a model file (one place for both, FromState).
+  nlohmann::json file = trained.ToJson();
+  file["models"][0]["consequent"]["forgetting"] = 0.0;
+  EXPECT_THROW(sysid::NarxModel::FromJson(file), std::runtime_error);
+  file = trained.ToJson();
+  file["models"][0]["consequent"]["coefficients"][0][0] = 1e300;
+  try {
+    sysid::NarxModel::FromJson(file);
+    ADD_FAILURE() << "a coefficient of 1e300 was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("coefficient beyond"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ModelState, TheFileAndTheStateAreTheSameModel) {
