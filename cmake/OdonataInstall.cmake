@@ -1,12 +1,12 @@
 # What a board needs, installed (cmake --install) or packaged (cpack -G DEB): the programs, the
 # orchestration scripts, the lcm-spy launcher and types jar, systemd units with example
-# settings, the flight-code inference header and the examples. README "Install on a board".
+# settings, the flight-code inference header and the examples. docs/guide/install-on-a-board.md.
 include(GNUInstallDirs)
 
 set(_odonata_installed odonata-plant odonata-signal odonata-identifier odonata-monitor
     odonata-logger odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog)
-# A package for any x86-64 that still fits 1.5x faster where AVX2 and FMA exist (README,
-# Benchmarks): deploy/package.sh builds this tree for baseline x86-64 and a second one for
+# A package for any x86-64 that still fits 1.5x faster where AVX2 and FMA exist (docs/reference/benchmarks.md,
+# the x86-64 levels): deploy/package.sh builds this tree for baseline x86-64 and a second one for
 # x86-64-v3 (ODONATA_V3_TREE); both sets of programs go to libexec/odonata/<level>/, and bin/
 # holds a launcher per program that runs the level glibc's loader says this CPU supports.
 set(ODONATA_V3_TREE "" CACHE PATH
@@ -60,7 +60,8 @@ install(FILES common/inference/odonata/tsk_model.hpp
 install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/examples)
 # A vehicle in Python publishes signals_t with this module (standard library only).
 install(FILES python/odonata_signals.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
-install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# Under docs/, as in the source tree, so the installed README.md's links resolve.
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 install(FILES README.md deploy/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY deploy/board/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/board
         PATTERN "*.service" EXCLUDE PATTERN "*.target" EXCLUDE)

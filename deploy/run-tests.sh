@@ -6,7 +6,7 @@
 # The Release suite keeps about one core of two busy on average (its multi-process tests wait on
 # their services), so the sanitizer build runs beside it and uses the idle core: on two cores the
 # two together took 13.6 min instead of 14.6. The tests wait for states, not the clock, and pass
-# beside CPU hogs (README, Reliability). The build is not niced: on a machine that other jobs keep
+# beside CPU hogs (docs/guide/live-system.md, reliability). The build is not niced: on a machine that other jobs keep
 # busy, a niced build would get almost no CPU.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)

@@ -37,7 +37,7 @@ BusNode::BusNode(const BusOptions& options)
     throw std::runtime_error(
         "cannot open LCM at '" +
         (options.lcm_url.empty() ? std::string("the default URL") : options.lcm_url) +
-        "' (is there a multicast route? see README, 'Networking')");
+        "' (is there a multicast route? see docs/guide/live-system.md, 'Networking')");
   }
   char host[256] = {};
   gethostname(host, sizeof host - 1);

@@ -62,8 +62,9 @@ UdpmReceiver::UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endp
     socket_.set_option(ip::multicast::join_group(group));
     socket_.non_blocking(true);
   } catch (const std::exception& e) {
-    throw std::runtime_error("cannot receive LCM multicast on " + where + ": " + e.what() +
-                             " (is there a multicast route? see README, 'Networking')");
+    throw std::runtime_error(
+        "cannot receive LCM multicast on " + where + ": " + e.what() +
+        " (is there a multicast route? see docs/guide/live-system.md, 'Networking')");
   }
   Wait();
 }

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The README's real-flight block, run as it is written (issue 48 point 4): the Flapper Drone's
+# pitch loop streamed from flapper_level1.csv through the live identifier, monitor and logger in
+# lockstep, frozen, scored live on flapper_walt1.csv, both flights exported, fitted offline and
+# compared in a plot. Only the build tree, the flights' folder and the bus are this test's own.
+# Asserted: nothing lost, the live model equals odonata-fit's replay of the identifier on the
+# same CSV bit for bit, the live 20-step score and the plot exist; the figures are printed.
+source "$(dirname "$0")/lib.sh"
+enter_netns "$@"
+REALDATA=${ODONATA_REALDATA:?the Flapper flights folder (CMake sets it when found)}
+OUT=$(mktemp -d)
+trap 'stop_all; rm -rf "$OUT"' EXIT
+export LCM_DEFAULT_URL='udpm://239.255.76.67:7692?ttl=0'
+block=$("$PY" - "$SRC/README.md" <<'PYEOF'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+start = next(i for i, l in enumerate(lines) if "readme_real_flight_test.sh runs the next block" in l)
+first = next(i for i in range(start, len(lines)) if lines[i].startswith("```"))
+last = next(i for i in range(first + 1, len(lines)) if lines[i].startswith("```"))
+print("\n".join(lines[first + 1:last]))
+PYEOF
+) || fail "no real-flight block in README.md"
+grep -q 'R=$(realpath ../shared/realdata)' <<<"$block" || fail "the README block no longer reads ../shared/realdata"
+block=${block//'$PWD/build/bin'/$BUILD/bin}
+block=${block//'R=$(realpath ../shared/realdata)'/R=$REALDATA}
+printf '%s\n%s\n' "PS4='+ \${EPOCHREALTIME} '" "$block" >"$OUT/block.sh"
+(cd "$OUT" && timeout -k 5 600 bash -x "$OUT/block.sh") >"$OUT/block.log" 2>&1
+F=$OUT/flapper
+show() { tail -60 "$OUT/block.log"; }
+grep -q "is not up" "$OUT/block.log" && { show; fail "a service did not answer get before the replay"; }
+n=$(($(grep -vc '^#' "$REALDATA/flapper_level1.csv") - 1))
+grep -q "sent $n of $n samples of .*flapper_level1.csv" "$OUT/block.log" || { show; fail "the training flight was not sent whole"; }
+[[ -s $F/model.json && -s $F/pitch.json ]] || { show; fail "no model.json or pitch.json"; }
+offline_fit "$F/pitch.json" "$REALDATA/flapper_level1.csv" "$OUT/offline.json"
+same_model "$F/model.json" "$OUT/offline.json" ||
+  { show; fail "the live model differs from odonata-fit's replay of the identifier on flapper_level1.csv"; }
+rows=$(($(grep -vc '^#' "$F/level1.csv") - 1))
+((rows == n)) || { show; fail "the log holds $rows of the flight's $n samples"; }
+[[ -s $F/pitch.png ]] || { show; fail "odonata-compare drew no pitch.png"; }
+live=$(json_get "$F/monitor.json" "'%.1f %% (ARX %.1f %%) 20 steps ahead, %.1f %% one step' % (j['outputs']['pitch_deg']['ahead']['fit'], j['outputs']['pitch_deg']['arx']['ahead']['fit'], j['outputs']['pitch_deg']['one_step']['fit'])") ||
+  { show; fail "the monitor has no 20-step score"; }
+compare=$(grep -E "validation file, 20 steps ahead:" "$OUT/block.log" | head -1 | sed 's/^ *//')
+pass "the README's real-flight block ran as written: $n of $n samples sent, live model = odonata-fit's; live on walt1: $live; $compare"
