@@ -9,7 +9,7 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre fonts-dejavu-core
   libjchart2d-java xvfb
   python3 python3-matplotlib python3-numpy python3-sklearn iproute2 util-linux iptables
-  octave octave-fuzzy-logic-toolkit file dpkg-dev help2man bash-completion mmdebstrap
+  octave octave-fuzzy-logic-toolkit octave-control file dpkg-dev help2man bash-completion mmdebstrap
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -5,6 +5,7 @@
 
 #include "fuzzy/linear_consequent.hpp"
 #include "fuzzy/singleton_consequent.hpp"
+#include "sysid/local_dynamics.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -27,7 +28,7 @@ std::string LinguisticLabel(double c) {
   return "very high";
 }
 
-std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
+std::vector<std::string> DescribeRules(const NarxModel& model, int output, double sample_time_s) {
   const auto& fm = model.model(output);
   const auto& rb = fm.rule_base();
   const auto& sc = model.scaling();
@@ -56,26 +57,26 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output) {
       first = false;
     }
     if (!one && first) s += "always";  // every input left out
-    const double ys = sc.output_std(output);
     if (fm.consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
       const auto& cons = static_cast<const fuzzy::SingletonConsequent&>(fm.consequent());
       const std::string value = Number(sc.UnscaleOutput(output, cons.centre(j)));
       s += one ? target + " = " + value + " (one rule: a constant)"
                : " THEN " + target + " is ≈" + value;
     } else {
-      // y = mean + std (a0 + Σ a_i (r_i − mid_i)/half_i): expand to raw coefficients.
-      const auto& cons = static_cast<const fuzzy::LinearConsequent&>(fm.consequent());
-      const Eigen::VectorXd th = cons.coefficients(j);
-      double constant = sc.output_mean(output) + ys * th(0);
+      const RawLinearModel raw = RuleLinearModel(model, output, j);
       std::string terms;
       for (int i = 0; i < n; ++i) {
-        const double k = ys * th(i + 1) / sc.regressor_half(i);
-        constant -= k * sc.regressor_mid(i);
+        const double k = raw.coefficients(i);
         terms += (k < 0 ? " - " : " + ") + Number(std::abs(k)) + "·" +
                  names[static_cast<std::size_t>(i)];
       }
-      s += one ? target + " = " + Number(constant) + terms + " (one rule: a linear model, as ARX)"
-               : " THEN " + target + " ≈ " + Number(constant) + terms;
+      s += one ? target + " = " + Number(raw.constant) + terms +
+                     " (one rule: a linear model, as ARX)"
+               : " THEN " + target + " ≈ " + Number(raw.constant) + terms;
+      // A dynamic local model: how fast and how much, in the control engineer's terms.
+      if (model.spec().output_lags > 0)
+        s += " — " + DescribeDynamics(AnalyseDynamics(model.spec(), output, raw, sample_time_s),
+                                      sample_time_s);
     }
     if (!given.output.empty()) s += " [" + given.output + "]";
     lines.push_back(s);

@@ -15,7 +15,10 @@ std::string LinguisticLabel(double scaled_centre);
 
 /// One sentence per rule of output `output`, e.g.
 /// "IF y(k) is high (≈0.82 ±0.3) AND u(k) is low (≈-1.1 ±0.2) THEN y(k+1) is ≈0.64", in raw
-/// units; a linear consequent prints as "THEN y(k+1) ≈ 0.31 + 0.92·y(k) - 0.10·u(k)".
-std::vector<std::string> DescribeRules(const NarxModel& model, int output);
+/// units; a linear consequent prints as "THEN y(k+1) ≈ 0.31 + 0.92·y(k) - 0.10·u(k)", and with
+/// output lags its dynamics follow ("— τ 0.12 s, gain 31 from u": DescribeDynamics), time in
+/// seconds with `sample_time_s`, else in samples.
+std::vector<std::string> DescribeRules(const NarxModel& model, int output,
+                                       double sample_time_s = 0);
 
 }  // namespace odonata::sysid

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -11,6 +12,7 @@
 #include "io/atomic_file.hpp"
 #include "model_export/fis_writer.hpp"
 #include "model_export/fll_writer.hpp"
+#include "model_export/octave_local_models.hpp"
 #include "model_export/raw_tsk_model.hpp"
 
 namespace {
@@ -25,7 +27,8 @@ std::string PerOutput(const std::string& path, const std::string& output, bool s
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string model_path, fis, fll, only, name;
+  std::string model_path, fis, fll, only, name, local_models;
+  double sample_time_s = 0;
   CLI::App app{
       "Writes a saved odonata model (odonata-fit --save-model, odonata-identifier --save-model) "
       "as a Sugeno .fis (MATLAB, Octave's fuzzy-logic-toolkit, fuzzylite) and a fuzzylite .fll, "
@@ -37,9 +40,16 @@ int main(int argc, char** argv) {
   app.add_option("--fll", fll, ".fll file to write");
   app.add_option("--output", only, "export only this output signal (default: every one)");
   app.add_option("--name", name, "system name inside the files (default: the model file's stem)");
+  app.add_option("--local-models", local_models,
+                 "Octave script to write: each rule's linear local model as a discrete "
+                 "state-space model, loaded as octave-control ss objects (local_models(k).sys)");
+  app.add_option("--sample-time", sample_time_s,
+                 "with --local-models: the sample time in seconds (default: 1, time in samples)")
+      ->check(CLI::PositiveNumber);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
-  if (fis.empty() && fll.empty()) {
-    std::cerr << "odonata-export: nothing to write; give --fis FILE and/or --fll FILE\n";
+  if (fis.empty() && fll.empty() && local_models.empty()) {
+    std::cerr << "odonata-export: nothing to write; give --fis FILE, --fll FILE and/or "
+                 "--local-models FILE.m\n";
     return 2;
   }
   try {
@@ -47,10 +57,12 @@ int main(int argc, char** argv) {
     if (name.empty()) name = std::filesystem::path(model_path).stem().string();
     const auto& outputs = model.spec().outputs;
     bool found = only.empty();
+    std::vector<int> chosen;
     for (int o = 0; o < model.outputs(); ++o) {
       const std::string& out_name = outputs[static_cast<std::size_t>(o)];
       if (!only.empty() && only != out_name) continue;
       found = true;
+      chosen.push_back(o);
       const bool several = only.empty() && model.outputs() > 1;
       const auto tsk = odonata::model_export::ToRawTsk(model, o, name);
       std::string order;
@@ -77,6 +89,11 @@ int main(int argc, char** argv) {
     if (!found) {
       std::cerr << "odonata-export: the model has no output '" << only << "'\n";
       return 1;
+    }
+    if (!local_models.empty()) {
+      odonata::io::WriteFileAtomically(local_models, odonata::model_export::OctaveLocalModels(
+                                                         model, chosen, sample_time_s, model_path));
+      std::cout << "wrote " << local_models << " (each rule's state-space model, octave-control)\n";
     }
   } catch (const std::exception& e) {
     std::cerr << "odonata-export: " << e.what() << "\n";

@@ -17,6 +17,7 @@
 #include "records/record_file.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/local_dynamics.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/quadratic_arx_model.hpp"
@@ -547,15 +548,28 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
       report["predictions_file"] = o.predictions;
     }
   }
+  // Time constants in seconds when the training data's rate is known (a time column or a ULog).
+  double sample_time_s = 0;
+  if (!o.train_csv.empty() && data.contains(o.train_csv) && data[o.train_csv].contains("rate_hz"))
+    sample_time_s = 1.0 / data[o.train_csv]["rate_hz"].get<double>();
   for (std::size_t k = 0; k < n_outputs; ++k) {
     const auto& fk = model->model(static_cast<int>(k));
+    const int out = static_cast<int>(k);
     per[k]["rules"] = fk.rules();
     per[k]["consequent"] = fuzzy::ToString(fk.consequent().kind());
-    per[k]["target"] = spec.TargetName(static_cast<int>(k));
-    per[k]["rule_text"] = sysid::DescribeRules(*model, static_cast<int>(k));
+    per[k]["target"] = spec.TargetName(out);
+    per[k]["rule_text"] = sysid::DescribeRules(*model, out, sample_time_s);
+    // Each rule's linear local model as a control engineer reads it (docs/identifier.md §7.4).
+    nlohmann::json local = nlohmann::json::array();
+    for (const auto& d : sysid::LocalModels(*model, out, sample_time_s))
+      local.push_back(sysid::ToJson(d, sample_time_s));
+    per[k]["local_models"] = local;
+    if (const auto global = sysid::GlobalLinearModel(*model, out))
+      per[k]["global_linear"] =
+          sysid::ToJson(sysid::AnalyseDynamics(spec, out, *global, sample_time_s), sample_time_s);
   }
   // The first output at the top level, as a one-output report always had it.
-  for (const char* key : {"train", "validate", "baselines", "rule_text"})
+  for (const char* key : {"train", "validate", "baselines", "rule_text", "local_models"})
     if (per[0].contains(key)) report[key] = per[0][key];
   report["outputs"] = spec.outputs;
   if (n_outputs > 1) {
