@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
       p.names.push_back("out_" + std::to_string(k) + "_" + std::to_string(i));
     p.measured = p.predicted = p.free_run = p.next = p.max_entropy = p.arx_predicted =
         p.arx_free_run = std::vector<double>(1000, 0.5);
+    p.linear_share = std::vector<double>(1000, 0.0);
     p.rules = std::vector<int32_t>(1000, 1);
     p.learning = 1;
     predictions += lcm.publish("ODONATA_PREDICTION", &p) == 0;

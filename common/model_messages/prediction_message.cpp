@@ -23,6 +23,7 @@ odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
     p.max_entropy.push_back(report.max_entropy(o));
     p.arx_predicted.push_back(report.arx_predicted(o));
     p.arx_free_run.push_back(report.arx_free_run(o));
+    p.linear_share.push_back(o < report.linear_share.size() ? report.linear_share(o) : 0.0);
   }
   p.learning = report.learned ? 1 : 0;
   p.horizon = report.ahead.size() > 0 ? report.horizon : 0;

@@ -18,6 +18,7 @@ inline Prediction PredictionFromMessage(const odonata::prediction_t& m) {
   p.rules = m.rules;
   p.arx_predicted = m.arx_predicted;
   p.arx_free_run = m.arx_free_run;
+  p.linear_share = m.linear_share;
   p.horizon = m.horizon;
   p.ahead = m.ahead;
   p.arx_ahead = m.arx_ahead;

@@ -16,6 +16,8 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   }
   const bool arx = !p.arx_predicted.empty();
   const bool ahead = p.horizon > 0;
+  if (!p.linear_share.empty() && p.linear_share.size() != n)
+    throw std::invalid_argument("prediction's linear_share disagrees with num_outputs");
   if (p.horizon < 0 || p.horizon == 1 || (ahead && p.ahead.size() != n) ||
       p.arx_ahead.size() != (ahead && arx ? n : 0) || (!ahead && !p.ahead.empty()))
     throw std::invalid_argument("prediction's K-step arrays disagree with its horizon " +
@@ -77,6 +79,7 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     out.one_step.Add(y, p.predicted[o]);
     out.free_run.Add(y, p.free_run[o]);
     out.rules = p.rules[o];
+    if (o < p.linear_share.size() && p.linear_share[o] > 0.0) ++out.outside;
     if (ahead) {
       // A horizon changed within a run (a reconfigured identifier): its K-step scores start again.
       if (out.horizon != p.horizon) {
@@ -178,6 +181,8 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
     };
     nlohmann::json out = scores(o.one_step, o.free_run, o.ahead);
     out["rules"] = o.rules;
+    // Outside the data the model was trained on (docs/identifier.md §7.3): how often it met it.
+    out["samples_outside"] = o.outside;
     out["alarm_events"] = o.alarm_events;
     out["alarmed"] = o.alarm.alarmed();
     if (o.has_arx()) {

@@ -31,6 +31,9 @@ struct Prediction {
   /// one entry per output; 0 and empty without.
   int horizon = 0;
   std::vector<double> ahead, arx_ahead;
+  /// Per output, the share of the global linear model in `predicted` (prediction_t.linear_share):
+  /// above 0, the sample lay outside the model's data. Empty when not carried.
+  std::vector<double> linear_share;
 };
 
 struct ScoreboardOptions {
@@ -91,7 +94,8 @@ class PredictionScoreboard {
   struct Output {
     ModeScore one_step, free_run, ahead;
     ModeScore arx_one_step, arx_free_run, arx_ahead;
-    int horizon = 0;  ///< K of `ahead` (0: predictions carry none)
+    int horizon = 0;      ///< K of `ahead` (0: predictions carry none)
+    int64_t outside = 0;  ///< samples whose regressor lay outside the model's data
     bool behind_arx = false;
     metrics::AccuracyAlarm alarm;
     std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents

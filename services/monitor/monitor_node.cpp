@@ -293,7 +293,7 @@ void MonitorNode::Print() {
     const bool k_step = o.has_ahead();
     const auto row = [&](const std::string& label, const std::string& mode,
                          const monitoring::ModeScore& mine, const monitoring::ModeScore& linear,
-                         bool behind) {
+                         bool behind, const std::string& note = "") {
       const std::string rules = label.empty() ? "" : std::to_string(o.rules);
       const std::string samples = label.empty() ? "" : std::to_string(mine.total.samples());
       std::snprintf(
@@ -301,11 +301,17 @@ void MonitorNode::Print() {
           mode.c_str(),
           pair(mine.window.Get().fit_percent, linear.window.Get().fit_percent, arx).c_str(),
           pair(mine.total.Get().fit_percent, linear.total.Get().fit_percent, arx).c_str(),
-          samples.c_str(), behind ? "  <= ARX" : "");
+          samples.c_str(), (std::string(behind ? "  <= ARX" : "") + note).c_str());
       text += line;
     };
     const bool behind = scores_.BehindArx(name);
-    row(name, "1 step", o.one_step, o.arx_one_step, behind && !k_step);
+    // How often the samples lay outside the model's data (it predicted them partly linearly).
+    const long scored = o.one_step.total.samples();
+    const std::string outside =
+        o.outside > 0 && scored > 0
+            ? "  " + std::to_string((100 * o.outside + scored / 2) / scored) + "% outside"
+            : "";
+    row(name, "1 step", o.one_step, o.arx_one_step, behind && !k_step, outside);
     if (k_step) row("", std::to_string(o.horizon) + " steps", o.ahead, o.arx_ahead, behind);
     const double free = o.free_run.window.Get().fit_percent;
     const double arx_free = o.arx_free_run.window.Get().fit_percent;

@@ -44,6 +44,7 @@ odonata::prediction_t Prediction() {
   p.max_entropy = {0.1, 0.2};
   p.arx_predicted = {0.3, 0.4};
   p.arx_free_run = {0.5, 0.6};
+  p.linear_share = {0.0, 0.25};
   p.learning = 1;
   p.horizon = 20;
   p.num_ahead = 2;

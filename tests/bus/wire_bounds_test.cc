@@ -173,7 +173,7 @@ odonata::prediction_t Prediction(int outputs) {
   for (int i = 0; i < outputs; ++i) {
     p.names.push_back("out" + std::to_string(i));
     for (auto* v : {&p.measured, &p.predicted, &p.free_run, &p.next, &p.max_entropy,
-                    &p.arx_predicted, &p.arx_free_run, &p.ahead, &p.arx_ahead})
+                    &p.arx_predicted, &p.arx_free_run, &p.linear_share, &p.ahead, &p.arx_ahead})
       v->push_back(i + 0.5);
     p.rules.push_back(i + 1);
   }

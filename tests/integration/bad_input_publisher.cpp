@@ -164,6 +164,7 @@ int main(int argc, char** argv) {
     p.names = {"roll_rad"};
     p.measured = p.predicted = p.free_run = p.next = p.max_entropy = p.arx_predicted =
         p.arx_free_run = {0.0};
+    p.linear_share = {0.0};
     p.rules = {1};
     auto pb = Encode(p);
     pb[8 + 8 + 8 + 8 + 3] = 5;  // fingerprint, utime, seq, sample; then int32 num_outputs

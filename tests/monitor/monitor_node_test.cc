@@ -52,6 +52,7 @@ class MonitorNodeTest : public ::testing::Test {
     p.max_entropy = {0.2};
     p.arx_predicted = {Arx(k)};
     p.arx_free_run = {Arx(k) - 0.05};
+    p.linear_share = {k % 4 == 0 ? 0.5 : 0.0};
     p.learning = 1;
     bus_->Publish(bus_->channels().prediction, p);
     Pump(*bus_);
@@ -110,6 +111,10 @@ TEST_F(MonitorNodeTest, PublishesWindowAndTotalAccuracyOfBothModes) {
               metrics::Score(y.tail(100), arx_free.tail(100)).fit_percent, 1e-6);
   EXPECT_FALSE(node_->BehindArx("roll_rad"));
   EXPECT_FALSE(node_->Summary()["outputs"]["roll_rad"]["behind_arx"].get<bool>());
+  // Every fourth sample lay outside the model's data (prediction_t.linear_share > 0): counted.
+  long outside = 0;
+  for (int k = 0; k < n; ++k) outside += k % 4 == 0;
+  EXPECT_EQ(node_->Summary()["outputs"]["roll_rad"]["samples_outside"].get<long>(), outside);
 }
 
 // A model that does no better than the live ARX is marked, and unmarked when it does again.

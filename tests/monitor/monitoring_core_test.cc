@@ -14,18 +14,18 @@ namespace odonata::monitoring {
 namespace {
 
 Prediction At(int64_t k, double y, double yhat) {
-  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {}, {}, 0, {}, {}};
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {}, {}, 0, {}, {}, {}};
 }
 
 // A prediction carrying the live ARX baseline (prediction_t.arx_*).
 Prediction WithArx(int64_t k, double y, double yhat, double arx) {
-  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {arx}, {arx}, 0, {}, {}};
+  return {k, {"y"}, {y}, {yhat}, {yhat}, {3}, {arx}, {arx}, 0, {}, {}, {}};
 }
 
 // And K steps ahead: the model's ŷ(k | k−K) `ahead`, the live ARX's `arx_ahead`; one step ahead
 // both are exact, so only the K-step scores can tell them apart.
 Prediction WithAhead(int64_t k, double y, double ahead, double arx_ahead) {
-  return {k, {"y"}, {y}, {y}, {y}, {3}, {y}, {y}, 50, {ahead}, {arx_ahead}};
+  return {k, {"y"}, {y}, {y}, {y}, {3}, {y}, {y}, 50, {ahead}, {arx_ahead}, {}};
 }
 
 // Over a full window the fuzzy model is scored against the live ARX on the same samples: the

@@ -147,6 +147,7 @@ int main(int argc, char** argv) {
     pred.max_entropy = {0.75};
     pred.arx_predicted = {0.09};
     pred.arx_free_run = {0.08};
+    pred.linear_share = {0.0};
     pred.horizon = 20;
     pred.num_ahead = 1;
     pred.ahead = {0.09};
