@@ -15,6 +15,12 @@
 namespace odonata::sysid {
 namespace {
 
+std::string FourDigits(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
 std::string ShortNumber(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.3g", v);
@@ -231,7 +237,7 @@ std::string DescribeDynamics(const LocalDynamics& d, double sample_time_s) {
     const double tau = d.time_constants.front();
     const std::string unit = sample_time_s > 0 ? " s" : " samples";
     if (!d.stable)
-      s = "unstable (pole " + ShortNumber(std::abs(d.poles.front())) + ")";
+      s = "unstable (pole " + FourDigits(std::abs(d.poles.front())) + ")";
     else
       s = "τ " + ShortNumber(tau) + unit;
     if (d.poles.front().imag() != 0.0) s += ", damping " + ShortNumber(d.damping.front());

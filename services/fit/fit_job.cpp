@@ -21,6 +21,7 @@
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
 #include "sysid/quadratic_arx_model.hpp"
+#include "sysid/readable_model.hpp"
 #include "sysid/rule_listing.hpp"
 #include "sysid/signal_ranges.hpp"
 
@@ -490,6 +491,29 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   };
   if (train) put(Evaluate(spec, *train, predict, o.horizon), "", "train");
   if (validate) put(Evaluate(spec, *validate, predict, o.horizon), "", "validate");
+  // Time constants in seconds when the training data's rate is known (a time column or a ULog).
+  double sample_time_s = 0;
+  if (!o.train_csv.empty() && data.contains(o.train_csv) && data[o.train_csv].contains("rate_hz"))
+    sample_time_s = 1.0 / data[o.train_csv]["rate_hz"].get<double>();
+  // The readable form (docs/identifier.md §7.5) is a model too: scored beside the full one, its
+  // cost a FIT figure.
+  std::optional<sysid::ReadableModel> readable;
+  if (train) {
+    try {
+      sysid::ReadableOptions ro;
+      ro.criterion_horizon = o.horizon;
+      readable = sysid::MakeReadable(*model, *train, sample_time_s, ro);
+      const sysid::NarxModel& rm = readable->model;
+      const sysid::Predictor readable_predict = [&rm](const Eigen::VectorXd& x) {
+        return rm.Predict(x);
+      };
+      put(Evaluate(spec, *train, readable_predict, o.horizon), "readable", "train");
+      if (validate)
+        put(Evaluate(spec, *validate, readable_predict, o.horizon), "readable", "validate");
+    } catch (const std::exception& e) {
+      warnings.push_back(std::string("no readable form: ") + e.what());
+    }
+  }
   if (train) {
     const auto arx = sysid::ArxModel::Fit(spec, *train);
     const sysid::Predictor arx_predict = [&arx](const Eigen::VectorXd& x) {
@@ -548,10 +572,6 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
       report["predictions_file"] = o.predictions;
     }
   }
-  // Time constants in seconds when the training data's rate is known (a time column or a ULog).
-  double sample_time_s = 0;
-  if (!o.train_csv.empty() && data.contains(o.train_csv) && data[o.train_csv].contains("rate_hz"))
-    sample_time_s = 1.0 / data[o.train_csv]["rate_hz"].get<double>();
   for (std::size_t k = 0; k < n_outputs; ++k) {
     const auto& fk = model->model(static_cast<int>(k));
     const int out = static_cast<int>(k);
@@ -559,6 +579,11 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     per[k]["consequent"] = fuzzy::ToString(fk.consequent().kind());
     per[k]["target"] = spec.TargetName(out);
     per[k]["rule_text"] = sysid::DescribeRules(*model, out, sample_time_s);
+    if (readable) {
+      per[k]["readable"] = {{"rules", readable->model.model(out).rules()},
+                            {"linear", static_cast<bool>(readable->linear[k])},
+                            {"text", readable->sentences[k]}};
+    }
     // Each rule's linear local model as a control engineer reads it (docs/identifier.md §7.4).
     nlohmann::json local = nlohmann::json::array();
     for (const auto& d : sysid::LocalModels(*model, out, sample_time_s))
@@ -569,7 +594,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
           sysid::ToJson(sysid::AnalyseDynamics(spec, out, *global, sample_time_s), sample_time_s);
   }
   // The first output at the top level, as a one-output report always had it.
-  for (const char* key : {"train", "validate", "baselines", "rule_text", "local_models"})
+  for (const char* key :
+       {"train", "validate", "baselines", "rule_text", "local_models", "readable"})
     if (per[0].contains(key)) report[key] = per[0][key];
   report["outputs"] = spec.outputs;
   if (n_outputs > 1) {
@@ -627,7 +653,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   return report;
 }
 
-std::string FormatReport(const nlohmann::json& r, bool with_rules) {
+std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
   std::ostringstream out;
   char line[256];
   out << "odonata-fit: " << r["target"].get<std::string>() << " from";
@@ -748,10 +774,21 @@ std::string FormatReport(const nlohmann::json& r, bool with_rules) {
         row(data, "ARX+u^2", base["arx_squared_inputs"][data]);
       if (base.contains("persistence") && base["persistence"].contains(data))
         row(data, "persistence", base["persistence"][data]);
+      if (base.contains("readable") && base["readable"].contains(data))
+        row(data, "readable", base["readable"][data]);
     }
   };
   const auto rules = [&](const nlohmann::json& b) {
-    if (!with_rules || !b.contains("rule_text")) return;
+    // The readable form by default (the full one when there is none), the full one on request.
+    const bool readable = rules_shown == RulesShown::kReadable && b.contains("readable");
+    if (rules_shown == RulesShown::kNone || (!readable && !b.contains("rule_text"))) return;
+    if (readable) {
+      const auto& rd = b["readable"];
+      out << "\n  rules, readable form (" << rd["rules"].get<int>() << " of "
+          << b["rules"].get<int>() << "; --full-rules for every rule):\n";
+      for (const auto& s : rd["text"]) out << "    " << s.get<std::string>() << "\n";
+      return;
+    }
     out << "\n  rules:\n";
     int k = 1;
     for (const auto& s : b["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";

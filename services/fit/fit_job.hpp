@@ -87,6 +87,9 @@ struct FitJobOptions {
 nlohmann::json RunFitJob(const FitJobOptions& options);
 
 /// The readable table printed without --json.
-std::string FormatReport(const nlohmann::json& report, bool with_rules);
+/// Which rules the text report lists: none, the readable form (docs/identifier.md §7.5), or every
+/// rule of the full model.
+enum class RulesShown { kNone, kReadable, kFull };
+std::string FormatReport(const nlohmann::json& report, RulesShown rules);
 
 }  // namespace odonata::fit

@@ -254,7 +254,11 @@ int main(int argc, char** argv) {
                  "write an odonata-identifier configuration: these signals and lags, the chosen "
                  "settings, the training data's ranges (or --ranges), \"source\": \"signals\" "
                  "(any vehicle's signals_t; set \"dimav\" for the DI-MAV's own messages)");
-  app.add_flag("--rules", rules, "list the rules as sentences");
+  app.add_flag("--rules", rules,
+               "list the rules as sentences, in the readable form: shared named terms, lags as "
+               "one clause, rules that read alike as one, with each rule's dynamics");
+  bool full_rules = false;
+  app.add_flag("--full-rules", full_rules, "list every rule of the full model instead");
   app.add_flag("--json", json, "print one JSON object on stdout");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   o.csv_format.delimiter = delimiter == "tab" || delimiter == "\\t" ? '\t' : delimiter[0];
@@ -303,7 +307,9 @@ int main(int argc, char** argv) {
     if (json) {
       std::cout << report.dump(1) << std::endl;
     } else {
-      std::cout << odonata::fit::FormatReport(report, rules);
+      std::cout << odonata::fit::FormatReport(report, full_rules ? odonata::fit::RulesShown::kFull
+                                                      : rules ? odonata::fit::RulesShown::kReadable
+                                                              : odonata::fit::RulesShown::kNone);
     }
     if (json)
       for (const auto& w : report["warnings"])

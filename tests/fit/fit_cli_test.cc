@@ -123,9 +123,17 @@ TEST(FitCli, SelectionAndRulesAreReadable) {
   EXPECT_NE(r.out.find("model selection on 1000 samples of the training file's end"),
             std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("1. IF y(k) is "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("THEN y(k+1) is ≈"), std::string::npos);
+  // The readable form by default: one clause per signal, named terms and their values.
+  EXPECT_NE(r.out.find("rules, readable form"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("    IF y is "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("THEN y(k+1) is ≈"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  readable  "), std::string::npos) << "its scores beside the model's";
   EXPECT_EQ(r.out.find("\r"), std::string::npos) << "no progress bar when stderr is not a terminal";
+  // Every rule of the full model on request.
+  const ProcessResult full = Exec("--train " + Example("train.csv") +
+                                  " --output y --input u --consequent singleton --select-kappas 1 "
+                                  "--select-thresholds 0.45 --max-epochs 3 --full-rules");
+  EXPECT_NE(full.out.find("1. IF y(k) is "), std::string::npos) << full.out;
 }
 
 // A training file longer than --search-rows is searched on blocks spread over it, which the
