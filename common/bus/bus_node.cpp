@@ -95,7 +95,19 @@ bool BusNode::SendBytes(const std::string& channel, const std::vector<uint8_t>& 
 
 const lcm::ReceiveBuffer* BusNode::Authenticate(const lcm::ReceiveBuffer* rbuf,
                                                 const std::string& channel) {
-  if (!signer_) return rbuf;
+  if (!signer_) {
+    // A process without the key on a signed bus: it cannot tell the system's messages from
+    // forgeries, and the system refuses every one it sends. Said at once, not found out later.
+    if (!heard_signed_ && LooksSigned(static_cast<const uint8_t*>(rbuf->data), rbuf->data_size)) {
+      heard_signed_ = true;
+      Report("no key on a signed bus",
+             "messages on " + channel +
+                 " are signed, but this process has no --key: the signed services refuse "
+                 "everything it sends, and it cannot tell their messages from forged ones; start "
+                 "it with the system's key");
+    }
+    return rbuf;
+  }
   if (rbuf != &stripped_) {
     const auto* bytes = static_cast<const uint8_t*>(rbuf->data);
     std::array<uint8_t, kSignatureBytes> trailer{};
@@ -111,7 +123,9 @@ const lcm::ReceiveBuffer* BusNode::Authenticate(const lcm::ReceiveBuffer* rbuf,
       if (!checked_.authentic) {
         ++unauthenticated_;
         ++stats_.dropped;
+        last_refusal_ = "on " + channel + ": " + MessageSigner::Describe(verdict);
         Report("refused message on " + channel, MessageSigner::Describe(verdict));
+        if (on_refused_) on_refused_(channel, bytes, rbuf->data_size, verdict);
       } else {
         stripped_ = *rbuf;
         stripped_.data_size = static_cast<uint32_t>(payload);

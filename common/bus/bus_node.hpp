@@ -139,6 +139,17 @@ class BusNode {
   bool signing() const { return signer_ != nullptr; }
   /// Messages refused for their signature (counted in stats().dropped as well).
   int64_t unauthenticated() const { return unauthenticated_; }
+  /// The last message refused by the signature check, and why ("on DIMAV_STATE: stale …"):
+  /// what a "no answer" should name, since the answer may have come and been refused.
+  const std::string& last_refusal() const { return last_refusal_; }
+  /// Called with each message the signature check refuses, undecoded (channel, bytes, why): a
+  /// lockstep sender learns that a consumer it must wait for cannot be heard (a keyless service
+  /// on a signed bus) instead of quietly not waiting for it.
+  using RefusalHandler = std::function<void(const std::string& channel, const uint8_t* data,
+                                            std::size_t size, MessageSigner::Verdict verdict)>;
+  void OnRefused(RefusalHandler handler) { on_refused_ = std::move(handler); }
+  /// Without a key: signed messages were heard (a misconfigured board on a signed system).
+  bool heard_signed() const { return heard_signed_; }
 
  private:
   struct RawHandler {
@@ -177,6 +188,9 @@ class BusNode {
   std::unique_ptr<UdpmSender> sender_;
   std::unique_ptr<MessageSigner> signer_;
   int64_t unauthenticated_ = 0;
+  std::string last_refusal_;
+  RefusalHandler on_refused_;
+  bool heard_signed_ = false;
   struct Checked {  // Authenticate()'s last verdict, for the next subscription's turn
     const void* data = nullptr;
     int64_t recv_utime = 0;

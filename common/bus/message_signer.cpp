@@ -141,6 +141,11 @@ MessageSigner::Verdict MessageSigner::Verify(const std::string& channel, const u
   return Verdict::kAuthentic;
 }
 
+bool LooksSigned(const uint8_t* data, std::size_t size) {
+  return data != nullptr && size >= kSignatureBytes &&
+         std::memcmp(data + size - kSignatureBytes, kMagic, 4) == 0;
+}
+
 const char* MessageSigner::Describe(Verdict v) {
   switch (v) {
     case Verdict::kAuthentic:
@@ -153,7 +158,8 @@ const char* MessageSigner::Describe(Verdict v) {
       return "replayed (not newer than its sender's newest message)";
     case Verdict::kStale:
       return "stale (stamped before this process started, or more than 30 s from its clock: a "
-             "replayed log?)";
+             "replayed log, or a sender whose clock is behind this board's by more than 2 s — "
+             "check that the boards' clocks agree, e.g. NTP)";
   }
   return "?";
 }

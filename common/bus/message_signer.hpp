@@ -84,6 +84,10 @@ class MessageSigner {
   std::unordered_map<uint64_t, int64_t> newest_;  // sender id → newest authentic timestamp
 };
 
+/// Whether `size` bytes end in a signature trailer (its magic; not whether it is right): what a
+/// process without the key sees on a signed bus.
+bool LooksSigned(const uint8_t* data, std::size_t size);
+
 /// A random sender id for this process (libsodium's generator).
 uint64_t RandomSenderId();
 

@@ -15,9 +15,9 @@ namespace odonata::cli {
 inline void AddControlOptions(CLI::App* app, std::vector<std::string>* senders) {
   *senders = bus::DefaultControlSenders();
   app->add_option("--control-from", *senders,
-                  "sender names (odonata-control --instance) whose reset and shutdown are obeyed; "
-                  "others are refused and logged (repeatable; LCM authenticates nothing, so this "
-                  "guards against mistakes, not attackers)")
+                  "sender names (odonata-control --instance) whose reset, shutdown, freeze, resume "
+                  "and save-model are obeyed; others are refused and logged (repeatable; a name "
+                  "is not a proof: against attackers, sign the bus with --key)")
       ->capture_default_str();
 }
 

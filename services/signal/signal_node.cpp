@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "bus/safe_decode.hpp"
 #include "messages/wing_command_message.hpp"
 
 namespace odonata::signal_service {
@@ -38,6 +39,24 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
   bus_.Subscribe<odonata::plant_state_t>(ch.state, [this](const auto& m) { OnState(m); });
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
   if (options_.lockstep) {
+    // A consumer whose messages this signed generator refuses (no key, another key) cannot be
+    // waited for: the lossless promise does not hold for it. Said at once, naming it, and the
+    // run's exit code says so (kExitConsumerRefused). It is not a reason to stop: a forger's
+    // heartbeat looks the same, and the authentic consumers lose nothing.
+    bus_.OnRefused([this](const std::string& channel, const uint8_t* data, std::size_t size,
+                          bus::MessageSigner::Verdict verdict) {
+      if (finished_ || channel != bus_.channels().heartbeat) return;
+      odonata::heartbeat_t h;
+      if (!bus::SafeDecode(&h, data, static_cast<int64_t>(size))) return;
+      if (h.service != "odonata-identifier" && h.service != "odonata-logger") return;
+      if (refused_consumers_.size() >= 16 || !refused_consumers_.insert(h.instance).second) return;
+      std::fprintf(stderr,
+                   "[%s] WARNING: '%s' (%s) is heard but its messages are refused as %s: its "
+                   "receipts cannot count, so this run does not wait for it and it may miss "
+                   "samples; start it with the system's --key\n",
+                   bus_.options().instance.c_str(), h.instance.c_str(), h.service.c_str(),
+                   bus::MessageSigner::Describe(verdict));
+    });
     bus_.Subscribe<odonata::ack_t>(ch.ack, [this](const auto& m) { OnAck(m); });
     for (const std::string& name : options_.wait_for) sequencer_.AddConsumer(name);
     if (options_.discover_s > 0) {
@@ -203,6 +222,10 @@ void SignalNode::Apply(const pipeline::SequencerAction& action) {
         message += " after " + std::to_string(options_.max_resends) + " resend(s) " +
                    std::to_string(options_.timeout_ms) + " ms apart: is " + options_.plant +
                    " running, on the same --lcm-url and --channel-suffix?";
+        // The answers may have come and been refused: then that is the cause to name.
+        if (bus_.unauthenticated() > 0)
+          message += " " + std::to_string(bus_.unauthenticated()) +
+                     " messages were refused here, the last " + bus_.last_refusal();
       }
       const bool consumer = action.failure == pipeline::SequencerAction::Failure::kConsumerLost;
       if (consumer) message = action.message;
@@ -364,6 +387,17 @@ void SignalNode::Finish(int exit_code, const std::string& message) {
                    "consumer's previous run, or forged)\n",
                    bus_.options().instance.c_str(),
                    static_cast<long long>(sequencer_.impossible_acks()));
+    }
+    if (!refused_consumers_.empty()) {
+      std::string names;
+      for (const auto& n : refused_consumers_) names += (names.empty() ? "" : ", ") + n;
+      std::fprintf(stderr,
+                   "odonata-signal: error: every command sent, but without receipts from %s, "
+                   "whose messages were refused (no or another key): the run was not lossless "
+                   "for them\n",
+                   names.c_str());
+      exit_code = kExitConsumerRefused;
+      bus_.SetState("error: consumers refused: " + names);
     }
     if (first_command_) {
       // The messages each sample cost the protocol: its hops, and what loss or a slow

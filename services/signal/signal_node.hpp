@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,10 @@ inline constexpr int kExitInterrupted = 5;
 /// Exit code when every command was sent in real time but the plant restarted mid-run (its
 /// states began again at 0, which nobody asked for): the log holds the run in several parts.
 inline constexpr int kExitPlantRestarted = 6;
+
+/// Exit code when every command was sent but a consumer was heard whose messages this signed
+/// generator refused (a service without the system's key): the run was not lossless for it.
+inline constexpr int kExitConsumerRefused = 7;
 
 /// How the generator runs.
 struct SignalOptions {
@@ -121,6 +126,7 @@ class SignalNode {
   int64_t first_restart_command_ = -1;  // the command being sent when the first was seen
   std::optional<std::chrono::steady_clock::time_point> first_command_;  // lockstep rate
   std::chrono::steady_clock::time_point last_progress_{};
+  std::set<std::string> refused_consumers_;  // consumers heard but refused (no or another key)
 };
 
 }  // namespace odonata::signal_service
