@@ -116,6 +116,9 @@ class LockstepSequencer {
   int64_t ack_resends() const { return ack_resends_; }
   /// Timeouts spent waiting for busy consumers (SetBusy), nothing resent.
   int64_t busy_timeouts() const { return busy_timeouts_; }
+  /// Of those, the ones in a row now, and who is waited for: what a stalled run should say.
+  int busy_in_a_row() const { return busy_in_a_row_; }
+  std::string Waited() const { return Laggards(Awaited()); }
   /// Receipts ignored because they acknowledged a state no command sent could have produced.
   int64_t impossible_acks() const { return impossible_acks_; }
   /// The consumers waited for, with the newest state each acknowledged.

@@ -282,6 +282,16 @@ void SignalNode::WaitForTimeout() {
       return;
     }
     const pipeline::SequencerAction action = sequencer_.OnTimeout();
+    // A run waiting on consumers that say they are landing a refit says so every 5 s: a refit
+    // may take long, a forged or stuck "refitting" must not look like a hang.
+    const int busy = sequencer_.busy_in_a_row();
+    const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
+    if (busy > 0 && busy % every == 0)
+      std::fprintf(
+          stderr, "[%s] waiting %.0f s for %s, landing a scheduled refit (gives up after %.0f s)\n",
+          bus_.options().instance.c_str(), busy * options_.timeout_ms / 1000.0,
+          sequencer_.Waited().c_str(),
+          pipeline::LockstepSequencer::kMaxBusyTimeouts * options_.timeout_ms / 1000.0);
     Apply(action);
     // Waiting again for a plant that was not reset: nothing was sent, but the clock restarts.
     if (action.kind == pipeline::SequencerAction::Kind::kNone && !finished_) ArmTimeout();
