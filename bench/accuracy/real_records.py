@@ -241,6 +241,12 @@ def odonata(fit_exe, train, test, test_y, output, inputs, ny, nu, horizon, extra
            "seconds": secs}
     if horizon:
         out["k_step"] = v["k_step"]
+    # The readable form (--rules): its size and its score in the reported mode, beside the model's.
+    readable = j.get("baselines", {}).get("readable", {}).get("validate")
+    if readable and "readable" in j:
+        mode = "k_step" if horizon else "free_run"
+        out["readable"] = {"rules": j["readable"]["rules"], "linear": j["readable"]["linear"],
+                           "fit": readable[mode]["fit"], "full_fit": v[mode]["fit"]}
     # The reported mode's predictions of the test file, by sample, for the paired bootstrap.
     column = "fuzzy_k_step" if horizon else "fuzzy_free_run"
     out["predicted"] = {int(row["sample"]): float(row[column]) for row in rows}
@@ -353,6 +359,15 @@ def main():
             print(f"| {row['record']} ({row['ny']}, {row['nu']}) | {model} | {fit(r['one_step'])} | {k} | "
                   f"{free} | {delta} | {r['size']} | {r['seconds']:.1f} s |")
         del row["y_test"]
+    # The readable form of odonata-fit's model (issue 49): its rules and FIT in the reported mode.
+    print("\n| record | model rules | readable rules | FIT % model | FIT % readable |")
+    print("|---|---|---|---|---|")
+    for row in results:
+        r = row["models"]["odonata defaults"]
+        if "readable" in r:
+            rd = r["readable"]
+            print(f"| {row['record']} | {r['size']} | {rd['rules']}{' (linear)' if rd['linear'] else ''} | "
+                  f"{rd['full_fit']:.1f} | {rd['fit']:.1f} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)

@@ -67,9 +67,11 @@ struct Terms {
   std::vector<int> of_rule;
 };
 
-// Premises within 0.4 of a cluster's first (a band of LinguisticLabel) are one term; beyond five
-// terms the nearest neighbours merge. Names go by rank: two terms are low and high, three add
-// medium, four are very low, low, high, very high.
+// Premises whose centres lie within kSameCentre of a cluster's first are one term; beyond five
+// terms the nearest neighbours merge. Each term sits at its members' mean centre with their mean
+// width, so a rule keeps its own premise unless five terms cannot hold them all. Names go by
+// rank: two terms are low and high, three add medium, four are very low, low, high, very high.
+constexpr double kSameCentre = 0.05;  // scaled: 2.5 % of the signal's range
 Terms ClusterTerms(const std::vector<double>& centres, const std::vector<double>& widths,
                    const std::vector<bool>& flat, double sigma_min) {
   std::vector<std::size_t> order;
@@ -79,7 +81,7 @@ Terms ClusterTerms(const std::vector<double>& centres, const std::vector<double>
             [&](std::size_t a, std::size_t b) { return centres[a] < centres[b]; });
   std::vector<std::vector<std::size_t>> clusters;
   for (const auto j : order) {
-    if (clusters.empty() || centres[j] - centres[clusters.back().front()] > 0.4)
+    if (clusters.empty() || centres[j] - centres[clusters.back().front()] > kSameCentre)
       clusters.push_back({});
     clusters.back().push_back(j);
   }
