@@ -13,6 +13,8 @@ if [[ -f $here/../CMakeCache.txt ]]; then
   ROOT=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.." && pwd)
 fi
 DEFAULT_URL='udpm://239.255.76.67:7667?ttl=0'
+# odonata's version: follows project() in CMakeLists.txt (tests/cli checks odonata-lcm-spy --version).
+VERSION=0.1.0
 LCM_JAR=${LCM_JAR:-/usr/share/java/lcm.jar}
 JCHART2D_JAR=${JCHART2D_JAR:-/usr/share/java/jchart2d.jar}
 
@@ -56,12 +58,13 @@ jars=()
 while (($#)); do
   case "$1" in
     -h | --help) usage; exit 0 ;;
+    --version) echo "odonata-lcm-spy (odonata) $VERSION"; exit 0 ;;
     -l | --lcm-url)
       (($# >= 2)) || die "$1 needs a URL (try --help)"
       url=$2; shift 2 ;;
     --lcm-url=*) url=${1#--lcm-url=}; shift ;;
     --) shift; jars+=("$@"); break ;;
-    -*) die "unknown option '$1' (try --help)" ;;
+    -*) echo "lcm-spy.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
     *) jars+=("$1"); shift ;;
   esac
 done
