@@ -114,7 +114,10 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name
       errno = 0;
       const double v = std::strtod(cell.c_str(), &end);
       if (end == cell.c_str() || *end != '\0') {
-        throw CsvError(where + ": '" + cell + "' is not a number");
+        // One column whose cells hold another separator ("1.5;2" read with ','): most likely the
+        // file's delimiter, which the message names with the option that reads it.
+        throw CsvError(where + ": '" + cell + "' is not a number" +
+                       (t.names_.size() == 1 ? DelimiterHint(header_line, format.delimiter) : ""));
       }
       if (std::isnan(v) && keep) {
         t.columns_[c].push_back(v);

@@ -29,6 +29,16 @@ TEST(CsvFormat, TheWrongSeparatorIsNamedWithTheOptionThatReadsIt) {
     EXPECT_NE(what.find("semi.csv:2"), std::string::npos) << what;
     EXPECT_NE(what.find("--delimiter ';'"), std::string::npos) << what;
   }
+  // And with decimal points: the rows split like the header, so only the cell says it.
+  for (const auto& [text, option] :
+       {std::pair<std::string, std::string>{"u;y\n1.5;2\n", "';'"}, {"u\ty\n1.5\t2\n", "tab"}}) {
+    try {
+      CsvTable::Parse(text, "points.csv");
+      ADD_FAILURE() << "read with ','";
+    } catch (const CsvError& e) {
+      EXPECT_NE(std::string(e.what()).find("--delimiter " + option), std::string::npos) << e.what();
+    }
+  }
   // With a decimal comma a '.' is not a decimal mark: no silent misreading of 1.234 as 1234.
   EXPECT_THROW(CsvTable::Parse("u;y\n1.5;2\n", "x.csv", MissingCells::kReject, CsvFormat{';', ','}),
                CsvError);
