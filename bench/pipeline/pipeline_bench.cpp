@@ -196,8 +196,8 @@ int main(int argc, char** argv) {
   while (Clock::now() < drain_until) lcm.handleTimeout(20);
   const long expected = samples - 1;  // the first sample only fills the regressor (ny = nu = 1)
   const auto p = Summarise(sink.latency_us);
-  std::printf("paced %.0f Hz: %ld of %ld predictions (%ld dropped), latency p50 %.1f us, p99 %.1f us\n",
-              rate_hz, sink.received, expected, std::max(0L, expected - sink.received), p.p50,
-              p.p99);
+  std::printf(
+      "paced %.0f Hz: %ld of %ld predictions (%ld dropped), latency p50 %.1f us, p99 %.1f us\n",
+      rate_hz, sink.received, expected, std::max(0L, expected - sink.received), p.p50, p.p99);
   return sink.received >= expected ? 0 : 3;
 }

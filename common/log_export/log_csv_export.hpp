@@ -69,7 +69,8 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
 /// Writes every prediction_t on `channel` as CSV: run, sample, learning, and per output
 /// NAME_measured, NAME_predicted, NAME_free_run, NAME_next, NAME_rules, NAME_max_entropy,
 /// NAME_arx_predicted, NAME_arx_free_run, and with a horizon K carried by every prediction
-/// NAME_ahead_K and NAME_arx_ahead_K (ŷ(k | k−K)). A new run starts when the sample number goes back. Returns the rows written.
+/// NAME_ahead_K and NAME_arx_ahead_K (ŷ(k | k−K)). A new run starts when the sample number goes
+/// back. Returns the rows written.
 /// @throws std::runtime_error on unreadable logs or when there is no prediction.
 long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std::string& channel,
                             const std::string& csv_path);

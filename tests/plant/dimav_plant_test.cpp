@@ -190,9 +190,10 @@ TEST(DimavPlant, Rk4ErrorShrinksOnAFlappingTrajectory) {
   const double e1 = (x1 - ref).norm();
   const double e2 = (x2 - ref).norm();
   const double e3 = (x3 - ref).norm();
-  std::printf("RK4 on 2 s of flapping: error %.3g, %.3g, %.3g at h = 2.5, 1.25, 0.625 ms; "
-              "observed order %.2f, %.2f\n",
-              e1, e2, e3, std::log2(e1 / e2), std::log2(e2 / e3));
+  std::printf(
+      "RK4 on 2 s of flapping: error %.3g, %.3g, %.3g at h = 2.5, 1.25, 0.625 ms; "
+      "observed order %.2f, %.2f\n",
+      e1, e2, e3, std::log2(e1 / e2), std::log2(e2 / e3));
   EXPECT_LT(e1, 1e-3);
   EXPECT_GT(std::log2(e1 / e2), 0.5) << e1 << " " << e2;
   EXPECT_GT(std::log2(e2 / e3), 0.5) << e2 << " " << e3;
