@@ -86,10 +86,4 @@ struct FitJobOptions {
 /// @throws std::runtime_error (or io::CsvError) with a message naming file, line and column.
 nlohmann::json RunFitJob(const FitJobOptions& options);
 
-/// The readable table printed without --json.
-/// Which rules the text report lists: none, the readable form (docs/identifier.md §7.5), or every
-/// rule of the full model.
-enum class RulesShown { kNone, kReadable, kFull };
-std::string FormatReport(const nlohmann::json& report, RulesShown rules);
-
 }  // namespace odonata::fit

@@ -6,6 +6,7 @@
 
 #include "cli/parse_command_line.hpp"
 #include "fit_job.hpp"
+#include "fit_report_text.hpp"
 #include "progress_bar.hpp"
 
 int main(int argc, char** argv) {

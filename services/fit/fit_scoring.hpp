@@ -1,0 +1,54 @@
+#pragma once
+// odonata-fit's scoring and data helpers, apart from the job's orchestration (fit_job.cpp) and
+// its text report (fit_report_text.cpp): loading a record, scoring a predictor in every mode,
+// the predictions file and the tracking replay.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fit_job.hpp"
+#include "sysid/arx_model.hpp"
+#include "sysid/free_run.hpp"
+#include "sysid/model_selection.hpp"
+#include "sysid/narx_model.hpp"
+#include "sysid/simulation_error_training.hpp"
+
+namespace odonata::fit {
+
+/// One data file as a series of the spec's signals, under the rules for real logs; what was
+/// bridged or cut goes into `data` (and a warning).
+sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
+                         const sysid::RegressorSpec& spec, nlohmann::json* data,
+                         nlohmann::json* warnings);
+
+/// Scores a predictor on a series in both modes, one block per output.
+std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
+                                     const sysid::Predictor& predict, int horizon);
+
+/// Persistence ŷ(t) = y(t−1) one step ahead; free run holds the last measured value before each
+/// segment's first target. One block per output.
+std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec,
+                                                const sysid::Series& s);
+
+nlohmann::json StagesToJson(const std::vector<sysid::SimulationStage>& stages);
+
+nlohmann::json CandidateToJson(const sysid::Candidate& c);
+
+/// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
+/// One output keeps the plain column names; several get one set of columns per output (_NAME).
+/// With a horizon K (> 1), fuzzy_k_step and arx_k_step follow: each a free run of K samples from
+/// the measured outputs before it.
+void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
+                      const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
+                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon);
+
+/// The tracking run of FitJobOptions::track_csv: one-step predictions of the model learning on
+/// (online), of a frozen copy and of ARX, each with its accuracy alarm.
+nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
+                     const sysid::NarxModel& trained, const sysid::ArxModel& arx,
+                     const std::string& output, int window, double forgetting);
+
+}  // namespace odonata::fit
