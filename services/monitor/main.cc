@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
       "Scores ODONATA_PREDICTION over a sliding window and since start, publishes "
       "ODONATA_ACCURACY, shows a live table, warns on low accuracy or silent services, "
       "and keeps each identifier's last model snapshot for a restart."};
-  app.add_option("--window", o.window_samples, "sliding window, samples")->capture_default_str();
+  app.add_option("--window", o.scoring.window_samples, "sliding window, samples")
+      ->capture_default_str();
   app.add_option("--publish-hz", o.publish_hz, "ODONATA_ACCURACY rate")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -28,22 +29,22 @@ int main(int argc, char** argv) {
                  "seconds between table prints when not on a terminal")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--alarm-window", o.alarm_window_samples,
+  app.add_option("--alarm-window", o.scoring.alarm_window_samples,
                  "change alarm: samples in its window, one second of data (100 at 100 Hz)")
       ->capture_default_str()
       ->check(CLI::Range(5, 100000));
-  app.add_option("--alarm-drop", o.alarm_drop_points,
+  app.add_option("--alarm-drop", o.scoring.alarm_drop_points,
                  "change alarm: raise it when the tracking FIT falls this many points below its "
                  "settled level (and clear it within 1 point of that level)")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 100.0));
-  app.add_option("--arx-margin", o.arx_margin_points,
+  app.add_option("--arx-margin", o.scoring.arx_margin_points,
                  "the fuzzy model is behind the identifier's live ARX while its window one-step "
                  "FIT is not above the ARX's, and ahead again when it leads by more than this "
                  "many points")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
-  app.add_option("--warn-fit", o.warn_fit_percent, "warn below this window FIT %")
+  app.add_option("--warn-fit", o.scoring.warn_fit_percent, "warn below this window FIT %")
       ->capture_default_str();
   app.add_option("--heartbeat-timeout", o.heartbeat_timeout_s,
                  "seconds of silence before a warning")

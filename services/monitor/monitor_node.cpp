@@ -42,19 +42,10 @@ std::chrono::microseconds Period(double seconds) {
   return std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6));
 }
 
-monitoring::ScoreboardOptions ScoreboardOptions(const MonitorOptions& o) {
-  monitoring::ScoreboardOptions s;
-  s.window_samples = o.window_samples;
-  s.warn_fit_percent = o.warn_fit_percent;
-  s.alarm_window_samples = o.alarm_window_samples;
-  s.alarm_drop_points = o.alarm_drop_points;
-  s.arx_margin_points = o.arx_margin_points;
-  return s;
-}
 }  // namespace
 
 MonitorNode::MonitorNode(bus::BusNode& bus, MonitorOptions options)
-    : bus_(bus), options_(std::move(options)), scores_(ScoreboardOptions(options_)) {
+    : bus_(bus), options_(std::move(options)), scores_(options_.scoring) {
   const auto& ch = bus_.channels();
   bus_.Subscribe<odonata::prediction_t>(ch.prediction, [this](const auto& m) { OnPrediction(m); });
   bus_.Subscribe<odonata::heartbeat_t>(ch.heartbeat, [this](const auto& m) { OnHeartbeat(m); });
@@ -102,7 +93,7 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
       case Kind::kLowFit:
         std::fprintf(
             stderr, "[%s] WARNING: %s one-step FIT %.1f %% over the last %zu samples (< %.0f %%)\n",
-            me, output, e.fit, options_.window_samples, options_.warn_fit_percent);
+            me, output, e.fit, options_.scoring.window_samples, options_.scoring.warn_fit_percent);
         break;
       case Kind::kLowFitCleared:
         std::fprintf(stderr, "[%s] %s one-step FIT back to %.1f %%\n", me, output, e.fit);
@@ -112,7 +103,7 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
                      "[%s] WARNING: %s: the fuzzy model does not beat linear at sample %lld: "
                      "%s FIT %.2f %% against the live ARX's %.2f %% over the last %zu samples\n",
                      me, output, static_cast<long long>(e.sample), ModeName(e.horizon).c_str(),
-                     e.fit, e.reference, options_.window_samples);
+                     e.fit, e.reference, options_.scoring.window_samples);
         break;
       case Kind::kAheadOfArx:
         std::fprintf(stderr,

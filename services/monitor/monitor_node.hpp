@@ -25,15 +25,11 @@
 namespace odonata::monitor {
 
 struct MonitorOptions {
-  std::size_t window_samples = 500;  ///< sliding window (5 s at 100 Hz)
+  /// How predictions are scored: the window, the warning level, the change alarm and the margin
+  /// over the live ARX (one home for them and their defaults: monitoring::ScoreboardOptions).
+  monitoring::ScoreboardOptions scoring;
   double publish_hz = 2.0;           ///< accuracy_t rate
   double print_period_s = 5.0;       ///< terminal line period when stdout is not a terminal
-  double warn_fit_percent = 80.0;    ///< warn when the window's one-step FIT drops below
-  /// The change alarm (metrics::AccuracyAlarm on the one-step predictions): its window, one
-  /// second of samples (100 at 100 Hz), and how far below the settled level raises it.
-  std::size_t alarm_window_samples = 100;
-  double alarm_drop_points = 5.0;
-  double arx_margin_points = 0.5;    ///< ScoreboardOptions::arx_margin_points
   double heartbeat_timeout_s = 3.0;  ///< warn when a service is silent this long
   std::string summary_json;          ///< write final accuracy here on exit (optional)
   bool live_table = false;           ///< redraw a table (stdout is a terminal)

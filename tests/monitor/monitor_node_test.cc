@@ -32,10 +32,10 @@ class MonitorNodeTest : public ::testing::Test {
     bus_->Subscribe<odonata::accuracy_t>(bus_->channels().accuracy,
                                          [this](const auto& m) { accuracy_.push_back(m); });
     MonitorOptions mo;
-    mo.window_samples = 100;
+    mo.scoring.window_samples = 100;
     mo.publish_hz = 1000.0;
     mo.print_period_s = 1e6;
-    mo.warn_fit_percent = 80.0;
+    mo.scoring.warn_fit_percent = 80.0;
     node_ = std::make_unique<MonitorNode>(*bus_, mo);
   }
   void Send(int64_t k, double predicted, double free_run) {
