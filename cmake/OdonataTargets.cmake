@@ -35,3 +35,23 @@ function(odonata_sanitize_received_bytes target)
     target_compile_options(${target} PRIVATE -fsanitize=alignment,null)
   endif()
 endfunction()
+
+# odonata_find_shared(VAR SUBDIR FILE...): the folder of the shared data beside the source tree
+# (../shared/SUBDIR, a CI clone's copy) or the workplace's (/work/shared/SUBDIR) that holds every
+# FILE, read in place; empty when neither does (the tests that need it are then not registered).
+function(odonata_find_shared var subdir)
+  set(_found "")
+  foreach(_dir ${PROJECT_SOURCE_DIR}/../shared/${subdir} /work/shared/${subdir})
+    get_filename_component(_dir ${_dir} ABSOLUTE)
+    set(_all TRUE)
+    foreach(_file ${ARGN})
+      if(NOT EXISTS ${_dir}/${_file})
+        set(_all FALSE)
+      endif()
+    endforeach()
+    if(NOT _found AND _all)
+      set(_found ${_dir})
+    endif()
+  endforeach()
+  set(${var} ${_found} PARENT_SCOPE)
+endfunction()

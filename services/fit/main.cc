@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/csv_format_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "fit_job.hpp"
 #include "fit_report_text.hpp"
@@ -194,15 +195,8 @@ int main(int argc, char** argv) {
                  "selection CSV (a third excitation): score the candidates on it instead of on "
                  "the training file's end")
       ->check(CLI::ExistingFile);
-  std::string delimiter = ",", decimal = ".";
-  app.add_option("--delimiter", delimiter,
-                 "what separates the cells of the CSV files: ',' ';' or tab (a spreadsheet in a "
-                 "German or French locale writes ';')")
-      ->capture_default_str()
-      ->check(CLI::IsMember({",", ";", "tab", "\t"}));
-  app.add_option("--decimal", decimal, "the numbers' decimal mark: '.' or ','")
-      ->capture_default_str()
-      ->check(CLI::IsMember({".", ","}));
+  odonata::cli::CsvFormatOptions csv_format;
+  odonata::cli::AddCsvFormatOptions(&app, &csv_format);
   app.add_option("--search-rows", o.search_budget.rows,
                  "a longer training file's settings are chosen on this many of its rows, in " +
                      std::to_string(o.search_budget.blocks) +
@@ -262,9 +256,9 @@ int main(int argc, char** argv) {
   app.add_flag("--full-rules", full_rules, "list every rule of the full model instead");
   app.add_flag("--json", json, "print one JSON object on stdout");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
-  o.csv_format.delimiter = delimiter == "tab" || delimiter == "\\t" ? '\t' : delimiter[0];
-  o.csv_format.decimal = decimal[0];
-  if (o.csv_format.delimiter == o.csv_format.decimal) {
+  if (const auto format = csv_format.Format()) {
+    o.csv_format = *format;
+  } else {
     std::fprintf(stderr, "odonata-fit: --decimal ',' needs another --delimiter (';' or tab)\n");
     return 2;
   }

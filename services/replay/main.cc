@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bus_cli/channel_options.hpp"
+#include "cli/csv_format_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "io/csv_table.hpp"
 #include "records/record_file.hpp"
@@ -17,7 +18,7 @@
 #include "replay_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string path, summary_json, lcm_url, instance = "replay", delimiter = ",", decimal = ".";
+  std::string path, summary_json, lcm_url, instance = "replay";
   odonata::replay::FlightRowsOptions rows;
   odonata::replay::ReplayOptions o;
   CLI::App app{
@@ -67,27 +68,19 @@ int main(int argc, char** argv) {
                  "signals_t.source, the vehicle's name (default: the "
                  "file's name)");
   app.add_option("--summary-json", summary_json, "also write what was sent here");
-  app.add_option("--delimiter", delimiter, "what separates the CSV's cells: ',' ';' or tab")
-      ->capture_default_str()
-      ->check(CLI::IsMember({",", ";", "tab", "\t"}));
-  app.add_option("--decimal", decimal, "the CSV's decimal mark: '.' or ','")
-      ->capture_default_str()
-      ->check(CLI::IsMember({".", ","}));
+  odonata::cli::CsvFormatOptions csv_format;
+  odonata::cli::AddCsvFormatOptions(&app, &csv_format);
   app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
   app.add_option("--instance", instance, "instance name")->capture_default_str();
   odonata::cli::ChannelOptions channels;
   odonata::cli::AddChannelOptions(&app, &channels);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   try {
-    odonata::io::CsvFormat format;
-    format.delimiter = delimiter == "tab" ? '\t' : delimiter[0];
-    format.decimal = decimal[0];
-    if (format.delimiter == format.decimal)
-      throw std::runtime_error("--delimiter and --decimal cannot both be '" +
-                               std::string(1, format.decimal) + "'");
+    const auto format = csv_format.Format();
+    if (!format) throw std::runtime_error("--decimal ',' needs another --delimiter (';' or tab)");
     // A CSV as it is, or a ULog's chosen signals on one grid with a t_s column.
     odonata::records::RecordOptions ro;
-    ro.csv_format = format;
+    ro.csv_format = *format;
     ro.signals = rows.signals;
     ro.rate_hz = rate_hz;
     const odonata::records::Record record = odonata::records::ReadRecord(path, ro);

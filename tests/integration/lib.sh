@@ -98,6 +98,19 @@ stop_clean() {  # stop_clean PID WHAT [EXPECTED_CODE]: SIGTERM, exit within 5 s 
   ((rc == expected)) || fail "$what exited with code $rc after SIGTERM, not $expected"
 }
 
+# readme_block MARKER: the shell block of README.md after the comment line holding MARKER, as it is
+# written (the README's blocks that tests run); fails when there is none.
+readme_block() {
+  "$PY" - "$SRC/README.md" "$1" <<'PYEOF' || fail "no block after '$1' in README.md"
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+start = next(i for i, l in enumerate(lines) if sys.argv[2] in l)
+first = next(i for i in range(start, len(lines)) if lines[i].startswith("```"))
+last = next(i for i in range(first + 1, len(lines)) if lines[i].startswith("```"))
+print("\n".join(lines[first + 1:last]))
+PYEOF
+}
+
 # json_get FILE EXPR: evaluates a Python expression on the parsed JSON `j`.
 # odonata_run SECONDS ARGS...: deploy/odonata-run ARGS into $OUT/run, its output in $OUT/run.log,
 # which a failure shows.

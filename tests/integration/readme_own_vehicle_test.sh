@@ -9,15 +9,7 @@ enter_netns "$@"
 OUT=$(mktemp -d)
 trap 'stop_all; rm -rf "$OUT"' EXIT
 export LCM_DEFAULT_URL='udpm://239.255.76.67:7691?ttl=0'
-block=$("$PY" - "$SRC/README.md" <<'PYEOF'
-import sys
-lines = open(sys.argv[1]).read().split("\n")
-start = next(i for i, l in enumerate(lines) if "readme_own_vehicle_test.sh runs the next block" in l)
-first = next(i for i in range(start, len(lines)) if lines[i].startswith("```"))
-last = next(i for i in range(first + 1, len(lines)) if lines[i].startswith("```"))
-print("\n".join(lines[first + 1:last]))
-PYEOF
-) || fail "no own-vehicle block in README.md"
+block=$(readme_block "readme_own_vehicle_test.sh runs the next block")
 grep -q 'own-vehicle --samples 3000' <<<"$block" || fail "the README block no longer flies 3000 samples"
 block=${block//'$PWD/build/bin'/$BUILD/bin}
 block=${block//'--samples 3000'/--samples 400 --rate 400}

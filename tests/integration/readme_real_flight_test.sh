@@ -11,15 +11,7 @@ REALDATA=${ODONATA_REALDATA:?the Flapper flights folder (CMake sets it when foun
 OUT=$(mktemp -d)
 trap 'stop_all; rm -rf "$OUT"' EXIT
 export LCM_DEFAULT_URL='udpm://239.255.76.67:7692?ttl=0'
-block=$("$PY" - "$SRC/README.md" <<'PYEOF'
-import sys
-lines = open(sys.argv[1]).read().split("\n")
-start = next(i for i, l in enumerate(lines) if "readme_real_flight_test.sh runs the next block" in l)
-first = next(i for i in range(start, len(lines)) if lines[i].startswith("```"))
-last = next(i for i in range(first + 1, len(lines)) if lines[i].startswith("```"))
-print("\n".join(lines[first + 1:last]))
-PYEOF
-) || fail "no real-flight block in README.md"
+block=$(readme_block "readme_real_flight_test.sh runs the next block")
 grep -q 'R=$(realpath ../shared/realdata)' <<<"$block" || fail "the README block no longer reads ../shared/realdata"
 block=${block//'$PWD/build/bin'/$BUILD/bin}
 block=${block//'R=$(realpath ../shared/realdata)'/R=$REALDATA}
