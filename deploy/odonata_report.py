@@ -175,6 +175,7 @@ def summarise(r):
         },
         "notes": notes,
         "rule_text": r["rule_text"],
+        "readable": _readable(r),
     }
     s["headline"] = headline(s)
     s["verdict"], s["verdict_short"] = verdict(s)
@@ -197,6 +198,18 @@ COLUMNS = [("experiment", "experiment"), ("verdict", "verdict"), ("headline", "h
 # in summary.md and index.html.
 TERMINAL_KEYS = ["experiment", "verdict", "headline", "hl_fuzzy", "hl_arx", "delta", "order", "rules",
                  "paper_mfs", "val_fit", "val_fr"]
+
+
+def _readable(r):
+    """The model's readable form (odonata-fit --rules, docs/identifier.md §7.5) with its validation
+    FIT beside the model's, or None when the fit report has none."""
+    rd = r.get("readable")
+    scores = r.get("baselines", {}).get("readable", {}).get("validate")
+    if not rd or not scores:
+        return None
+    return {"rules": rd["rules"], "linear": rd["linear"], "text": rd["text"],
+            "validate_one_step_fit": scores["one_step"]["fit"],
+            "validate_free_run_fit": (scores.get("free_run") or {}).get("fit")}
 
 
 def _averaged(s):
@@ -439,6 +452,17 @@ def _clip_spikes(ax, errors):
     return True
 
 
+def _fit_label(y, yhat):
+    """"FIT 98.2 %" of a trace against the measured y, for its legend (MATLAB compare's figure)."""
+    y, yhat = np.asarray(y, float), np.asarray(yhat, float)
+    ok = np.isfinite(yhat)
+    if ok.sum() < 2:
+        return "no FIT"
+    spread = np.linalg.norm(y[ok] - y[ok].mean())
+    fit = 100 * (1 - np.linalg.norm(y[ok] - yhat[ok]) / spread) if spread > 0 else float("nan")
+    return "diverges" if not np.isfinite(fit) or fit < DIVERGED_FIT else f"FIT {fit:.1f} %"
+
+
 def plot_output(plt, out, r, p, arx):
     """Per run: one-step and free-run predictions (fuzzy and ARX) under the measured signal, and the
     one-step errors. Measured is drawn last and thin, in black, so it stays visible on top of
@@ -462,9 +486,9 @@ def plot_output(plt, out, r, p, arx):
                  else "validation (frozen models, a different excitation)")
         for row, (mode, what) in enumerate((("one_step", "one-step"), ("free_run", "free run"))):
             ax = axes[row][c]
-            _trace(ax, t, fuzzy[mode], FUZZY, f"fuzzy {what}", window)
+            _trace(ax, t, fuzzy[mode], FUZZY, f"fuzzy {what} ({_fit_label(y, fuzzy[mode])})", window)
             if a:
-                _trace(ax, t, a[mode], ARX, f"ARX {what}", window)
+                _trace(ax, t, a[mode], ARX, f"ARX {what} ({_fit_label(y, a[mode])})", window)
             ax.plot(t, y, "k", lw=0.8, label="measured", zorder=3)
             ax.set_ylim(window[0], window[1])
             ax.set_ylabel(_with_unit(out_name))
@@ -699,24 +723,30 @@ def make_plots(out, r, build=None):
 # --- page ------------------------------------------------------------------------------------
 
 def page(summary, figures):
+    """The report a person reads top to bottom: a contents list, then each experiment opening
+    with its verdict, its compare plot (FIT in every legend) and its readable rules as a table;
+    the full rules fold away, and the table of every figure is the appendix."""
     rows = table_rows(summary)
-    h = ["<!doctype html><html><head><meta charset='utf-8'><title>odonata report</title>",
-         "<style>body{font-family:sans-serif;max-width:1400px;margin:auto}table{border-collapse:collapse;font-size:13px}"
+    h = ["<!doctype html><html><head><meta charset='utf-8'>"
+         "<meta name='viewport' content='width=device-width, initial-scale=1'><title>odonata report</title>",
+         "<style>body{font-family:sans-serif;max-width:1400px;margin:auto;padding:0 8px}"
+         "table{border-collapse:collapse;font-size:13px}"
          "td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#eee}"
-         "td[data-key=verdict],td[data-key=experiment],td[data-key=headline]{text-align:left}"
+         "td[data-key=verdict],td[data-key=experiment],td[data-key=headline],td.rule{text-align:left}"
          ".verdict{font-size:16px;background:#f4f4f4;padding:6px;border-left:4px solid #555}"
-         "img{max-width:100%;border:1px solid #ddd;margin:4px}li{font-family:monospace;font-size:12px}</style></head><body>",
+         "img{max-width:100%;height:auto;border:1px solid #ddd;margin:4px 0}"
+         "details li{font-family:monospace;font-size:12px}"
+         "@media (max-width:600px){h1{font-size:20px}h2{font-size:17px}.verdict{font-size:14px}}</style>"
+         "</head><body>",
          "<h1>odonata — the paper's six identifications through the LCM pipeline</h1>",
          f"<p>Mode {html.escape(summary['mode'])}, {html.escape(summary['consequent'])} consequents, seed {summary['seed']}. "
-         f"{html.escape(TABLE_NOTE)} "
          "Persistence (ŷ(k+1) = y(k)) and linear ARX on the same regressors are the baselines.</p>",
-         "<ul>" + "".join(f"<li style='font-family:sans-serif;font-size:14px'><b>{html.escape(s['experiment'])}</b>: "
-                          f"{html.escape(lead(s))}</li>" for s in summary["experiments"]) + "</ul>",
-         "<div style='overflow-x:auto'><table id='summary'><tr>" +
-         "".join(f"<th>{html.escape(hd)}</th>" for _, hd in COLUMNS) + "</tr>"]
-    for r in rows:
-        h.append("<tr>" + "".join(f"<td data-key='{k}'>{html.escape(r[k])}</td>" for k, _ in COLUMNS) + "</tr>")
-    h.append("</table></div>")
+         # Names only: the verdicts open each section, and the first one's plot stays on the
+         # first screen at 400 px too.
+         "<nav><b>Contents:</b> " +
+         " · ".join(f"<a href='#{html.escape(s['experiment'])}'>{html.escape(s['experiment'])}</a>"
+                    for s in summary["experiments"]) +
+         " · <a href='#appendix'>appendix: every figure</a></nav>"]
     for s in summary["experiments"]:
         name = s["experiment"]
         hl = s["headline"]
@@ -724,14 +754,32 @@ def page(summary, figures):
         h.append(f"<p class='verdict'><b>{html.escape(lead(s))}</b><br>"
                  f"Headline: validation {html.escape(hl['metric'])} {fmt(hl['fuzzy'])} (fuzzy) vs "
                  f"{fmt(hl['arx'])} (ARX), higher is better.</p>")
+        shown = figures.get(name, {})
+        if "output" in shown:
+            h.append(f"<img src='{shown['output']}' alt='{name}: measured, the fuzzy model and ARX'>")
+        rd = s.get("readable")
+        if rd:
+            fit = fmt(rd["validate_one_step_fit"])
+            h.append(f"<h3>Rules, readable form ({rd['rules']} of {s['rules']}; validation one-step FIT "
+                     f"{fit} % against the model's {fmt(s['validate']['one_step']['fit'])} %)</h3>")
+            h.append("<table class='rules'>" + "".join(f"<tr><td class='rule'>{html.escape(t)}</td></tr>"
+                                                        for t in rd["text"]) + "</table>")
         if s["notes"]:
-            h.append("<ul>" + "".join(f"<li style='font-family:sans-serif'>{html.escape(n)}</li>" for n in s["notes"]) + "</ul>")
+            h.append("<ul>" + "".join(f"<li>{html.escape(n)}</li>" for n in s["notes"]) + "</ul>")
         goals = ", ".join(f"{k}: {'met' if v else 'NOT met'}" for k, v in s["goals"].items())
         h.append(f"<p>Goals — {html.escape(goals)}</p>")
-        for key in ("output", "learning", "parameters", "membership", "sweep"):
-            if key in figures.get(name, {}):
-                h.append(f"<img src='{figures[name][key]}' alt='{name} {key}'>")
-        h.append("<h3>Rules</h3><ol>" + "".join(f"<li>{html.escape(t)}</li>" for t in s["rule_text"]) + "</ol>")
+        for key in ("learning", "parameters", "membership", "sweep"):
+            if key in shown:
+                h.append(f"<img src='{shown[key]}' alt='{name} {key}'>")
+        h.append(f"<details><summary>Every rule of the model ({s['rules']})</summary><ol>" +
+                 "".join(f"<li>{html.escape(t)}</li>" for t in s["rule_text"]) + "</ol></details>")
+    h.append("<h2 id='appendix'>Appendix: every figure</h2>")
+    h.append(f"<p>{html.escape(TABLE_NOTE)}</p>")
+    h.append("<div style='overflow-x:auto'><table id='summary'><tr>" +
+             "".join(f"<th>{html.escape(hd)}</th>" for _, hd in COLUMNS) + "</tr>")
+    for r in rows:
+        h.append("<tr>" + "".join(f"<td data-key='{k}'>{html.escape(r[k])}</td>" for k, _ in COLUMNS) + "</tr>")
+    h.append("</table></div>")
     h.append("</body></html>")
     return "\n".join(h)
 

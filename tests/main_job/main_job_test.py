@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """A short version of the main job (4 s per phase, every experiment): the report is produced,
 accuracy stays above a floor, and the numbers in index.html and summary.md equal summary.json's."""
+import html
 import html.parser
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -35,6 +37,43 @@ class Cells(html.parser.HTMLParser):
     def handle_endtag(self, tag):
         if tag == "td":
             self._key = None
+
+
+# Says, once the page has loaded, where the first experiment's verdict and plot lie.
+WHERE = """<script>window.addEventListener('load', () => {
+  const v = document.querySelector('.verdict').getBoundingClientRect();
+  const i = document.querySelector('h2 ~ img').getBoundingClientRect();
+  document.body.setAttribute('data-first-screen', JSON.stringify(
+      {verdict_bottom: v.bottom, plot_top: i.top, height: innerHeight}));
+});</script>"""
+
+
+def first_screen(out):
+    """The report read in Chromium at 1400 px and at phone width: the first screen holds the first
+    verdict and the top of its plot (issue 49 point 5). Screenshots are written beside it."""
+    failures = []
+    page = open(os.path.join(out, "index.html")).read().replace("</body>", WHERE + "</body>")
+    probe = os.path.join(out, "probe.html")
+    with open(probe, "w") as f:
+        f.write(page)
+    for width, height in ((1400, 900), (400, 800)):
+        common = ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                  f"--window-size={width},{height}"]
+        r = subprocess.run(common + ["--virtual-time-budget=5000", "--dump-dom", "file://" + probe],
+                           capture_output=True, text=True, timeout=120)
+        found = re.search(r'data-first-screen="([^"]*)"', r.stdout)
+        if not found:
+            failures.append(f"{width} px: Chromium gave no layout ({r.stderr.strip()[-300:]})")
+            continue
+        where = json.loads(html.unescape(found.group(1)))
+        if not (where["verdict_bottom"] <= where["height"] and where["plot_top"] < where["height"]):
+            failures.append(f"{width} px: the first verdict or plot is below the first screen: {where}")
+        shot = os.path.join(out, f"report-{width}px.png")
+        subprocess.run(common + [f"--screenshot={shot}", "file://" + probe], capture_output=True,
+                       timeout=120)
+        if not os.path.exists(shot) or os.path.getsize(shot) < 10000:
+            failures.append(f"{width} px: no screenshot")
+    return failures
 
 
 def main():
@@ -80,6 +119,11 @@ def main():
                 failures.append(f"{e['experiment']}: table FIT {row['val_fit']} vs JSON {e['validate']['one_step']['fit']}")
             if row["rules"] != str(e["rules"]):
                 failures.append(f"{e['experiment']}: table rules {row['rules']} vs JSON {e['rules']}")
+            # The readable form (odonata-fit --rules) is in the report, with its score.
+            rd = e.get("readable")
+            if not rd or not rd["text"] or rd["validate_one_step_fit"] is None:
+                failures.append(f"{e['experiment']}: no readable form with a score")
+        failures += first_screen(out)
     if failures:
         print("\n".join("FAIL: " + f for f in failures))
         sys.exit(1)
