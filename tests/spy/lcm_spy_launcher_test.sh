@@ -22,7 +22,8 @@ expect() {
 }
 
 expect help 0 'Usage: deploy/lcm-spy.sh .*--lcm-url' "$LAUNCHER" --help
-expect unknown-option 1 "unknown option '--bogus'" "$LAUNCHER" --bogus
+# A usage error exits 2, as every odonata program's does (tests/cli/help_test.sh).
+expect unknown-option 2 "unknown option '--bogus'" "$LAUNCHER" --bogus
 expect url-without-value 1 '--lcm-url needs a URL' "$LAUNCHER" --lcm-url
 expect missing-jar 1 "types jar '/nonexistent/types.jar' not found" "$LAUNCHER" /nonexistent/types.jar
 expect no-display 1 'no X display \(DISPLAY is unset\)' \
