@@ -142,8 +142,20 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
       });
   summary.runs = static_cast<int>(runs.size());
   // Negative indices count from the end (−1 the last run), as a real-time plant that idled
-  // before its reset adds a run of its own at the start.
-  const int pick = options.run < 0 ? summary.runs + options.run : options.run;
+  // before its reset adds a run of its own at the start; they count only the runs that hold
+  // samples, so a plant reset twice (a RESET resent over a lossy link) or restarted after the
+  // last command, which opens a run of states alone, does not shift them.
+  int pick = options.run < 0 ? summary.runs + options.run : options.run;
+  if (options.run < 0) {
+    int from_end = -options.run;
+    pick = -1;
+    for (int r = summary.runs - 1; r >= 0 && pick < 0; --r)
+      if (runs[static_cast<std::size_t>(r)].first_command && --from_end == 0) pick = r;
+    if (pick < 0)
+      throw std::runtime_error("the log has " + std::to_string(summary.runs) +
+                               " run(s), fewer than " + std::to_string(-options.run) +
+                               " with samples; no run " + std::to_string(options.run));
+  }
   if (pick < 0 || pick >= summary.runs) {
     throw std::runtime_error("the log has " + std::to_string(summary.runs) + " run(s); no run " +
                              std::to_string(pick));

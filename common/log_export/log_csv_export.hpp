@@ -15,7 +15,9 @@ struct ExportOptions {
   std::string command_channel = "DIMAV_COMMAND";
   std::string state_channel = "DIMAV_STATE";
   std::string beat_state_channel = "DIMAV_BEAT_STATE";  ///< optional: older logs have none
-  int run = -1;  ///< which run (a confirmed plant restart starts one); negative counts from the end
+  /// Which run (a confirmed plant restart starts one); negative counts from the end over the runs
+  /// that hold samples (a run of states alone, e.g. a plant reset twice, is skipped).
+  int run = -1;
   /// One row per block of this many samples (io::RowDecimator: commands, excitations and
   /// applied channels averaged, the rest at the block's first sample), as odonata-sim
   /// --decimate and an identifier configured with "decimate" cut them. @pre ≥ 1.

@@ -97,7 +97,8 @@ int main(int argc, char** argv) {
                 "a warning");
   exp->add_option(
          "--run", ex.run,
-         "run to export (a plant reset starts a new one); -1 = the last, -2 the one before")
+         "run to export (a plant reset starts a new one); -1 = the last with samples, -2 the "
+         "one before")
       ->capture_default_str();
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
