@@ -166,6 +166,11 @@ int main(int argc, char** argv) {
                    target.empty() ? "" : (" from '" + target + "'").c_str());
       return kExitNoAnswer;
     }
+    // Without the key nothing proves who answered: anyone on the bus can send a reply.
+    if (channels.key_path.empty())
+      std::fprintf(stderr,
+                   "odonata-control: note: without --key these answers are not authenticated "
+                   "(anyone on the bus could have sent them); on a signed system give the key\n");
     return rejected > 0 ? kExitRejected : 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-control: error: %s\n", e.what());

@@ -71,6 +71,8 @@ if "$CONTROL" freeze --target ghost-identifier --timeout 1 "${K[@]}" >"$OUT/cont
 fi
 "$CONTROL" freeze --target ghost-identifier --timeout 1 --lcm-url "$URL" >"$OUT/control-unsigned.log" 2>&1 ||
   fail "the forger's answers did not reach a keyless odonata-control: the check above proves nothing"
+# And it says that such answers prove nothing (issue 51 point 6).
+grep -q "not authenticated" "$OUT/control-unsigned.log" || fail "a keyless odonata-control did not say its answers are unauthenticated"
 kill -TERM "$PID_forger" 2>/dev/null || true
 wait "$PID_forger" 2>/dev/null || true
 stop_clean "$PID_ident" identifier
