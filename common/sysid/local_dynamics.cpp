@@ -21,12 +21,6 @@ std::string FourDigits(double v) {
   return b;
 }
 
-std::string ShortNumber(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
-
 }  // namespace
 
 namespace {
@@ -204,6 +198,12 @@ std::vector<double> StepResponse(const RegressorSpec& spec, int output, const Ra
   return y;
 }
 
+std::string SentenceNumber(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
 std::vector<LocalDynamics> LocalModels(const NarxModel& model, int output, double sample_time_s) {
   std::vector<LocalDynamics> all;
   for (int j = 0; j < model.model(output).rules(); ++j)
@@ -239,12 +239,12 @@ std::string DescribeDynamics(const LocalDynamics& d, double sample_time_s) {
     if (!d.stable)
       s = "unstable (pole " + FourDigits(std::abs(d.poles.front())) + ")";
     else
-      s = "τ " + ShortNumber(tau) + unit;
-    if (d.poles.front().imag() != 0.0) s += ", damping " + ShortNumber(d.damping.front());
+      s = "τ " + SentenceNumber(tau) + unit;
+    if (d.poles.front().imag() != 0.0) s += ", damping " + SentenceNumber(d.damping.front());
   }
   for (const auto& [name, g] : d.dc_gain) {
     s += (s.empty() ? "gain " : (s.find("gain") == std::string::npos ? ", gain " : ", ")) +
-         ShortNumber(g) + " from " + name;
+         SentenceNumber(g) + " from " + name;
   }
   return s;
 }

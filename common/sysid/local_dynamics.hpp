@@ -72,6 +72,9 @@ LocalStateSpace StateSpace(const RegressorSpec& spec, int output, const RawLinea
 std::vector<double> StepResponse(const RegressorSpec& spec, int output, const RawLinearModel& model,
                                  int signal, int steps);
 
+/// A number as the rules' sentences print it: three significant digits ("0.0561", "1.05e+03").
+std::string SentenceNumber(double v);
+
 /// "τ 0.12 s, gain 31 from m2, 2.1 from thrust": the slowest pole's time constant (with its
 /// damping when it oscillates) and the gains, for a rule's sentence.
 std::string DescribeDynamics(const LocalDynamics& d, double sample_time_s);

@@ -11,6 +11,7 @@
 #include "fuzzy/singleton_consequent.hpp"
 #include "sysid/local_dynamics.hpp"
 #include "sysid/narx_model_state.hpp"
+#include "sysid/rule_listing.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -20,12 +21,6 @@ constexpr double kFlat = 10.0;
 // What a signal left out of a rule holds: a Gaussian this wide is flat over the range.
 constexpr double kLeftOut = 1000.0;
 const char* const kTermNames[kReadableTerms] = {"very low", "low", "medium", "high", "very high"};
-
-std::string Short(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
 
 // A signal of the regressor (an output or an input) and its columns, one per lag.
 struct Signal {
@@ -265,21 +260,10 @@ ReadableModel MakeReadable(const NarxModel& full, const Series& train, double sa
           s += (s.empty() ? "IF " : " AND ") + signals[k].name + " is " +
                term_sets[static_cast<std::size_t>(o)][k]
                    .name[static_cast<std::size_t>(rule_terms[j][k])];
-      std::string then;
-      if (readable.model(o).consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
-        then = target + " is ≈" + Short(raw.constant);
-      } else {
-        then = target + " ≈ " + Short(raw.constant);
-        const auto names = spec.RegressorNames();
-        for (Eigen::Index i = 0; i < raw.coefficients.size(); ++i) {
-          const double c = raw.coefficients(i);
-          then += (c < 0 ? " - " : " + ") + Short(std::abs(c)) + "·" +
-                  names[static_cast<std::size_t>(i)];
-        }
-        if (spec.output_lags > 0)
-          then +=
-              " — " + DescribeDynamics(AnalyseDynamics(spec, o, raw, sample_time_s), sample_time_s);
-      }
+      const std::string then =
+          readable.model(o).consequent().kind() == fuzzy::ConsequentKind::kSingleton
+              ? target + " is ≈" + SentenceNumber(raw.constant)
+              : target + " ≈ " + DescribeLinearModel(spec, o, raw, sample_time_s);
       lines.push_back(s.empty() ? (rule_terms.size() == 1 ? "linear: one rule: " : "") + then
                                 : s + " THEN " + then);
     }
@@ -298,8 +282,8 @@ ReadableModel MakeReadable(const NarxModel& full, const Series& train, double sa
       for (const int t : used) {
         const auto u = static_cast<std::size_t>(t);
         line += std::string(t == used.front() ? " " : ", ") + ts.name[u] + " ≈ " +
-                Short(sc.regressor_mid(c) + sc.regressor_half(c) * ts.centre[u]) + " ±" +
-                Short(sc.regressor_half(c) * ts.sigma[u]);
+                SentenceNumber(sc.regressor_mid(c) + sc.regressor_half(c) * ts.centre[u]) + " ±" +
+                SentenceNumber(sc.regressor_half(c) * ts.sigma[u]);
       }
       lines.push_back(line);
     }

@@ -11,11 +11,6 @@ namespace odonata::sysid {
 namespace {
 // Scaled widths above this leave a premise flat over the input's range [−1, 1].
 constexpr double kFlatWidth = 10.0;
-std::string Number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 }  // namespace
 
 std::string LinguisticLabel(double c) {
@@ -52,36 +47,47 @@ std::vector<std::string> DescribeRules(const NarxModel& model, int output, doubl
       const auto k = static_cast<std::size_t>(i);
       const std::string term =
           k < given.terms.size() && !given.terms[k].empty() ? given.terms[k] : LinguisticLabel(c);
-      s += (first ? "" : " AND ") + names[k] + " is " + term + " (≈" + Number(raw) + " ±" +
-           Number(width) + ")";
+      s += (first ? "" : " AND ") + names[k] + " is " + term + " (≈" + SentenceNumber(raw) + " ±" +
+           SentenceNumber(width) + ")";
       first = false;
     }
     if (!one && first) s += "always";  // every input left out
     if (fm.consequent().kind() == fuzzy::ConsequentKind::kSingleton) {
       const auto& cons = static_cast<const fuzzy::SingletonConsequent&>(fm.consequent());
-      const std::string value = Number(sc.UnscaleOutput(output, cons.centre(j)));
+      const std::string value = SentenceNumber(sc.UnscaleOutput(output, cons.centre(j)));
       s += one ? target + " = " + value + " (one rule: a constant)"
                : " THEN " + target + " is ≈" + value;
     } else {
-      const RawLinearModel raw = RuleLinearModel(model, output, j);
-      std::string terms;
-      for (int i = 0; i < n; ++i) {
-        const double k = raw.coefficients(i);
-        terms += (k < 0 ? " - " : " + ") + Number(std::abs(k)) + "·" +
-                 names[static_cast<std::size_t>(i)];
+      const std::string text = DescribeLinearModel(
+          model.spec(), output, RuleLinearModel(model, output, j), sample_time_s);
+      if (one) {
+        // "y = c + … (one rule: a linear model, as ARX) — dynamics", as it always read.
+        const auto dash = text.find(" — ");
+        s += target + " = " + text.substr(0, dash) + " (one rule: a linear model, as ARX)" +
+             (dash == std::string::npos ? "" : text.substr(dash));
+      } else {
+        s += " THEN " + target + " ≈ " + text;
       }
-      s += one ? target + " = " + Number(raw.constant) + terms +
-                     " (one rule: a linear model, as ARX)"
-               : " THEN " + target + " ≈ " + Number(raw.constant) + terms;
-      // A dynamic local model: how fast and how much, in the control engineer's terms.
-      if (model.spec().output_lags > 0)
-        s += " — " + DescribeDynamics(AnalyseDynamics(model.spec(), output, raw, sample_time_s),
-                                      sample_time_s);
     }
     if (!given.output.empty()) s += " [" + given.output + "]";
     lines.push_back(s);
   }
   return lines;
+}
+
+std::string DescribeLinearModel(const RegressorSpec& spec, int output, const RawLinearModel& raw,
+                                double sample_time_s) {
+  const auto names = spec.RegressorNames();
+  std::string s = SentenceNumber(raw.constant);
+  for (Eigen::Index i = 0; i < raw.coefficients.size(); ++i) {
+    const double k = raw.coefficients(i);
+    s += (k < 0 ? " - " : " + ") + SentenceNumber(std::abs(k)) + "·" +
+         names[static_cast<std::size_t>(i)];
+  }
+  // A dynamic local model: how fast and how much, in the control engineer's terms.
+  if (spec.output_lags > 0)
+    s += " — " + DescribeDynamics(AnalyseDynamics(spec, output, raw, sample_time_s), sample_time_s);
+  return s;
 }
 
 }  // namespace odonata::sysid

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "sysid/local_dynamics.hpp"
 #include "sysid/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -20,5 +21,11 @@ std::string LinguisticLabel(double scaled_centre);
 /// seconds with `sample_time_s`, else in samples.
 std::vector<std::string> DescribeRules(const NarxModel& model, int output,
                                        double sample_time_s = 0);
+
+/// A linear local model of output `output` as its sentence's right-hand side:
+/// "0.31 + 0.92·y(k) - 0.10·u(k)", and with output lags " — " and its dynamics
+/// (DescribeDynamics). The full rules and the readable form (readable_model.hpp) both print it.
+std::string DescribeLinearModel(const RegressorSpec& spec, int output, const RawLinearModel& raw,
+                                double sample_time_s);
 
 }  // namespace odonata::sysid
