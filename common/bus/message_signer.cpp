@@ -82,7 +82,7 @@ uint64_t RandomSenderId() {
 }
 
 MessageSigner::MessageSigner(const BusKey& key, uint64_t sender_id, int64_t started_us)
-    : sender_id_(sender_id), not_before_us_(started_us > 0 ? started_us - kStartSkewUs : 0) {
+    : sender_id_(sender_id), not_before_us_(started_us > 0 ? started_us : 0) {
   InitSodium();
   crypto_generichash_init(&keyed_, key.bytes.data(), key.bytes.size(), kTagBytes);
 }
@@ -158,8 +158,8 @@ const char* MessageSigner::Describe(Verdict v) {
       return "replayed (not newer than its sender's newest message)";
     case Verdict::kStale:
       return "stale (stamped before this process started, or more than 30 s from its clock: a "
-             "replayed log, or a sender whose clock is behind this board's by more than 2 s — "
-             "check that the boards' clocks agree, e.g. NTP)";
+             "replayed log or capture, or a sender whose clock is behind this board's — check "
+             "that the boards' clocks agree, e.g. NTP)";
   }
   return "?";
 }

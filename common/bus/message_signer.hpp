@@ -44,21 +44,22 @@ class MessageSigner {
     kBadTag,     ///< a trailer whose tag is wrong: another key, or altered bytes
     kReplayed,   ///< authentic but not newer than its sender's newest: a resent or replayed copy
     kStale,      ///< authentic but stamped before this receiver started, or far from its clock:
-                 ///< a replayed log
+                 ///< a replayed log, or traffic captured before a restart
   };
   /// How far a timestamp may lie from the receiver's clock: two boards' clocks may disagree by a
   /// few seconds; a replayed log is older than this.
   static constexpr int64_t kClockWindowUs = 30'000'000;
-  /// How much older than the receiver's start a message may be stamped: the clocks of a
-  /// system's boards agree within this (NTP, PTP). A message stamped before the receiver
-  /// started cannot be meant for it — a log replayed into a service started since it was
-  /// recorded is refused whole, whatever senders it holds.
-  static constexpr int64_t kStartSkewUs = 2'000'000;
+  // Nothing stamped before the receiver started is taken, with no allowance for clock skew: a
+  // message sent before a process existed cannot be meant for it, and any allowance is a window
+  // in which traffic captured just before a restart (odonata-run restarts a dead identifier at
+  // once) is taken by the new process as news from a sender it never heard. A board whose clock
+  // lags the receiver's by d costs that sender's first d seconds after the receiver starts
+  // (counted as stale), nothing more. docs/lcm.md §15.
   /// Senders whose newest timestamp is remembered; only authentic messages add one.
   static constexpr std::size_t kMaxSenders = 4096;
 
   /// `sender_id` names this process's messages (random per process in services; fixed in tests);
-  /// messages stamped before `started_us` − kStartSkewUs are stale (0: no such bound).
+  /// messages stamped before `started_us` are stale (0: no such bound).
   MessageSigner(const BusKey& key, uint64_t sender_id, int64_t started_us = 0);
 
   /// Appends the signature of `payload` (the LCM-encoded message) on `channel`, stamped `now_us`

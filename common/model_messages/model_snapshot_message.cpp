@@ -149,6 +149,7 @@ odonata::model_snapshot_t EncodeSnapshot(const sysid::NarxModel& model) {
   m.utime = 0;
   m.seq = 0;
   m.samples_learned = 0;
+  m.learned_through = -1;
   m.learning = 1;  // the identifier sets both from its learner
   m.output_lags = s.spec.output_lags;
   m.input_lags = s.spec.input_lags;

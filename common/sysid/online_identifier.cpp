@@ -16,14 +16,17 @@ void OnlineIdentifier::RestartHistory() {
   free_history_.clear();
   arx_free_history_.clear();
   have_last_ = false;
+  resume_after_ = -1;  // a new run: its indices start again
 }
 
-void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned) {
+void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned,
+                                    int64_t learned_through) {
   model_ = std::move(model);
   arx_ = RecursiveArx(model_.scaling());
   samples_learned_ = samples_learned;
   refitter_.Clear();  // rows learned by the model that is gone
   RestartHistory();
+  resume_after_ = learned_through;
 }
 
 void OnlineIdentifier::Freeze() {
@@ -61,6 +64,21 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   if (have_last_ && s.index <= last_index_) {
     set(PushResult::kDuplicate);
     return std::nullopt;
+  }
+  if (resume_after_ >= 0) {
+    if (s.index <= resume_after_) {
+      ++already_learned_;
+      set(PushResult::kDuplicate);
+      return std::nullopt;
+    }
+    // The samples the identifier was down for (or learned after its last snapshot and lost
+    // with it): gaps, as any other samples that never came.
+    const int64_t missing = s.index - resume_after_ - 1;
+    resume_after_ = -1;
+    gaps_ += missing;
+    missed_on_resume_ += missing;
+    set(missing > 0 ? PushResult::kGap : PushResult::kAccepted);
+    return Step(s);
   }
   set(PushResult::kAccepted);
   if (have_last_ && s.index != last_index_ + 1) {

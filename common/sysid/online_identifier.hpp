@@ -69,11 +69,15 @@ class OnlineIdentifier {
     learning_ = true;
   }
   bool learning() const { return learning_; }
-  /// Forgets the history (e.g. the plant was reset); the model is kept.
+  /// Forgets the history (e.g. the plant was reset: a new run); the model is kept.
   void RestartHistory();
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
   /// the learned-sample count becomes `samples_learned` (a resumed model's own count).
-  void ReplaceModel(NarxModel model, int64_t samples_learned = 0);
+  /// `learned_through` ≥ 0 is the newest sample index the model had learned (a snapshot's): until
+  /// the run restarts (RestartHistory), samples at or before it are refused as already learned
+  /// (kDuplicate; a replay of the run's earlier traffic teaches nothing twice), and the first
+  /// later one counts those between as gaps (lost while the identifier was down).
+  void ReplaceModel(NarxModel model, int64_t samples_learned = 0, int64_t learned_through = -1);
   /// The model it started from is an expert's (a .fis or model file): scheduled refits refine
   /// its rules and replace them only when their own choice beats them on the hold-out by the
   /// selection's margin (ScheduledRefitter::SetExpert). A replaced model (ReplaceModel) forgets it.
@@ -132,6 +136,14 @@ class OnlineIdentifier {
   /// Rows the landed model's tracker has learned since it landed (ScheduledRefitter::tracked).
   long tracked() const { return refitter_.tracked(); }
   int64_t last_index() const { return last_index_; }
+  /// The newest sample index the model has learned in this run (−1: none): a snapshot's
+  /// `learned_through`, so a resumed identifier knows what it holds.
+  int64_t learned_through() const { return have_last_ ? last_index_ : resume_after_; }
+  /// Samples refused because the resumed model had learned them already (ReplaceModel).
+  int64_t already_learned() const { return already_learned_; }
+  /// Of gaps(), the samples between a resumed model's learned_through and the first later
+  /// sample: lost while the identifier was down (or learned after its snapshot, lost with it).
+  int64_t missed_on_resume() const { return missed_on_resume_; }
 
  private:
   /// Learns and predicts `s`, the sample after the history's newest.
@@ -145,6 +157,9 @@ class OnlineIdentifier {
   std::deque<Eigen::VectorXd> arx_free_history_;  // the ARX's own free run, likewise
   int64_t last_index_ = -1;
   bool have_last_ = false;
+  int64_t resume_after_ = -1;  // a resumed model's learned_through, until the first later sample
+  int64_t already_learned_ = 0;
+  int64_t missed_on_resume_ = 0;
   int64_t samples_learned_ = 0;
   int64_t gaps_ = 0;
   int64_t bridged_ = 0;

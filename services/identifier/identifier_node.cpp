@@ -145,10 +145,15 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
   sysid::NarxModel model =
       model_messages::DecodeSnapshot(msg);  // throws on a malformed snapshot: counted
   if (msg.samples_learned < 0) throw std::invalid_argument("snapshot with a negative sample count");
-  core_.ReplaceModel(std::move(model), msg.samples_learned);
+  core_.ReplaceModel(std::move(model), msg.samples_learned,
+                     std::max<int64_t>(-1, msg.learned_through));
   if (msg.learning == 0) core_.Freeze();  // frozen before it stopped: frozen again
-  StartLearning("from the bus snapshot after " + std::to_string(msg.samples_learned) +
-                " learned samples" + (msg.learning == 0 ? " (frozen, as it was)" : ""));
+  StartLearning(
+      "from the bus snapshot after " + std::to_string(msg.samples_learned) + " learned samples" +
+      (msg.learned_through >= 0 ? " (through sample " + std::to_string(msg.learned_through) +
+                                      "; earlier samples of this run are not learned again)"
+                                : std::string()) +
+      (msg.learning == 0 ? " (frozen, as it was)" : ""));
 }
 
 // The receipt goes out after learning: a receipt for a sample this process had not yet learned
@@ -242,8 +247,24 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
   RefitLanded();
   if (result == sysid::PushResult::kGap || result == sysid::PushResult::kBridged)
     bus_.stats().gaps = std::max(bus_.stats().gaps, core_.gaps());
+  if (core_.missed_on_resume() > missed_on_resume_) {
+    const int64_t missed = core_.missed_on_resume() - missed_on_resume_;
+    missed_on_resume_ = core_.missed_on_resume();
+    bus_.Report("samples missed on resume",
+                std::to_string(missed) + " samples before sample " + std::to_string(sample.index) +
+                    " were not learned: the identifier was down, or learned them after its last "
+                    "snapshot and lost them with it (counted as gaps)");
+  }
   if (result == sysid::PushResult::kRejected || result == sysid::PushResult::kDuplicate) {
     ++bus_.stats().dropped;
+    if (result == sysid::PushResult::kDuplicate && core_.already_learned() > already_learned_) {
+      already_learned_ = core_.already_learned();
+      bus_.Report("sample already learned",
+                  "sample " + std::to_string(sample.index) +
+                      " is at or before the newest the resumed snapshot had learned (" +
+                      std::to_string(core_.already_learned()) +
+                      " refused so far: resent or replayed traffic of this run)");
+    }
     return;
   }
   if (!report) return;
@@ -405,6 +426,8 @@ std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
           {"gaps", static_cast<double>(core_.gaps())},
           {"bridged", static_cast<double>(core_.bridged())},
           {"not_learned", static_cast<double>(not_learned_)},
+          // Refused after a resume: the snapshot had learned them (a resend or a replay).
+          {"already_learned", static_cast<double>(core_.already_learned())},
           // The rules it started from (a .fis or model file): refits that kept them, refined, and
           // whether one replaced them.
           {"expert_rules_kept", static_cast<double>(core_.experts_kept())},
@@ -453,6 +476,7 @@ void IdentifierNode::PublishSnapshot() {
   s.utime = bus::NowUtime();
   s.seq = snapshot_seq_++;
   s.samples_learned = core_.samples_learned();
+  s.learned_through = core_.learned_through();
   s.learning = core_.learning() ? 1 : 0;
   s.instance = config_.instance;
   bus_.Publish(config_.channels.model, s);

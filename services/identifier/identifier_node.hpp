@@ -85,6 +85,8 @@ class IdentifierNode {
   static constexpr std::size_t kMostWaiting = 100000;  // 1000 s at 100 Hz
   int64_t not_learned_ = 0;  // samples that came in and were never learned (the bound above)
   int64_t prediction_seq_ = 0;
+  int64_t already_learned_ = 0;      ///< samples refused as learned before a resume, as last said
+  int64_t missed_on_resume_ = 0;     ///< samples missed while down, as last said
   int64_t refits_reported_ = 0;      ///< refits landed or failed, as last said on stderr
   int64_t incumbents_reported_ = 0;  ///< of them, those that kept the last refit's model
   int64_t refused_reported_ = 0;     ///< of them, steady-state models refused (SteadyStateHolds)

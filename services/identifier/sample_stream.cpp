@@ -39,7 +39,19 @@ std::vector<SampleStream::Event> SampleStream::OnCommand(const odonata::wing_com
 
 std::vector<SampleStream::Event> SampleStream::OnState(const odonata::plant_state_t& msg) {
   if (!messages::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
-  return Form(pairer_.OnState(msg));
+  std::vector<Event> events = Form(pairer_.OnState(msg));
+  if (!state_seen_ && msg.seq == 0 && msg.command_seq < 0)
+    events.insert(events.begin(), RunBegins());
+  state_seen_ = true;
+  return events;
+}
+
+SampleStream::Event SampleStream::RunBegins() {
+  // The first state is a run's very first: its samples are new, whatever a resumed model had
+  // learned of an earlier run (the pairer sees no restart, having no earlier state).
+  Event e;
+  e.kind = Event::Kind::kRestart;
+  return e;
 }
 
 std::vector<SampleStream::Event> SampleStream::OnBeat(const odonata::beat_state_t& msg) {
@@ -54,7 +66,10 @@ std::vector<SampleStream::Event> SampleStream::OnSignals(const odonata::signals_
   const auto verdict = signals_sequence_.Next(msg.seq);
   using Kind = pipeline::SampleSequence::Verdict::Kind;
   if (verdict.kind == Kind::kDrop) throw std::invalid_argument("signals " + verdict.why);
-  if (verdict.kind == Kind::kRestart) {
+  // A first seq 0 begins a run, as a state 0 does (RunBegins).
+  const bool run_begins = !signals_seen_ && msg.seq == 0;
+  signals_seen_ = true;
+  if (verdict.kind == Kind::kRestart || run_begins) {
     // The model's history restarts, as for a restarted plant.
     decimator_.Reset();
     Event e;

@@ -66,7 +66,12 @@ class SampleStream {
   sysid::RegressorSpec spec_;
   messages::MessagePairer pairer_;
   io::RowDecimator decimator_;
+  // A kRestart event: the run begins with the first state (seq 0) this stream sees.
+  static Event RunBegins();
+
   bool started_ = false;
+  bool state_seen_ = false;    // a state has been taken: a seq 0 after it is the pairer's restart
+  bool signals_seen_ = false;  // likewise for signals
   pipeline::SampleSequence signals_sequence_;
 };
 

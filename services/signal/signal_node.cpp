@@ -45,6 +45,10 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
     // heartbeat looks the same, and the authentic consumers lose nothing.
     bus_.OnRefused([this](const std::string& channel, const uint8_t* data, std::size_t size,
                           bus::MessageSigner::Verdict verdict) {
+      // Stale and replayed messages carry the system's key: captured traffic sent again (a
+      // consumer's own earlier heartbeats among it), not a consumer without the key.
+      using Verdict = bus::MessageSigner::Verdict;
+      if (verdict != Verdict::kUnsigned && verdict != Verdict::kBadTag) return;
       if (finished_ || channel != bus_.channels().heartbeat) return;
       odonata::heartbeat_t h;
       if (!bus::SafeDecode(&h, data, static_cast<int64_t>(size))) return;

@@ -521,6 +521,50 @@ TEST_F(IdentifierNodeTest, ResumesOnlyAFittingSnapshotWithItsCountAndFrozenState
       << bus_->stats().last_error;
 }
 
+// Traffic of the run replayed into an identifier that resumed from a snapshot (a capture sent
+// again after a restart, or resends) teaches it nothing twice; the samples it missed while down
+// are gaps; a new run of the plant is learned from its start.
+TEST_F(IdentifierNodeTest, AResumedIdentifierLearnsNoSampleItHeldAndCountsThoseItMissed) {
+  Start();
+  Run(0, 120);
+  snapshots_.clear();
+  Control(odonata::control_t::PUBLISH_SNAPSHOT);
+  ASSERT_EQ(snapshots_.size(), 1u);
+  const odonata::model_snapshot_t snap = snapshots_[0];
+  EXPECT_EQ(snap.learned_through, 118);  // state 119 completed sample 118
+  const nlohmann::json model = node_->core().model().ToJson();
+  const int64_t learned = node_->core().samples_learned();
+
+  node_.reset();
+  bus_.reset();
+  predictions_.clear();
+  IdentifierConfig config = Config();
+  config.resume_wait_s = 30;
+  Start(std::nullopt, config);
+  bus_->Publish(bus_->channels().model, snap);
+  Pump(*bus_);
+  ASSERT_EQ(node_->core().samples_learned(), learned);
+  Run(60, 120);  // the run's own traffic again
+  EXPECT_EQ(node_->core().samples_learned(), learned);
+  EXPECT_EQ(node_->core().model().ToJson(), model);
+  EXPECT_TRUE(predictions_.empty());
+  EXPECT_EQ(node_->core().already_learned(), 59);  // samples 60 … 118
+  EXPECT_NE(bus_->stats().last_error.find("already learned"), std::string::npos)
+      << bus_->stats().last_error;
+  EXPECT_EQ(node_->core().gaps(), 0);
+
+  Run(130, 200);  // the run goes on: samples 119 … 129 were missed while it was down
+  EXPECT_EQ(node_->core().gaps(), 11);
+  EXPECT_GE(bus_->stats().gaps, 11);
+  // Samples 130 … 198, but the first only fills the history (one lag).
+  EXPECT_EQ(node_->core().samples_learned(), learned + 68);
+  EXPECT_EQ(node_->core().learned_through(), 198);
+
+  const int64_t before_new_run = node_->core().samples_learned();
+  Run(0, 50);  // the plant starts a new run: its samples are new, whatever their indices
+  EXPECT_EQ(node_->core().samples_learned(), before_new_run + 48);  // 0 … 48, less the first
+}
+
 TEST_F(IdentifierNodeTest, BeatAveragesComeFromBeatStateKAndTheAppliedCommandFromBeatStateKPlus1) {
   Start(std::nullopt, BeatConfig());
   Run(0, 120, -1, /*beats=*/true);
