@@ -1,7 +1,8 @@
-// flood_publisher URL SECONDS: the floods of issue 24 point 5, as fast as LCM sends them for
-// SECONDS — predictions of 1000 outputs with names never seen before, model snapshots of about
-// 14 MB from ever new instances, heartbeats of ever new peers, and random bytes on every
-// channel — so run_flood_bench.sh can read what the monitor and the logger hold meanwhile.
+// flood_publisher URL SECONDS [snapshots]: the floods of issue 24 point 5, as fast as LCM sends
+// them for SECONDS — predictions of 1000 outputs with names never seen before, model snapshots
+// of about 14 MB from ever new instances, heartbeats of ever new peers, and random bytes on every
+// channel — so run_flood_bench.sh can read what the monitor and the logger hold meanwhile. With
+// `snapshots`, only the 14 MB snapshots (issue 51 point 4: what they cost a signed run).
 #include <lcm/lcm-cpp.hpp>
 
 #include <chrono>
@@ -16,10 +17,11 @@
 #include "odonata/prediction_t.hpp"
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: flood_publisher LCM_URL SECONDS\n");
+  if (argc != 3 && !(argc == 4 && std::string(argv[3]) == "snapshots")) {
+    std::fprintf(stderr, "usage: flood_publisher LCM_URL SECONDS [snapshots]\n");
     return 2;
   }
+  const bool only_snapshots = argc == 4;
   lcm::LCM lcm(argv[1]);
   if (!lcm.good()) return 1;
   const auto end =
@@ -27,6 +29,15 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(7);
   long predictions = 0, snapshots = 0, heartbeats = 0, garbage = 0;
   for (int64_t k = 0; std::chrono::steady_clock::now() < end; ++k) {
+    if (only_snapshots) {
+      odonata::model_snapshot_t m{};
+      m.seq = k;
+      m.instance = "flood-" + std::to_string(k);
+      m.num_regressors = 900000;
+      m.regressor_mid = m.regressor_half = std::vector<double>(900000, 1.0);
+      snapshots += lcm.publish("ODONATA_MODEL", &m) == 0;
+      continue;
+    }
     odonata::prediction_t p{};
     p.seq = k;
     p.sample = k;

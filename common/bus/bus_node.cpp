@@ -84,7 +84,7 @@ BusNode::~BusNode() {
 
 void BusNode::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                          RawHandler* h) {
-  h->fn(rbuf, channel);
+  if (h->active) h->fn(rbuf, channel);
 }
 
 bool BusNode::SendBytes(const std::string& channel, const std::vector<uint8_t>& bytes) {
@@ -164,21 +164,37 @@ void BusNode::Register(RawHandler& h) {
       throw std::runtime_error("invalid channel name or regex '" + h.channel + "': " + e.what());
     }
     routes_stale_ = true;
-    // The kernel drops what no subscription wants, while every subscription is a plain name.
-    std::vector<std::string> names;
-    for (const auto& other : handlers_) {
-      if (!IsLiteralChannel(other.channel)) {
-        receiver_->Filter(std::nullopt);
-        return;
-      }
-      names.push_back(other.channel);
-    }
-    receiver_->Filter(names);
+    UpdateFilter();
     return;
   }
   // LCM 1.3.1 keeps only 30 undelivered messages per subscription and drops the rest without
   // telling anyone; a lockstep burst while this process is off the CPU can exceed that.
   lcm_->subscribeFunction(h.channel, &BusNode::Trampoline, &h)->setQueueCapacity(kQueueCapacity);
+}
+
+void BusNode::UpdateFilter() {
+  if (!receiver_) return;
+  // The kernel drops what no subscription wants, while every subscription is a plain name, and
+  // every fragment when no subscription can take a fragmented message.
+  std::vector<std::string> names;
+  bool fragments = false;
+  for (const auto& h : handlers_) {
+    if (!h.active) continue;
+    if (!IsLiteralChannel(h.channel)) {
+      receiver_->Filter(std::nullopt, true);
+      return;
+    }
+    names.push_back(h.channel);
+    fragments = fragments || h.fragments;
+  }
+  receiver_->Filter(names, fragments);
+}
+
+void BusNode::Unsubscribe(const void* subscription) {
+  for (auto& h : handlers_)
+    if (&h == subscription) h.active = false;
+  routes_stale_ = true;
+  UpdateFilter();
 }
 
 void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
@@ -193,7 +209,7 @@ void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channe
     std::vector<RawHandler*> matching;
     // LCM anchors every subscription: the whole name must match.
     for (auto& h : handlers_)
-      if (std::regex_match(channel, h.pattern)) matching.push_back(&h);
+      if (h.active && std::regex_match(channel, h.pattern)) matching.push_back(&h);
     it = routes_.emplace(channel, std::move(matching)).first;
   }
   if (it->second.empty()) return;
@@ -201,7 +217,7 @@ void BusNode::Dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channe
   if (message == nullptr) return;
   for (RawHandler* h : it->second) {
     if (stopping_) return;
-    h->fn(message, channel);
+    if (h->active) h->fn(message, channel);
   }
 }
 

@@ -29,8 +29,22 @@
 #include "bus/udpm_receiver.hpp"
 #include "bus/udpm_sender.hpp"
 #include "odonata/control_reply_t.hpp"
+#include "odonata/model_snapshot_t.hpp"
+#include "odonata/signals_t.hpp"
 
 namespace odonata::bus {
+
+/// Whether a message of this type can outgrow one udpm datagram, so that LCM sends it in LC03
+/// fragments: a model snapshot (it grows with the rules), a vehicle's signals (as many as it
+/// names). A node none of whose subscriptions can take one has the kernel drop every fragment
+/// on the group (udpm_channel_filter): a flood of large messages, unsigned or not, then costs it
+/// no reassembly and no room in its receive buffer (docs/lcm.md §9).
+template <class Msg>
+inline constexpr bool kMayBeFragmented = false;
+template <>
+inline constexpr bool kMayBeFragmented<odonata::model_snapshot_t> = true;
+template <>
+inline constexpr bool kMayBeFragmented<odonata::signals_t> = true;
 
 /// Microseconds since the UNIX epoch, LCM's utime.
 int64_t NowUtime();
@@ -69,8 +83,14 @@ class BusNode {
   /// the rest are counted as decode errors and reported once per channel. Exceptions thrown
   /// by the handler are caught, counted as dropped and reported, so bad input never kills the
   /// process.
+  /// Returns the subscription, for Unsubscribe.
   template <class Msg>
-  void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+  const void* Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+
+  /// Stops delivering messages to `subscription` (Subscribe's result: a service that needs a
+  /// channel only while it starts, as the identifier needs snapshots to resume), and narrows the
+  /// kernel's filter to what is left. Safe inside a handler.
+  void Unsubscribe(const void* subscription);
 
   /// Subscribes to every channel matching `regex` without decoding (recorders): the handler
   /// gets the raw buffer and the channel name. Counts messages_in.
@@ -156,10 +176,14 @@ class BusNode {
     BusNode* node;
     std::string channel;  ///< a regex, as LCM reads every subscription
     std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn;
-    std::regex pattern;  ///< for the own receiver
+    std::regex pattern;     ///< for the own receiver
+    bool fragments = true;  ///< its messages may come in fragments (kMayBeFragmented)
+    bool active = true;     ///< false once unsubscribed
   };
   static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel, RawHandler* h);
   void Register(RawHandler& h);
+  /// The kernel's filter for the subscriptions in force (udpm_channel_filter).
+  void UpdateFilter();
   /// The message's bytes in `buffer`, signed when the node has a key; empty when it cannot be
   /// encoded.
   template <class Msg>
@@ -227,8 +251,9 @@ class BusNode {
 };
 
 template <class Msg>
-void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
-  handlers_.push_back(RawHandler{this, channel, nullptr, {}});
+const void* BusNode::Subscribe(const std::string& channel,
+                               std::function<void(const Msg&)> handler) {
+  handlers_.push_back(RawHandler{this, channel, nullptr, {}, kMayBeFragmented<Msg>});
   RawHandler& h = handlers_.back();
   h.fn = [this, channel, handler = std::move(handler)](const lcm::ReceiveBuffer* rbuf,
                                                        const std::string&) {
@@ -251,6 +276,7 @@ void BusNode::Subscribe(const std::string& channel, std::function<void(const Msg
     }
   };
   Register(h);
+  return &h;
 }
 
 template <class Msg>

@@ -27,7 +27,8 @@ bool IsLiteralChannel(const std::string& subscription) {
          });
 }
 
-std::optional<std::vector<sock_filter>> ChannelFilterProgram(std::vector<std::string> channels) {
+std::optional<std::vector<sock_filter>> ChannelFilterProgram(std::vector<std::string> channels,
+                                                             bool fragments) {
   std::sort(channels.begin(), channels.end());
   channels.erase(std::unique(channels.begin(), channels.end()), channels.end());
   // Shortest first: a load past a datagram's end ends the program with "drop", and a datagram
@@ -64,8 +65,11 @@ std::optional<std::vector<sock_filter>> ChannelFilterProgram(std::vector<std::st
   program.push_back(sock_filter{BPF_JMP | BPF_JGE | BPF_K, 1, 0, kChannelAt});
   program.push_back(Statement(BPF_RET | BPF_K, kAccept));
   program.push_back(Statement(BPF_LD | BPF_W | BPF_ABS, kMagicAt));
-  program.push_back(sock_filter{BPF_JMP | BPF_JEQ | BPF_K, 1, 0, UdpmAssembler::kMagicShort});
-  program.push_back(Statement(BPF_RET | BPF_K, kAccept));  // LC03 or not LCM: user space decides
+  program.push_back(sock_filter{BPF_JMP | BPF_JEQ | BPF_K, 3, 0, UdpmAssembler::kMagicShort});
+  // LC03: a fragment, kept only when some subscription may take a fragmented message.
+  program.push_back(sock_filter{BPF_JMP | BPF_JEQ | BPF_K, 0, 1, UdpmAssembler::kMagicLong});
+  program.push_back(Statement(BPF_RET | BPF_K, fragments ? kAccept : 0));
+  program.push_back(Statement(BPF_RET | BPF_K, kAccept));  // not LCM: user space counts it
   for (auto& block : blocks) {
     const std::size_t next = block.size();  // index of the next block, relative to this one
     for (std::size_t i = 0; i < block.size(); ++i) {

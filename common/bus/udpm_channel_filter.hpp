@@ -16,9 +16,12 @@ namespace odonata::bus {
 bool IsLiteralChannel(const std::string& subscription);
 
 /// The filter program for a UDP socket whose subscriptions are exactly `channels`: an LC02
-/// datagram passes when its channel is one of them; fragments (LC03) and anything that is not
-/// LCM pass too, to be reassembled or counted in user space. Empty when the program would not
-/// fit cBPF's limits (too many or too long names): then nothing is filtered.
-std::optional<std::vector<sock_filter>> ChannelFilterProgram(std::vector<std::string> channels);
+/// datagram passes when its channel is one of them; anything that is not LCM passes, to be
+/// counted in user space. Fragments (LC03) pass when `fragments` (only the first names its
+/// channel, so they are reassembled and judged in user space); without, every fragment is
+/// dropped: no subscription takes a message that large. Empty when the program would not fit
+/// cBPF's limits (too many or too long names): then nothing is filtered.
+std::optional<std::vector<sock_filter>> ChannelFilterProgram(std::vector<std::string> channels,
+                                                             bool fragments = true);
 
 }  // namespace odonata::bus

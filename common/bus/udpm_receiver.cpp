@@ -76,9 +76,9 @@ void UdpmReceiver::Wait() {
                      });
 }
 
-bool UdpmReceiver::Filter(const std::optional<std::vector<std::string>>& channels) {
+bool UdpmReceiver::Filter(const std::optional<std::vector<std::string>>& channels, bool fragments) {
   const int fd = socket_.native_handle();
-  const auto program = channels ? ChannelFilterProgram(*channels) : std::nullopt;
+  const auto program = channels ? ChannelFilterProgram(*channels, fragments) : std::nullopt;
   if (!program) {
     int unused = 0;
     setsockopt(fd, SOL_SOCKET, SO_DETACH_FILTER, &unused, sizeof unused);  // ENOENT if none

@@ -35,9 +35,10 @@ class UdpmReceiver {
   int64_t datagrams() const { return datagrams_; }
   /// Stops receiving (the loop's pending read is cancelled).
   void Close();
-  /// Has the kernel drop LC02 datagrams on other channels than `channels` (udpm_channel_filter);
-  /// empty: receive everything. Returns false when the names cannot be filtered (then nothing is).
-  bool Filter(const std::optional<std::vector<std::string>>& channels);
+  /// Has the kernel drop LC02 datagrams on other channels than `channels` (udpm_channel_filter),
+  /// and every LC03 fragment unless `fragments`; empty: receive everything. Returns false when the
+  /// names cannot be filtered (then nothing is).
+  bool Filter(const std::optional<std::vector<std::string>>& channels, bool fragments = true);
 
  private:
   void Wait();

@@ -78,7 +78,8 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
     }
   }
   bus_.Subscribe<odonata::control_t>(ch.control, [this](const auto& m) { OnControl(m); });
-  bus_.Subscribe<odonata::model_snapshot_t>(ch.model, [this](const auto& m) { OnSnapshot(m); });
+  snapshots_ =
+      bus_.Subscribe<odonata::model_snapshot_t>(ch.model, [this](const auto& m) { OnSnapshot(m); });
   if (initial || config_.resume_wait_s <= 0) {
     StartLearning(initial ? "from the saved model" : "with an empty model");
   } else {
@@ -115,6 +116,10 @@ sysid::NarxModel IdentifierNode::EmptyModel() const {
 
 void IdentifierNode::StartLearning(const std::string& how) {
   started_ = true;
+  // Snapshots only matter while it waits to resume: from now on the kernel drops them, and with
+  // them every fragment on the group (bus_node.hpp, kMayBeFragmented), so a flood of large
+  // snapshots costs the sample loop nothing.
+  bus_.Unsubscribe(snapshots_);
   KeepLastGood();  // what a divergence before the first snapshot falls back to
   bus_.SetState(core_.learning() ? "running" : "frozen");
   std::fprintf(stderr, "[%s] learning %s (%d rules)%s\n", config_.instance.c_str(), how.c_str(),

@@ -76,8 +76,9 @@ class IdentifierNode {
   bus::AckPublisher acks_;
   bus::AckPublisher signal_acks_;
   sysid::OnlineIdentifier core_;
-  bool started_ = false;  // false while waiting for a snapshot to resume from
-  SampleStream stream_;   // pairing, the model's signals, decimation (config_.decimate)
+  const void* snapshots_ = nullptr;  // the subscription to snapshots, dropped once started
+  bool started_ = false;             // false while waiting for a snapshot to resume from
+  SampleStream stream_;              // pairing, the model's signals, decimation (config_.decimate)
   // What came in while it waited for a snapshot, in order: learned once it starts (from the
   // snapshot, or empty), so a flight's first second (its take-off) is not lost. Bounded: beyond
   // kMostWaiting the oldest go, each counted as not learned.

@@ -39,7 +39,7 @@ std::vector<uint8_t> Datagram(uint32_t magic, const std::string& channel, std::s
 // Sends each datagram to a socket filtered for `channels` and returns the ones that arrived.
 std::vector<std::string> Passed(
     const std::vector<std::string>& channels,
-    const std::vector<std::pair<std::string, std::vector<uint8_t>>>& sent) {
+    const std::vector<std::pair<std::string, std::vector<uint8_t>>>& sent, bool fragments = true) {
   Fd rx(socket(AF_INET, SOCK_DGRAM, 0)), tx(socket(AF_INET, SOCK_DGRAM, 0));
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -47,7 +47,7 @@ std::vector<std::string> Passed(
   EXPECT_EQ(bind(rx.fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
   socklen_t len = sizeof addr;
   getsockname(rx.fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  const auto program = ChannelFilterProgram(channels);
+  const auto program = ChannelFilterProgram(channels, fragments);
   EXPECT_TRUE(program.has_value());
   if (!program) return {};
   sock_fprog fprog{static_cast<unsigned short>(program->size()),
@@ -93,6 +93,24 @@ TEST(UdpmChannelFilter, TheKernelDropsOtherChannelsOnly) {
   };
   const auto got = Passed({"ODONATA_CONTROL", "DIMAV_COMMAND", "C"}, sent);
   EXPECT_EQ(got, (std::vector<std::string>{"command", "control", "c", "fragment", "garbage"}));
+}
+
+// A node none of whose subscriptions takes a fragmented message (no snapshot, no signals): the
+// kernel drops every fragment, whatever its channel, so a flood of large messages never fills
+// its receive buffer; everything else is judged as before.
+TEST(UdpmChannelFilter, WithoutFragmentedSubscriptionsEveryFragmentIsDropped) {
+  const uint32_t lc02 = UdpmAssembler::kMagicShort, lc03 = UdpmAssembler::kMagicLong;
+  const std::vector<std::pair<std::string, std::vector<uint8_t>>> sent{
+      {"command", Datagram(lc02, "DIMAV_COMMAND", 200)},
+      {"state", Datagram(lc02, "DIMAV_STATE", 300)},
+      {"snapshot", Datagram(lc03, "ODONATA_MODEL", 60000)},
+      {"subscribed-fragment", Datagram(lc03, "DIMAV_COMMAND", 100)},
+      {"garbage", std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14}},
+  };
+  EXPECT_EQ(Passed({"DIMAV_COMMAND"}, sent, false),
+            (std::vector<std::string>{"command", "garbage"}));
+  EXPECT_EQ(Passed({"DIMAV_COMMAND"}, sent, true),
+            (std::vector<std::string>{"command", "snapshot", "subscribed-fragment", "garbage"}));
 }
 
 TEST(UdpmChannelFilter, OnlyLiteralNamesAreFiltered) {

@@ -77,7 +77,9 @@ int main(int argc, char** argv) {
           if (!pending.count(name)) return;
           last_seen[name] = "state " + hb.state + ", messages_in " +
                             std::to_string(hb.messages_in) + ", messages_out " +
-                            std::to_string(hb.messages_out);
+                            std::to_string(hb.messages_out) + ", dropped " +
+                            std::to_string(hb.dropped) + ", decode_errors " +
+                            std::to_string(hb.decode_errors) + ", gaps " + std::to_string(hb.gaps);
           if (fresh && hb.utime < started) return;
           if (!states.empty() && std::find(states.begin(), states.end(), hb.state) == states.end())
             return;
