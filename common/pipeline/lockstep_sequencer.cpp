@@ -221,7 +221,7 @@ SequencerAction LockstepSequencer::OnTimeout() {
   if (acks_missing && AllLaggardsBusy(Awaited())) {
     // They have the messages or will get them from the next resend once they are back: nothing
     // is lost by waiting, and resending into a process that is not reading helps nobody.
-    if (busy_in_a_row_ < kMaxBusyTimeouts) {
+    if (busy_in_a_row_ < max_busy_timeouts_) {
       ++busy_in_a_row_;
       ++busy_timeouts_;
       return a;

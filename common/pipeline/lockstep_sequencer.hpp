@@ -83,10 +83,14 @@ class LockstepSequencer {
   SequencerAction RemoveConsumer(const std::string& instance);
   /// `instance` says (heartbeat state "refitting") that it is landing a scheduled refit and
   /// acknowledges nothing until it has: while every consumer the run waits for is busy, a
-  /// timeout resends nothing and costs none of max_resends, for at most kMaxBusyTimeouts in a
+  /// timeout resends nothing and costs none of max_resends, for at most max_busy_timeouts() in a
   /// row (a forged or stuck "busy" cannot hold the run for ever). Unknown instances are ignored.
   void SetBusy(const std::string& instance, bool busy);
-  static constexpr int kMaxBusyTimeouts = 3000;  ///< 10 min at the default 200 ms timeout
+  /// The default bound: 10 min at the default 200 ms timeout.
+  static constexpr int kMaxBusyTimeouts = 3000;
+  /// Timeouts in a row a busy consumer may cost before the run fails (≥ 0).
+  void set_max_busy_timeouts(int n) { max_busy_timeouts_ = n; }
+  int max_busy_timeouts() const { return max_busy_timeouts_; }
   /// `instance` holds state `state_seq` and all it needs (ack_t). Unknown instances are ignored,
   /// and so is a receipt for a state beyond the answer to the newest command sent.
   SequencerAction OnAck(const std::string& instance, int64_t state_seq);
@@ -159,6 +163,7 @@ class LockstepSequencer {
   std::map<std::string, int64_t> consumers_;  // instance -> newest acknowledged state
   std::set<std::string> busy_;                // consumers landing a refit
   int busy_in_a_row_ = 0;
+  int max_busy_timeouts_ = kMaxBusyTimeouts;
   int64_t busy_timeouts_ = 0;
 };
 

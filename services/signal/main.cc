@@ -59,6 +59,11 @@ int main(int argc, char** argv) {
                  "gives the same run, a larger one a faster one")
       ->capture_default_str()
       ->check(CLI::Range(1, odonata::pipeline::LockstepSequencer::kMaxWindow));
+  app.add_option("--refit-wait", options.refit_wait_s,
+                 "lockstep: seconds to wait for consumers that say they are landing a refit "
+                 "before failing (default 600 with --key, 45 without: on a keyless bus anyone "
+                 "can claim to be refitting)")
+      ->check(CLI::Range(0.0, 1e6));
   app.add_option("--max-resends", options.max_resends,
                  "consecutive resends before giving up on the plant")
       ->check(CLI::Range(0, 1000000));

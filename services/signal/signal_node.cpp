@@ -1,6 +1,7 @@
 #include "signal_node.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <stdexcept>
@@ -28,6 +29,15 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
       release_(bus.io()) {
   if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
     throw std::invalid_argument("rate_hz and timeout_ms must be positive");
+  }
+  {
+    // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
+    // stall the run for under a minute, not ten (docs/lcm.md §10).
+    const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
+                          : bus_.options().key_path.empty() ? kKeylessRefitWaitS
+                                                            : kSignedRefitWaitS;
+    sequencer_.set_max_busy_timeouts(
+        static_cast<int>(std::min(1e9, std::ceil(wait_s * 1000.0 / options_.timeout_ms))));
   }
   if (options_.hold_at >= 0) {
     if (!options_.lockstep) throw std::invalid_argument("--hold-at needs lockstep mode");
@@ -292,10 +302,14 @@ void SignalNode::WaitForTimeout() {
     const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
     if (busy > 0 && busy % every == 0)
       std::fprintf(
-          stderr, "[%s] waiting %.0f s for %s, landing a scheduled refit (gives up after %.0f s)\n",
+          stderr,
+          "[%s] waiting %.0f s for %s, landing a scheduled refit (gives up after %.0f s%s)\n",
           bus_.options().instance.c_str(), busy * options_.timeout_ms / 1000.0,
           sequencer_.Waited().c_str(),
-          pipeline::LockstepSequencer::kMaxBusyTimeouts * options_.timeout_ms / 1000.0);
+          sequencer_.max_busy_timeouts() * options_.timeout_ms / 1000.0,
+          bus_.options().key_path.empty()
+              ? "; without a key a forged \"refitting\" looks the same: --refit-wait for longer"
+              : "");
     Apply(action);
     // Waiting again for a plant that was not reset: nothing was sent, but the clock restarts.
     if (action.kind == pipeline::SequencerAction::Kind::kNone && !finished_) ArmTimeout();

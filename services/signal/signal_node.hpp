@@ -50,6 +50,11 @@ inline constexpr int kExitPlantRestarted = 6;
 /// generator refused (a service without the system's key): the run was not lossless for it.
 inline constexpr int kExitConsumerRefused = 7;
 
+/// How long a lockstep run waits for consumers landing a refit, by default: with a key, and
+/// without one (where anyone can claim to be refitting).
+inline constexpr double kSignedRefitWaitS = 600;
+inline constexpr double kKeylessRefitWaitS = 45;
+
 /// How the generator runs.
 struct SignalOptions {
   bool lockstep = true;    ///< false: real time, one command per 1/rate_hz
@@ -70,6 +75,9 @@ struct SignalOptions {
   /// Lockstep: send no command from this seq on until SIGUSR1, and say so on stderr once every
   /// state up to it is confirmed (-1: no hold). Tests fault a service there, at a definite sample.
   int64_t hold_at = -1;
+  /// Lockstep: seconds the run waits for consumers that say they are landing a refit before it
+  /// fails (< 0: 600 with a key, 45 without — on a keyless bus anyone can send "refitting").
+  double refit_wait_s = -1;
 };
 
 class SignalNode {

@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <set>
@@ -15,6 +18,7 @@
 #include "messages/beat_state_message.hpp"
 #include "messages/plant_state_message.hpp"
 #include "messages/wing_command_message.hpp"
+#include "odonata/heartbeat_t.hpp"
 #include "pipeline/plant_session.hpp"
 #include "plant/output_signals.hpp"
 #include "plant_node.hpp"
@@ -245,6 +249,60 @@ TEST(SignalNode, RealtimeFlagsAPlantThatRestartedMidRun) {
   EXPECT_EQ(RealtimeRunWithPlant(-1, -1, &sent), 0);
   // One state 0 alone is no restart: a stale or forged packet must not fail a whole run.
   EXPECT_EQ(RealtimeRunWithPlant(-1, 20, &sent), 0);
+}
+
+// A consumer that only ever says it is refitting (a forged heartbeat on a keyless bus, or a
+// stuck identifier) holds a lockstep run for --refit-wait, then the run fails naming it. The
+// default is under a minute without a key, where anyone can claim to be refitting, and 10 min
+// with one.
+TEST(SignalNode, AConsumerForeverRefittingFailsTheRunAfterTheRefitWait) {
+  {
+    bus::BusNode keyless(MemqOptions());
+    SignalOptions options;
+    const SignalNode signal(keyless, Roll(0.1), options);
+    EXPECT_EQ(signal.sequencer().max_busy_timeouts() * options.timeout_ms,
+              kKeylessRefitWaitS * 1000);
+    EXPECT_LT(kKeylessRefitWaitS, 60);
+  }
+  {
+    char path[] = "/tmp/odonata-signal-key-XXXXXX";
+    const int fd = mkstemp(path);
+    ASSERT_GE(fd, 0);
+    const std::string hex(64, 'a');
+    ASSERT_EQ(write(fd, hex.data(), hex.size()), 64);
+    close(fd);
+    bus::BusOptions o = MemqOptions();
+    o.key_path = path;
+    bus::BusNode signed_bus(o);
+    SignalOptions options;
+    const SignalNode signal(signed_bus, Roll(0.1), options);
+    EXPECT_EQ(signal.sequencer().max_busy_timeouts() * options.timeout_ms,
+              kSignedRefitWaitS * 1000);
+    std::remove(path);
+  }
+
+  bus::BusNode bus(MemqOptions());
+  bus.Subscribe<odonata::wing_command_t>(bus.channels().command,
+                                         [&](const auto& m) { AnswerCommand(bus, m.seq); });
+  AnswerResetWithStateZero(bus);
+  bus.Every(std::chrono::milliseconds(5), [&] {
+    odonata::heartbeat_t h{};
+    h.utime = bus::NowUtime();
+    h.service = "odonata-identifier";
+    h.instance = "ghost";
+    h.state = "refitting";
+    bus.Publish(bus.channels().heartbeat, h);
+  });
+  SignalOptions options;
+  options.timeout_ms = 10;
+  options.max_resends = 2;
+  options.refit_wait_s = 0.3;
+  options.discover_s = 0.05;  // hears the ghost and waits for it
+  SignalNode signal(bus, Roll(0.1), options);
+  EXPECT_EQ(RunFenced(bus), kExitConsumerLost);
+  EXPECT_EQ(signal.sequencer().busy_timeouts(), 30);
+  EXPECT_NE(bus.stats().last_error.find("ghost"), std::string::npos) << bus.stats().last_error;
+  EXPECT_NE(bus.stats().last_error.find("busy"), std::string::npos) << bus.stats().last_error;
 }
 
 }  // namespace
