@@ -54,6 +54,13 @@ BusNode::BusNode(const BusOptions& options)
         [this](bool malformed, const std::string& message) {
           ++(malformed ? stats_.decode_errors : stats_.dropped);
           Report(malformed ? "malformed datagram" : "incomplete message", message);
+        },
+        [this](int64_t n) {
+          stats_.dropped += n;
+          Report("receive buffer full",
+                 std::to_string(receiver_->kernel_dropped()) +
+                     " datagrams dropped by the kernel so far before this process read them (it "
+                     "was off the CPU, or the bus was flooded); raise recv_buf_size in the URL");
         });
     sender_ = std::make_unique<UdpmSender>(*endpoint);
   } else {

@@ -157,6 +157,9 @@ class BusNode {
   bool own_receiver() const { return receiver_ != nullptr; }
   /// True when it signs what it publishes and takes only what is signed (BusOptions::key_path).
   bool signing() const { return signer_ != nullptr; }
+  /// Datagrams the kernel dropped before this process read them (its receive buffer was full;
+  /// counted in stats().dropped as well). 0 on other providers than udpm.
+  int64_t kernel_dropped() const { return receiver_ ? receiver_->kernel_dropped() : 0; }
   /// Messages refused for their signature (counted in stats().dropped as well).
   int64_t unauthenticated() const { return unauthenticated_; }
   /// The last message refused by the signature check, and why ("on DIMAV_STATE: stale …"):

@@ -44,8 +44,12 @@ int64_t WallUtime() {
 }  // namespace
 
 UdpmReceiver::UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endpoint,
-                           Deliver deliver, Problem problem)
-    : socket_(io), deliver_(std::move(deliver)), problem_(std::move(problem)), buffer_(65536) {
+                           Deliver deliver, Problem problem, Overflow overflow)
+    : socket_(io),
+      deliver_(std::move(deliver)),
+      problem_(std::move(problem)),
+      overflow_(std::move(overflow)),
+      buffer_(65536) {
   namespace ip = boost::asio::ip;
   const std::string where = endpoint.group + ":" + std::to_string(endpoint.port);
   try {
@@ -58,6 +62,9 @@ UdpmReceiver::UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endp
     // The kernel's arrival time is the receive time LCM reports (and the logger records).
     if (setsockopt(socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) != 0)
       throw std::runtime_error("SO_TIMESTAMP refused");
+    // The kernel's count of datagrams it dropped because the receive buffer was full, on every
+    // datagram read: this process's own loss, which nothing else can see.
+    setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);
     socket_.bind(ip::udp::endpoint(group, endpoint.port));
     socket_.set_option(ip::multicast::join_group(group));
     socket_.non_blocking(true);
@@ -86,6 +93,7 @@ bool UdpmReceiver::Filter(const std::optional<std::vector<std::string>>& channel
   }
   sock_fprog fprog{static_cast<unsigned short>(program->size()),
                    const_cast<sock_filter*>(program->data())};
+  filtered_ = true;
   return setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &fprog, sizeof fprog) == 0;
 }
 
@@ -99,7 +107,7 @@ void UdpmReceiver::Drain() {
     if (!socket_.is_open()) return;
     sockaddr_storage from{};
     iovec iov{buffer_.data(), buffer_.size()};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(uint32_t))];
     msghdr msg{};
     msg.msg_name = &from;
     msg.msg_namelen = sizeof from;
@@ -126,6 +134,18 @@ void UdpmReceiver::Drain() {
         timeval tv{};
         std::memcpy(&tv, CMSG_DATA(c), sizeof tv);
         utime = int64_t{tv.tv_sec} * 1000000 + tv.tv_usec;
+      } else if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+        uint32_t dropped = 0;
+        std::memcpy(&dropped, CMSG_DATA(c), sizeof dropped);
+        // Cumulative for the socket (and wrapping at 2^32): what is new since the last count.
+        const uint32_t fresh = dropped - kernel_dropped_seen_;
+        kernel_dropped_seen_ = dropped;
+        // The kernel counts the channel filter's drops there too: only a socket that never had
+        // one (a recorder's) tells its overflows apart.
+        if (!filtered_ && fresh > 0 && fresh < (1u << 31)) {
+          kernel_dropped_ += fresh;
+          overflow_(fresh);
+        }
       }
     }
     if (utime == 0) utime = WallUtime();

@@ -25,14 +25,23 @@ class UdpmReceiver {
   /// A datagram that was dropped: `malformed` (not LCM's format) or a message missing fragments.
   using Problem = std::function<void(bool malformed, const std::string& message)>;
 
+  /// `n` datagrams the kernel dropped for this socket since the last call: its receive buffer
+  /// was full (the process was off the CPU, or a flood), so they never reached it.
+  using Overflow = std::function<void(int64_t n)>;
+
   /// Datagrams read per turn of the loop before timers get theirs.
   static constexpr int kBatch = 64;
 
   /// @throws std::runtime_error naming the group and port when the socket cannot join them.
-  UdpmReceiver(boost::asio::io_context& io, const UdpmEndpoint& endpoint, Deliver deliver,
-               Problem problem);
+  UdpmReceiver(
+      boost::asio::io_context& io, const UdpmEndpoint& endpoint, Deliver deliver, Problem problem,
+      Overflow overflow = [](int64_t) {});
 
   int64_t datagrams() const { return datagrams_; }
+  /// Datagrams the kernel dropped for a full receive buffer, as far as the datagrams read since
+  /// tell (the count comes with the next datagram read). Only on a socket that never had a
+  /// channel filter (a recorder's): the kernel counts the filter's drops in the same counter.
+  int64_t kernel_dropped() const { return kernel_dropped_; }
   /// Stops receiving (the loop's pending read is cancelled).
   void Close();
   /// Has the kernel drop LC02 datagrams on other channels than `channels` (udpm_channel_filter),
@@ -47,9 +56,13 @@ class UdpmReceiver {
   boost::asio::ip::udp::socket socket_;
   Deliver deliver_;
   Problem problem_;
+  Overflow overflow_;
   UdpmAssembler assembler_;
   std::vector<uint8_t> buffer_;
   int64_t datagrams_ = 0;
+  uint32_t kernel_dropped_seen_ = 0;
+  bool filtered_ = false;
+  int64_t kernel_dropped_ = 0;
 };
 
 }  // namespace odonata::bus

@@ -76,6 +76,12 @@ LoggerNode::LoggerNode(bus::BusNode& bus, const RecordOptions& options)
                  static_cast<long long>(writer_.events()), writer_.bytes() / 1e3);
     for (const auto& f : writer_.files()) std::fprintf(stderr, " %s", f.c_str());
     std::fprintf(stderr, "\n");
+    // Its own loss: datagrams the kernel dropped before it read them are not in the log.
+    if (bus_.kernel_dropped() > 0)
+      std::fprintf(stderr,
+                   "[%s] WARNING: %lld datagrams were dropped by the kernel before the logger read "
+                   "them (receive buffer full): the log misses them\n",
+                   bus_.options().instance.c_str(), static_cast<long long>(bus_.kernel_dropped()));
   });
   bus_.SetState("running");
 }

@@ -125,5 +125,35 @@ TEST(UdpmInterop, ANodeHearsOnlyItsOwnChannelsAndCountsGarbage) {
   EXPECT_EQ(node.stats().decode_errors, 1);
 }
 
+// A node whose receive buffer overflows while it is not reading learns how many datagrams the
+// kernel dropped (SO_RXQ_OVFL) from the next one it reads: its own loss is counted as dropped
+// and said, not silent (issue 51 point 5: a logger's own loss).
+TEST(UdpmInterop, DatagramsTheKernelDroppedForAFullBufferAreCounted) {
+  BusOptions o = Options("small-buffer");
+  o.lcm_url = std::string(kUrl) + "&recv_buf_size=4096";
+  BusNode node(o);
+  ASSERT_TRUE(node.own_receiver());
+  int64_t got = 0;
+  // A recorder's subscription (a regex): no channel filter, whose drops the kernel counts alike.
+  node.SubscribeRaw("FLOO.*", [&](const lcm::ReceiveBuffer&, const std::string&) { ++got; });
+  lcm::LCM lcm(kUrl);
+  ASSERT_TRUE(lcm.good());
+  const auto p = Payload(1000, 3);
+  const int sent = 400;  // far more than 4 kB (8 kB of truesize) hold: the node is not reading
+  for (int i = 0; i < sent; ++i)
+    ASSERT_EQ(lcm.publish("FLOOD", p.data(), static_cast<unsigned>(p.size())), 0);
+  // What the buffer held, queued before any drop; the next datagram carries the drops' count.
+  RunUntil(node, [&] { return got > 0; });
+  node.io().restart();
+  node.io().run_for(std::chrono::milliseconds(20));
+  ASSERT_LT(got, sent);
+  lcm.publish("FLOOD", p.data(), static_cast<unsigned>(p.size()));
+  RunUntil(node, [&] { return got + node.kernel_dropped() >= sent + 1; });
+  EXPECT_EQ(got + node.kernel_dropped(), sent + 1);
+  EXPECT_EQ(node.stats().dropped, node.kernel_dropped());
+  EXPECT_NE(node.stats().last_error.find("receive buffer full"), std::string::npos)
+      << node.stats().last_error;
+}
+
 }  // namespace
 }  // namespace odonata::bus
