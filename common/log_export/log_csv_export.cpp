@@ -354,12 +354,17 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
 }
 
 long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
-                            const std::string& json_path) {
+                            const std::string& json_path, int64_t* missing_out) {
   monitoring::PredictionScoreboard board(monitoring::ScoreboardOptions{});
   long scored = 0;
+  // Predictions the identifier published that the log lacks: gaps in its message counter (a
+  // counter that goes back is a restarted identifier, counting afresh).
+  int64_t missing = 0, last_seq = -1;
   ForEachEvent(log_paths, channel, [&](const lcm::LogEvent& ev) {
     odonata::prediction_t p;
     if (!SafeDecode(&p, ev.data, ev.datalen) || p.num_outputs <= 0) return;
+    if (last_seq >= 0 && p.seq > last_seq + 1) missing += p.seq - last_seq - 1;
+    if (p.seq >= 0) last_seq = p.seq;
     try {
       board.Add(monitoring::PredictionFromMessage(p));
       ++scored;
@@ -368,9 +373,12 @@ long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std
     }
   });
   if (scored == 0) throw std::runtime_error("no predictions on " + channel + " in the log");
+  nlohmann::json summary = board.Summary();
+  summary["predictions_missing"] = missing;
   std::ofstream out(json_path);
-  out << board.Summary().dump(1) << "\n";
+  out << summary.dump(1) << "\n";
   if (!out) throw std::runtime_error(json_path + ": cannot write");
+  if (missing_out != nullptr) *missing_out = missing;
   return scored;
 }
 

@@ -81,10 +81,12 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
 /// prediction_scoreboard.hpp: one-step and free-run accuracy per output, run by run, the sample
 /// number going back starting a run) and writes the scoreboard's summary as JSON: the last run
 /// at the top level, the earlier ones under "previous_runs". From the log, so a monitor that
-/// missed packets does not change the figures. Returns the predictions scored.
+/// missed packets does not change the figures. "predictions_missing" (and `*missing`) counts
+/// the predictions published but not in the log (gaps in the identifier's message counter: lost
+/// on the way, or while the logger was down). Returns the predictions scored.
 /// @throws std::runtime_error on unreadable logs, no prediction, or a write error.
 long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std::string& channel,
-                            const std::string& json_path);
+                            const std::string& json_path, int64_t* missing = nullptr);
 
 /// Writes every model_snapshot_t on `channel` as a JSON array of
 /// {"utime", "samples_learned", "instance", "model": <odonata-fit model JSON>}.

@@ -146,10 +146,16 @@ int main(int argc, char** argv) {
                      predictions_csv.c_str());
       }
       if (!scores_json.empty()) {
-        const long n =
-            odonata::log_export::ScorePredictionsToJson(logs, prediction_channel, scores_json);
+        int64_t missing = 0;
+        const long n = odonata::log_export::ScorePredictionsToJson(logs, prediction_channel,
+                                                                   scores_json, &missing);
         std::fprintf(stderr, "odonata-logger: %ld predictions scored into %s\n", n,
                      scores_json.c_str());
+        if (missing > 0)
+          std::fprintf(stderr,
+                       "odonata-logger: WARNING: %lld predictions the identifier published are "
+                       "not in the log (lost on the way, or while the logger was down)\n",
+                       static_cast<long long>(missing));
       }
       if (!snapshots_json.empty()) {
         const long n =
