@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "model_export/fis_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
 
+#include "sysid/online_identifier.hpp"
 #include "sysid/rule_listing.hpp"
 #include "sysid/signal_ranges.hpp"
 #include "trained_narendra_model.hpp"
@@ -160,6 +162,61 @@ TEST(FisImport, AFileThatDoesNotFitIsRefusedWithWhy) {
   EXPECT_NE(bad.find(path), std::string::npos) << bad;
   EXPECT_NE(bad.find("line"), std::string::npos) << bad;
   std::remove(path.c_str());
+}
+
+// Issue 51 point 1 for .fis files: every number of an exported file replaced in turn by an
+// absurd value (±1e308, 0, 1e-308). Each file is refused with a message, or an identifier started
+// from it predicts only finite values (one step and free run) while it learns on.
+TEST(FisImport, EveryAbsurdNumberIsRefusedOrPredictsFinitely) {
+  const std::string fis = ToFis(ToRawTsk(Trained(fuzzy::ConsequentKind::kLinear), 0, "narendra"));
+  const std::regex number(R"([-+]?[0-9]+\.?[0-9]*(e[-+]?[0-9]+)?)");
+  std::vector<std::pair<std::size_t, std::size_t>> spans;  // the numbers in the MF and rule lines
+  std::size_t line_start = 0;
+  while (line_start < fis.size()) {
+    const std::size_t end = std::min(fis.find('\n', line_start), fis.size());
+    const std::string line = fis.substr(line_start, end - line_start);
+    if (line.rfind("MF", 0) == 0 || line.rfind("Range", 0) == 0) {
+      for (auto it = std::sregex_iterator(line.begin(), line.end(), number);
+           it != std::sregex_iterator(); ++it) {
+        const std::size_t at = static_cast<std::size_t>(it->position());
+        if (at > 0 && (std::isalnum(static_cast<unsigned char>(line[at - 1])) != 0)) continue;
+        spans.emplace_back(line_start + at, static_cast<std::size_t>(it->length()));
+      }
+    }
+    line_start = end + 1;
+  }
+  ASSERT_GE(spans.size(), 10u);
+  const auto run = sysid::testing::NarendraValidate(300);
+  int refused = 0, started = 0;
+  for (const auto& [at, length] : spans) {
+    for (const char* value : {"1e308", "-1e308", "0", "1e-308"}) {
+      std::string text = fis;
+      text.replace(at, length, value);
+      const std::string what = fis.substr(at, length) + " -> " + value + " at byte " +
+                               std::to_string(at);
+      std::optional<sysid::NarxModel> model;
+      try {
+        model = ModelFromTsk(Parsed(text), Empty(fuzzy::ConsequentKind::kLinear), "probe.fis");
+      } catch (const std::exception& e) {
+        EXPECT_GT(std::string(e.what()).size(), 10u) << what;
+        ++refused;
+        continue;
+      }
+      ++started;
+      sysid::OnlineIdentifier id(*model);
+      for (Eigen::Index k = 0; k < run.outputs.rows(); ++k) {
+        const auto report =
+            id.Push({k, run.outputs.row(k).transpose(), run.inputs.row(k).transpose()});
+        if (!report) continue;
+        ASSERT_TRUE(report->predicted.allFinite()) << what << " at sample " << k;
+        ASSERT_TRUE(report->free_run.allFinite()) << what << " at sample " << k;
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(started, 0);
+  std::printf("%zu numbers x 4 absurd values: %d refused with a message, %d started and finite\n",
+              spans.size(), refused, started);
 }
 
 }  // namespace
