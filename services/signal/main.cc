@@ -2,7 +2,7 @@
 // (each command waits for the plant's answer, resending on timeout) or in real time (a clock).
 // Exit codes (signal_node.hpp): 0 all commands sent (and answered, in lockstep), 1 no plant /
 // runtime error, 2 bad arguments or input, 3 the plant diverged, 4 a lockstep consumer left,
-// 5 stopped by a signal, 6 the plant restarted mid-run in real time.
+// 5 stopped by a signal, 6 the plant restarted mid-run in real time, 7 a consumer refused (key).
 
 #include <unistd.h>
 
@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
       "Exit codes: 0 every command sent (and answered, in lockstep); 1 no plant, or a runtime "
       "error; 2 bad arguments or input; 3 the plant diverged; 4 a lockstep consumer left "
       "mid-run; 5 stopped by a signal before the last command; 6 the plant restarted mid-run "
-      "(real time): the log holds the run in parts.");
+      "(real time): the log holds the run in parts; 7 a lockstep consumer's messages are "
+      "refused (no or another --key): the run could not be lossless for it.");
   auto* preset_opt = app.add_option("--preset", preset,
                                     "experiment preset: " + odonata::experiments::PresetNames());
   app.add_option("--phase", phase, "train, select or validate (with --preset)")
@@ -59,6 +60,10 @@ int main(int argc, char** argv) {
                  "gives the same run, a larger one a faster one")
       ->capture_default_str()
       ->check(CLI::Range(1, odonata::pipeline::LockstepSequencer::kMaxWindow));
+  app.add_flag("!--keep-going-without-refused", options.refused_consumers_fail,
+               "lockstep with --key: when a consumer is heard whose messages are refused (no key, "
+               "another key), go on without it and exit 7 at the end, instead of stopping at once "
+               "(a forger's heartbeat looks the same)");
   app.add_option("--refit-wait", options.refit_wait_s,
                  "lockstep: seconds to wait for consumers that say they are landing a refit "
                  "before failing (default 600 with --key, 45 without: on a keyless bus anyone "

@@ -64,6 +64,18 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
       if (!bus::SafeDecode(&h, data, static_cast<int64_t>(size))) return;
       if (h.service != "odonata-identifier" && h.service != "odonata-logger") return;
       if (refused_consumers_.size() >= 16 || !refused_consumers_.insert(h.instance).second) return;
+      if (options_.refused_consumers_fail) {
+        // A lossless run that cannot hear one of its consumers stops now, naming it, rather
+        // than run on for minutes and say so at the end (a forger's heartbeat looks the same:
+        // --keep-going-without-refused for a bus where forgers may speak).
+        Finish(kExitConsumerRefused,
+               "'" + h.instance + "' (" + h.service +
+                   ") is heard but its messages are refused as " +
+                   bus::MessageSigner::Describe(verdict) +
+                   ": its receipts cannot count, so the run cannot be lossless for it; start it "
+                   "with the system's --key");
+        return;
+      }
       std::fprintf(stderr,
                    "[%s] WARNING: '%s' (%s) is heard but its messages are refused as %s: its "
                    "receipts cannot count, so this run does not wait for it and it may miss "

@@ -78,6 +78,10 @@ struct SignalOptions {
   /// Lockstep: seconds the run waits for consumers that say they are landing a refit before it
   /// fails (< 0: 600 with a key, 45 without — on a keyless bus anyone can send "refitting").
   double refit_wait_s = -1;
+  /// Lockstep with a key: a consumer heard whose messages are refused (no key, another key) ends
+  /// the run at once with kExitConsumerRefused; false: warn, go on without it, and exit with that
+  /// code at the end (a bus where forgers may speak, whose heartbeats look the same).
+  bool refused_consumers_fail = true;
 };
 
 class SignalNode {
