@@ -4,12 +4,13 @@
 # new outputs, 14 MB snapshots of new instances, heartbeats of new peers and garbage on new
 # channels, in a private network namespace. Prints the monitor's peak resident memory (VmHWM)
 # and the logger's, and the bytes the logger wrote against its budget. Targets: monitor ≤ 200 MB,
-# logger within its budget. As root:
-#   bench/monitor/run_flood_bench.sh [BUILD] [SECONDS]
+# logger within its budget. `snapshots` as MODE floods with the 14 MB snapshots alone. As root:
+#   bench/monitor/run_flood_bench.sh [BUILD] [SECONDS] [snapshots]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=${1:-$ROOT/build}
 SECONDS_FLOOD=${2:-30}
+MODE=${3:-}
 source "$ROOT/bench/lib.sh"
 bench_enter_netns "$@"
 URL='udpm://239.255.76.67:7696?ttl=0'
@@ -22,7 +23,7 @@ monitor=$!
   >"$TMP/logger.log" 2>&1 &
 logger=$!
 sleep 1
-"$BUILD/bench/monitor/flood_publisher" "$URL" "$SECONDS_FLOOD" >"$TMP/flood.log" &
+"$BUILD/bench/monitor/flood_publisher" "$URL" "$SECONDS_FLOOD" $MODE >"$TMP/flood.log" &
 flood=$!
 peak() { awk '/VmHWM/ {print int($2 / 1024)}' "/proc/$1/status"; }
 while kill -0 $flood 2>/dev/null; do sleep 1; done
