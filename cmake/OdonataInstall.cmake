@@ -40,6 +40,7 @@ install(PROGRAMS deploy/make-identifier-config DESTINATION ${CMAKE_INSTALL_BINDI
 install(PROGRAMS deploy/lcm-spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME odonata-lcm-spy)
 # The one rule both scripts use to find the programs (imported from the scripts' own folder).
 # The scripts' helper modules: not programs, so not in bin/.
+install(PROGRAMS deploy/fit_plots.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(FILES deploy/odonata_programs.py deploy/odonata_compare.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -1,5 +1,6 @@
 #include "fit_job.hpp"
 
+#include "fit_plot_data.hpp"
 #include "fit_scoring.hpp"
 
 #include <algorithm>
@@ -399,6 +400,15 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   if (!o.save_model.empty()) {
     model->Save(o.save_model);
     report["model_file"] = o.save_model;
+  }
+  if (!o.plot_dir.empty() && (validate || train)) {
+    WritePlotData(o.plot_dir, *model, readable ? &*readable : nullptr,
+                  validate ? *validate : *train, sample_time_s, report);
+    try {
+      report["plots"] = DrawPlots(o.plot_dir);
+    } catch (const std::exception& e) {
+      report["warnings"].push_back(std::string("no pictures: ") + e.what());
+    }
   }
   return report;
 }

@@ -46,6 +46,8 @@ struct FitJobOptions {
   /// it), then trained on all of them; rows = 0 searches the whole file.
   sysid::SearchSubsample search_budget;
   std::string predictions;  ///< optional CSV of measured, fuzzy and ARX predictions
+  /// Optional directory for the pictures (fit_plot_data.hpp): their data, and the PNGs drawn.
+  std::string plot_dir;
   /// Optional selection CSV (a third excitation): candidates train on all of --train and are
   /// scored on it, instead of on a hold-out slice of --train.
   std::string select_csv;

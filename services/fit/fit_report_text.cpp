@@ -165,6 +165,11 @@ std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
     out << "\n  predictions written to " << r["predictions_file"].get<std::string>() << "\n";
   if (r.contains("model_file"))
     out << "\n  model saved to " << r["model_file"].get<std::string>() << "\n";
+  if (r.contains("plots") && !r["plots"].empty()) {
+    out << "\n  pictures:";
+    for (const auto& p : r["plots"]) out << " " << p.get<std::string>();
+    out << "\n";
+  }
   return out.str();
 }
 

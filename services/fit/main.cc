@@ -254,6 +254,10 @@ int main(int argc, char** argv) {
                "one clause, rules that read alike as one, with each rule's dynamics");
   bool full_rules = false;
   app.add_flag("--full-rules", full_rules, "list every rule of the full model instead");
+  app.add_option("--plot", o.plot_dir,
+                 "draw the model into this directory (python3, matplotlib): each signal's readable "
+                 "terms, which rule fires when along the validation run, and the output surface "
+                 "of a static map or the gain schedule of a dynamic one; the data beside them");
   app.add_flag("--json", json, "print one JSON object on stdout");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (const auto format = csv_format.Format()) {

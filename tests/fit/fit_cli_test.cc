@@ -444,3 +444,60 @@ TEST(FitCli, ShortRunsOfMissingCellsAreBridgedAndLongOnesCut) {
   ASSERT_EQ(strict.status, 0) << strict.out;
   EXPECT_EQ(nlohmann::json::parse(strict.out)["data"][csv]["segments"].get<int>(), 3);
 }
+
+namespace {
+
+std::vector<std::vector<double>> ReadCsvNumbers(const std::string& path, std::string* header) {
+  std::ifstream in(path);
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::size_t at = 0;
+    while (at <= line.size()) {
+      const std::size_t comma = std::min(line.find(',', at), line.size());
+      row.push_back(std::stod(line.substr(at, comma - at)));
+      at = comma + 1;
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// Issue 49 point 4: --plot draws the readable terms, which rule fires when along the validation
+// run, and the gain schedule of a dynamic model or the output surface of a static map, from data
+// odonata-fit writes beside them (the firing is the model's own: each row's shares sum to 1).
+TEST(FitCli, PlotDrawsTermsActivationAndGainScheduleOrSurface) {
+  const std::string dynamic_dir = Dir() + "/plot-dynamic";
+  const ProcessResult d =
+      Exec("--train " + Example("train.csv") + " --validate " + Example("validate.csv") +
+               " --output y --input u --consequent linear --no-select --epochs 2 --json --plot " +
+               dynamic_dir,
+           false);
+  ASSERT_EQ(d.status, 0) << d.out;
+  const auto j = nlohmann::json::parse(d.out);
+  ASSERT_TRUE(j.contains("plots")) << j["warnings"];
+  for (const char* f : {"membership.png", "activation.png", "gain_schedule.png"})
+    EXPECT_TRUE(std::ifstream(dynamic_dir + "/" + f).good()) << f;
+  std::string header;
+  const auto rows = ReadCsvNumbers(dynamic_dir + "/activation.csv", &header);
+  ASSERT_GT(rows.size(), 100u);
+  EXPECT_EQ(header.rfind("sample,t_s,measured,one_step,free_run,rule_1", 0), 0u) << header;
+  for (const auto& r : rows) {
+    double firing = 0;
+    for (std::size_t c = 5; c < r.size(); ++c) firing += r[c];
+    ASSERT_NEAR(firing, 1.0, 1e-9);
+  }
+
+  const std::string static_dir = Dir() + "/plot-static";
+  const ProcessResult s = Exec("--train " + Example("train.csv") +
+                                   " --output y --input u --ny 0 --delay 0 --no-select --json "
+                                   "--plot " + static_dir,
+                               false);
+  ASSERT_EQ(s.status, 0) << s.out;
+  EXPECT_TRUE(std::ifstream(static_dir + "/surface.png").good());
+  EXPECT_TRUE(std::ifstream(static_dir + "/surface.csv").good());
+}
+
+}  // namespace

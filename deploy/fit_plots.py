@@ -1,0 +1,218 @@
+#!/usr/bin/python3
+"""Draws what `odonata-fit --plot DIR` wrote into DIR (services/fit/fit_plot_data.hpp):
+
+  membership.png     each signal's shared, named terms of the readable form (the premises an
+                     operator reads), or the full model's rules when there is no readable form
+  activation.png     measured and predicted over the validation run, and under them which rule
+                     of the readable form fires when (a strip, one row per rule)
+  surface.png        a static map's output over its two most influential inputs
+  gain_schedule.png  a dynamic model's steady-state gain and slowest time constant, rule by rule,
+                     along the signal its rules are spread over (how they vary across the range)
+
+    python3 fit_plots.py DIR
+
+The firing strengths come from odonata-fit (activation.csv), not from a copy of its rules here.
+"""
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+TERM_NAMES = {1: ["medium"], 2: ["low", "high"], 3: ["low", "medium", "high"],
+              4: ["very low", "low", "high", "very high"],
+              5: ["very low", "low", "medium", "high", "very high"]}
+
+
+def fit_percent(y, yhat):
+    """FIT = 100 (1 − ‖y − ŷ‖ / ‖y − ȳ‖), the figure odonata-fit reports."""
+    mean = sum(y) / len(y)
+    den = math.sqrt(sum((v - mean) ** 2 for v in y))
+    num = math.sqrt(sum((a - b) ** 2 for a, b in zip(y, yhat)))
+    return 100.0 * (1.0 - num / den) if den > 0 else float("nan")
+
+
+def read_columns(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    head, body = rows[0], rows[1:]
+    return {h: [float(r[i]) for r in body] for i, h in enumerate(head)}
+
+
+def signal_of(regressor):
+    """'pitch_deg(k-1)' → 'pitch_deg': a regressor's signal, whose lags share the readable terms."""
+    return re.sub(r"\(k[-+0-9]*\)$", "", regressor)
+
+
+def terms(model, regressors):
+    """Per signal: its distinct (centre, width) pairs in raw units, over the rules' premises at
+    the signal's first regressor (the readable form gives a signal's lags one term)."""
+    sc = model["scaling"]
+    out = {}
+    for i, reg in enumerate(regressors):
+        sig = signal_of(reg)
+        if sig in out:
+            continue
+        pairs = set()
+        for rule in model["models"][0]["rules"]:
+            c = sc["regressor_mid"][i] + sc["regressor_half"][i] * rule["centre"][i]
+            s = sc["regressor_half"][i] * rule["sigma"][i]
+            pairs.add((round(c, 12), round(s, 12)))
+        out[sig] = (i, sorted(pairs))
+    return out
+
+
+def plot_membership(plt, d, report):
+    readable = os.path.exists(os.path.join(d, "readable_model.json"))
+    model = json.load(open(os.path.join(d, "readable_model.json" if readable else "model.json")))
+    per = terms(model, report["regressors"])
+    sc = model["scaling"]
+    fig, axes = plt.subplots(len(per), 1, figsize=(7.5, 1.7 * len(per) + 0.8), squeeze=False)
+    for ax, (sig, (i, pairs)) in zip(axes[:, 0], per.items()):
+        lo = sc["regressor_mid"][i] - 1.2 * sc["regressor_half"][i]
+        hi = sc["regressor_mid"][i] + 1.2 * sc["regressor_half"][i]
+        xs = [lo + (hi - lo) * k / 300 for k in range(301)]
+        names = TERM_NAMES.get(len(pairs), [f"term {k + 1}" for k in range(len(pairs))])
+        for k, (c, s) in enumerate(pairs):
+            s = max(abs(s), 1e-12)
+            ys = [math.exp(-0.5 * ((x - c) / s) ** 2) for x in xs]
+            ax.plot(xs, ys, lw=1.5, label=f"{names[k]} ({c:.3g} ± {s:.2g})" if readable else None)
+        ax.set_ylim(0, 1.05)
+        ax.set_ylabel(sig, fontsize=9)
+        if readable:
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    what = "readable form: each signal's terms" if readable else "the rules' membership functions"
+    axes[0][0].set_title(f"{report['output']}: {what}")
+    return save(plt, fig, d, "membership")
+
+
+def plot_activation(plt, d, report):
+    a = read_columns(os.path.join(d, "activation.csv"))
+    rules = sorted((k for k in a if k.startswith("rule_")), key=lambda k: int(k[5:]))
+    t, y = a["t_s"], a["measured"]
+    fig, axes = plt.subplots(2 if rules else 1, 1, figsize=(9, 5.2 if rules else 3.2), sharex=True,
+                             squeeze=False, gridspec_kw={"height_ratios": [3, 2] if rules else [1]})
+    ax = axes[0][0]
+    ax.plot(t, a["one_step"], color="C0", lw=1.0, label=f"one step (FIT {fit_percent(y, a['one_step']):.1f} %)")
+    ax.plot(t, a["free_run"], color="C1", lw=1.0, label=f"free run (FIT {fit_percent(y, a['free_run']):.1f} %)")
+    ax.plot(t, y, "k", lw=0.7, label="measured")
+    ax.set_ylabel(report["output"])
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title(f"{report['output']}: the {report.get('validate') and 'validation' or 'training'} run, "
+                 "and which rule of the readable form fires when")
+    if rules:
+        strip = axes[1][0]
+        firing = [a[r] for r in rules]
+        step = (t[1] - t[0]) if len(t) > 1 else 1.0
+        strip.imshow(firing, aspect="auto", cmap="Greens", vmin=0, vmax=1, interpolation="nearest",
+                     extent=[t[0] - step / 2, t[-1] + step / 2, len(rules) - 0.5, -0.5])
+        strip.set_yticks(range(len(rules)))
+        strip.set_yticklabels([f"rule {r[5:]}" for r in rules], fontsize=8)
+        strip.set_ylabel("firing (0 … 1)", fontsize=8)
+    axes[-1][0].set_xlabel("time (s)" if report.get("data") else "time")
+    return save(plt, fig, d, "activation")
+
+
+def plot_surface(plt, d, report):
+    with open(os.path.join(d, "surface.csv")) as f:
+        rows = list(csv.reader(f))
+    xa, xb, out = rows[0]
+    pts = [[float(v) for v in r] for r in rows[1:]]
+    n = int(round(math.sqrt(len(pts))))
+    grid_a = [pts[i * n][0] for i in range(n)]
+    grid_b = [pts[j][1] for j in range(n)]
+    z = [[pts[i * n + j][2] for i in range(n)] for j in range(n)]
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    mesh = ax.contourf(grid_a, grid_b, z, levels=20, cmap="viridis")
+    ax.contour(grid_a, grid_b, z, levels=10, colors="k", linewidths=0.4)
+    fig.colorbar(mesh, ax=ax, label=out)
+    ax.set_xlabel(xa)
+    ax.set_ylabel(xb)
+    ax.set_title(f"{out} over its two most influential inputs (the others at their mean)")
+    return save(plt, fig, d, "surface")
+
+
+def plot_gain_schedule(plt, d, report):
+    local = report.get("local_models") or []
+    model = json.load(open(os.path.join(d, "model.json")))
+    rules = model["models"][0]["rules"]
+    if len(local) < 2 or len(local) != len(rules):
+        return None
+    sc = model["scaling"]
+    regs = report["regressors"]
+    # The signal the rules are spread over most (in units of its range): their operating points.
+    spread = [max(r["centre"][i] for r in rules) - min(r["centre"][i] for r in rules) for i in range(len(regs))]
+    i = max(range(len(regs)), key=lambda k: spread[k])
+    x = [sc["regressor_mid"][i] + sc["regressor_half"][i] * r["centre"][i] for r in rules]
+    order = sorted(range(len(rules)), key=lambda j: x[j])
+    inputs = sorted({k for m in local for k in m.get("dc_gain", {})})
+    seconds = "time_constants_s" in local[0]
+    tau_key = "time_constants_s" if seconds else "time_constants_samples"
+    if report.get("consequent") == "singleton":
+        # Constant consequents have no dynamics of their own: each rule's output level instead.
+        fig, ax = plt.subplots(figsize=(7, 3.2))
+        ax.plot([x[j] for j in order], [local[j].get("equilibrium", float("nan")) for j in order], "o-", lw=1)
+        ax.set_xlabel(f"each rule's operating point in {regs[i]}")
+        ax.set_ylabel(f"rule output ({report['output']})", fontsize=8)
+        ax.set_title(f"{report['output']}: each rule's constant output along its operating point")
+        return save(plt, fig, d, "gain_schedule")
+    fig, axes = plt.subplots(len(inputs) + 1, 1, figsize=(7, 2.2 * (len(inputs) + 1) + 0.6), sharex=True,
+                             squeeze=False)
+    xs = [x[j] for j in order]
+    for row, u in enumerate(inputs):
+        ax = axes[row][0]
+        gains = [local[j]["dc_gain"].get(u, float("nan")) for j in order]
+        ax.plot(xs, gains, "o-", lw=1)
+        ax.set_ylabel(f"gain from {u}", fontsize=8)
+        glob = (report.get("global_linear") or {}).get("dc_gain", {}).get(u)
+        if glob is not None:
+            ax.axhline(glob, color="0.5", ls="--", lw=0.8, label="global linear model")
+            ax.legend(fontsize=7)
+    ax = axes[-1][0]
+    taus = [max(local[j].get(tau_key) or [float("nan")]) for j in order]
+    stable = [local[j].get("stable", True) for j in order]
+    ax.plot(xs, taus, "o-", lw=1)
+    for xv, tv, ok in zip(xs, taus, stable):
+        if not ok:
+            ax.plot([xv], [tv], "rx", ms=9)
+    ax.set_ylabel("slowest τ (s)" if seconds else "slowest τ (samples)", fontsize=8)
+    ax.set_xlabel(f"each rule's operating point in {regs[i]}")
+    axes[0][0].set_title(f"{report['output']}: gain schedule, one point per rule (x: unstable)")
+    return save(plt, fig, d, "gain_schedule")
+
+
+def save(plt, fig, d, kind):
+    fig.tight_layout()
+    path = os.path.join(d, f"{kind}.png")
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
+
+
+def main(argv):
+    if len(argv) != 2 or argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0 if len(argv) == 2 else 2
+    d = argv[1]
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("fit_plots.py: matplotlib is missing (apt-get install python3-matplotlib)", file=sys.stderr)
+        return 1
+    report = json.load(open(os.path.join(d, "report.json")))
+    written = [plot_membership(plt, d, report), plot_activation(plt, d, report)]
+    if os.path.exists(os.path.join(d, "surface.csv")):
+        written.append(plot_surface(plt, d, report))
+    else:
+        written.append(plot_gain_schedule(plt, d, report))
+    for w in written:
+        if w:
+            print(w)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
