@@ -4,6 +4,7 @@ import html
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -380,8 +381,11 @@ def arx_predictions(r, build):
     dest = os.path.join(d, "fit-predictions.csv")
     exe = os.path.join(build, "services/fit/odonata-fit")
     try:
+        # --plot: the readable terms, the rule-activation strip and the gain schedule (or a
+        # static map's surface) of the same model, drawn by odonata-fit (fit_plots.py).
         subprocess.run([exe, "--load-model", os.path.join(pipe, "model.json"), "--train", os.path.join(pipe, "train.csv"),
-                        "--validate", os.path.join(pipe, "validate.csv"), "--predictions", dest],
+                        "--validate", os.path.join(pipe, "validate.csv"), "--predictions", dest,
+                        "--plot", os.path.join(d, "fit-plots")],
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         p = read_predictions(dest)
     except (OSError, ValueError, subprocess.CalledProcessError) as e:
@@ -717,7 +721,23 @@ def make_plots(out, r, build=None):
         files["parameters"] = parameters
     files["membership"] = plot_membership(plt, out, r)
     files["sweep"] = plot_sweep(plt, out, r)
+    files.update(fit_pictures(out, r))
     return files
+
+
+def fit_pictures(out, r):
+    """odonata-fit --plot's pictures of the model (drawn with the ARX traces, arx_predictions),
+    copied beside the report's: terms, activation, and gain_schedule or surface."""
+    found = {}
+    src = os.path.join(r["dir"], "fit-plots")
+    for kind, png in (("terms", "membership.png"), ("activation", "activation.png"),
+                      ("gain_schedule", "gain_schedule.png"), ("surface", "surface.png")):
+        path = os.path.join(src, png)
+        if os.path.exists(path):
+            name = f"{r['name']}-{kind}.png"
+            shutil.copyfile(path, os.path.join(out, name))
+            found[kind] = name
+    return found
 
 
 # --- page ------------------------------------------------------------------------------------
@@ -764,6 +784,12 @@ def page(summary, figures):
                      f"{fit} % against the model's {fmt(s['validate']['one_step']['fit'])} %)</h3>")
             h.append("<table class='rules'>" + "".join(f"<tr><td class='rule'>{html.escape(t)}</td></tr>"
                                                         for t in rd["text"]) + "</table>")
+        # The readable form's terms, which rule fires when, and how the rules' dynamics vary
+        # across the operating range (or a static map's surface).
+        for key, what in (("terms", "each signal's terms"), ("activation", "which rule fires when"),
+                          ("gain_schedule", "gain schedule"), ("surface", "output surface")):
+            if key in shown:
+                h.append(f"<img src='{shown[key]}' alt='{name}: {what}'>")
         if s["notes"]:
             h.append("<ul>" + "".join(f"<li>{html.escape(n)}</li>" for n in s["notes"]) + "</ul>")
         goals = ", ".join(f"{k}: {'met' if v else 'NOT met'}" for k, v in s["goals"].items())

@@ -96,6 +96,17 @@ def main():
                 failures.append(f"{n}: validation FIT {fit} below the floor")
             if e["rules"] < 1 or not e["rule_text"]:
                 failures.append(f"{n}: no rules")
+            # odonata-fit --plot's pictures (issue 49 point 4): the readable terms and which rule
+            # fires when, on the page and on disk.
+            html_page = open(os.path.join(out, "index.html")).read()
+            for kind in ("terms", "activation"):
+                png = f"{n}-{kind}.png"
+                if not os.path.exists(os.path.join(out, png)) or f"src='{png}'" not in html_page:
+                    failures.append(f"{n}: no {kind} picture in the report")
+            if not any(os.path.exists(os.path.join(out, f"{n}-{k}.png")) for k in ("gain_schedule", "surface")):
+                # one rule has no schedule to draw: only a model of several rules must have one
+                if e["rules"] > 1 and e.get("consequent", "linear") == "linear":
+                    failures.append(f"{n}: neither a gain schedule nor a surface")
             live = e["validate_live"]["one_step"]["fit"]
             if abs(live - fit) > 1e-6:
                 failures.append(f"{n}: live pipeline FIT {live} != frozen-model FIT {fit}")
