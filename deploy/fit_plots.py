@@ -87,6 +87,12 @@ def plot_membership(plt, d, report):
     return save(plt, fig, d, "membership")
 
 
+def timed(report):
+    """Whether odonata-fit knew the data's rate (a time column or a ULog): t_s is then seconds."""
+    data = report.get("data") or {}
+    return any(isinstance(v, dict) and "rate_hz" in v for v in data.values())
+
+
 def plot_activation(plt, d, report):
     a = read_columns(os.path.join(d, "activation.csv"))
     rules = sorted((k for k in a if k.startswith("rule_")), key=lambda k: int(k[5:]))
@@ -107,10 +113,13 @@ def plot_activation(plt, d, report):
         step = (t[1] - t[0]) if len(t) > 1 else 1.0
         strip.imshow(firing, aspect="auto", cmap="Greens", vmin=0, vmax=1, interpolation="nearest",
                      extent=[t[0] - step / 2, t[-1] + step / 2, len(rules) - 0.5, -0.5])
-        strip.set_yticks(range(len(rules)))
-        strip.set_yticklabels([f"rule {r[5:]}" for r in rules], fontsize=8)
+        # At most about ten labels: a readable form of many rules would print them on each other.
+        every = max(1, math.ceil(len(rules) / 10))
+        ticks = list(range(0, len(rules), every))
+        strip.set_yticks(ticks)
+        strip.set_yticklabels([f"rule {rules[k][5:]}" for k in ticks], fontsize=8)
         strip.set_ylabel("firing (0 … 1)", fontsize=8)
-    axes[-1][0].set_xlabel("time (s)" if report.get("data") else "time")
+    axes[-1][0].set_xlabel("time (s)" if timed(report) else "sample")
     return save(plt, fig, d, "activation")
 
 
