@@ -6,6 +6,8 @@
   activation.png     measured and predicted over the validation run, and under them which rule
                      of the readable form fires when (a strip, one row per rule)
   surface.png        a static map's output over its two most influential inputs
+  gain_surface.png   a dynamic model's steady-state gain over the two signals its rules spread
+                     over most (the rules' local models blended by their firing at each point)
   gain_schedule.png  a dynamic model's steady-state gain and slowest time constant, rule by rule,
                      along the signal its rules are spread over (how they vary across the range)
 
@@ -142,6 +144,31 @@ def plot_surface(plt, d, report):
     return save(plt, fig, d, "surface")
 
 
+def plot_gain_surface(plt, d, report):
+    """A dynamic model's steady-state gain from its first input over the two signals its rules
+    spread over most: at each point the rules' local models blended as the model blends them."""
+    path = os.path.join(d, "gain_surface.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    head, pts = rows[0], [[float(v) for v in r] for r in rows[1:]]
+    n = int(round(math.sqrt(len(pts))))
+    grid_a = [pts[i * n][0] for i in range(n)]
+    grid_b = [pts[j][1] for j in range(n)]
+    gains = head[2:]
+    fig, axes = plt.subplots(1, len(gains[:2]), figsize=(6.2 * len(gains[:2]), 4.8), squeeze=False)
+    for k, name in enumerate(gains[:2]):
+        z = [[pts[i * n + j][2 + k] for i in range(n)] for j in range(n)]
+        ax = axes[0][k]
+        mesh = ax.contourf(grid_a, grid_b, z, levels=20, cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label=name)
+        ax.set_xlabel(head[0])
+        ax.set_ylabel(head[1])
+        ax.set_title(f"{report['output']}: steady-state {name}", fontsize=10)
+    return save(plt, fig, d, "gain_surface")
+
+
 def plot_gain_schedule(plt, d, report):
     local = report.get("local_models") or []
     model = json.load(open(os.path.join(d, "model.json")))
@@ -217,6 +244,7 @@ def main(argv):
         written.append(plot_surface(plt, d, report))
     else:
         written.append(plot_gain_schedule(plt, d, report))
+        written.append(plot_gain_surface(plt, d, report))
     for w in written:
         if w:
             print(w)

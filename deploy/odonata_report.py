@@ -731,7 +731,8 @@ def fit_pictures(out, r):
     found = {}
     src = os.path.join(r["dir"], "fit-plots")
     for kind, png in (("terms", "membership.png"), ("activation", "activation.png"),
-                      ("gain_schedule", "gain_schedule.png"), ("surface", "surface.png")):
+                      ("gain_schedule", "gain_schedule.png"), ("gain_surface", "gain_surface.png"),
+                      ("surface", "surface.png")):
         path = os.path.join(src, png)
         if os.path.exists(path):
             name = f"{r['name']}-{kind}.png"
@@ -787,7 +788,8 @@ def page(summary, figures):
         # The readable form's terms, which rule fires when, and how the rules' dynamics vary
         # across the operating range (or a static map's surface).
         for key, what in (("terms", "each signal's terms"), ("activation", "which rule fires when"),
-                          ("gain_schedule", "gain schedule"), ("surface", "output surface")):
+                          ("gain_schedule", "gain schedule"), ("gain_surface", "gain surface"),
+                          ("surface", "output surface")):
             if key in shown:
                 h.append(f"<img src='{shown[key]}' alt='{name}: {what}'>")
         if s["notes"]:

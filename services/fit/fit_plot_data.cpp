@@ -11,6 +11,7 @@
 
 #include "fuzzy/gaussian_rule_base.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/local_dynamics.hpp"
 
 namespace odonata::fit {
 namespace {
@@ -96,6 +97,70 @@ void WriteSurface(const fs::path& path, const sysid::NarxModel& model, const sys
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
+// A dynamic model's steady-state gain over the two signals its rules are spread over most (one
+// lag of each, the other regressors at their mean over the run): at each point the rules' local
+// models blended by their firing there, as the model predicts, then analysed (local_dynamics).
+void WriteGainSurface(const fs::path& path, const sysid::NarxModel& model,
+                      const sysid::Series& run) {
+  const fuzzy::FuzzyModel& fm = model.model(0);
+  const fuzzy::GaussianRuleBase& base = fm.rule_base();
+  const int rules = fm.rules();
+  if (rules < 2) return;
+  const sysid::RegressionData data = sysid::BuildRegression(model.spec(), run);
+  const Eigen::VectorXd mean = data.x.colwise().mean().transpose();
+  const Eigen::VectorXd lo = data.x.colwise().minCoeff().transpose();
+  const Eigen::VectorXd hi = data.x.colwise().maxCoeff().transpose();
+  const auto names = model.spec().RegressorNames();
+  const auto signal = [&names](Eigen::Index i) {
+    const std::string& n = names[static_cast<std::size_t>(i)];
+    return n.substr(0, n.find('('));
+  };
+  std::vector<std::pair<double, Eigen::Index>> spread;
+  for (Eigen::Index i = 0; i < data.x.cols(); ++i) {
+    const auto c = base.centres_of_input(static_cast<int>(i));
+    spread.emplace_back(c.maxCoeff() - c.minCoeff(), i);
+  }
+  std::sort(spread.begin(), spread.end(), [](const auto& x, const auto& y) { return x > y; });
+  const Eigen::Index a = spread[0].second;
+  Eigen::Index b = -1;
+  for (const auto& [width, i] : spread)
+    if (signal(i) != signal(a)) {
+      b = i;
+      break;
+    }
+  if (b < 0) return;  // one signal only: the gain schedule says it all
+  std::vector<sysid::RawLinearModel> local;
+  for (int j = 0; j < rules; ++j) local.push_back(sysid::RuleLinearModel(model, 0, j));
+  std::ofstream out(path);
+  out.precision(10);
+  const sysid::LocalDynamics probe =
+      sysid::AnalyseDynamics(model.spec(), 0, local[0], /*sample_time_s=*/0);
+  out << names[static_cast<std::size_t>(a)] << "," << names[static_cast<std::size_t>(b)];
+  for (const auto& [input, gain] : probe.dc_gain) out << ",gain from " << input;
+  out << "\n";
+  constexpr int kGrid = 31;
+  fuzzy::Inference inference;
+  for (int s = 0; s < kGrid; ++s) {
+    for (int u = 0; u < kGrid; ++u) {
+      Eigen::VectorXd x = mean;
+      x(a) = lo(a) + (hi(a) - lo(a)) * s / (kGrid - 1.0);
+      x(b) = lo(b) + (hi(b) - lo(b)) * u / (kGrid - 1.0);
+      base.Evaluate(model.scaling().ScaleRegressor(x), &inference);
+      sysid::RawLinearModel blend{0, Eigen::VectorXd::Zero(x.size())};
+      for (int j = 0; j < rules; ++j) {
+        blend.constant += inference.normalized(j) * local[static_cast<std::size_t>(j)].constant;
+        blend.coefficients +=
+            inference.normalized(j) * local[static_cast<std::size_t>(j)].coefficients;
+      }
+      const sysid::LocalDynamics d = sysid::AnalyseDynamics(model.spec(), 0, blend, 0);
+      out << x(a) << "," << x(b);
+      for (const auto& [input, gain] : d.dc_gain) out << "," << gain;
+      out << "\n";
+    }
+  }
+  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
 // fit_plots.py: ODONATA_PYTHON_DIR, then the installed share/odonata/python, then the source tree.
 std::string PlotScript() {
   std::vector<std::string> dirs;
@@ -124,7 +189,10 @@ void WritePlotData(const std::string& dir, const sysid::NarxModel& model,
   if (readable) WriteJson(d / "readable_model.json", readable->model.ToJson());
   WriteJson(d / "report.json", report);
   WriteActivation(d / "activation.csv", model, readable, run, sample_time_s);
-  if (model.spec().output_lags == 0) WriteSurface(d / "surface.csv", model, run);
+  if (model.spec().output_lags == 0)
+    WriteSurface(d / "surface.csv", model, run);
+  else if (model.model(0).consequent().kind() == fuzzy::ConsequentKind::kLinear)
+    WriteGainSurface(d / "gain_surface.csv", model, run);
 }
 
 std::vector<std::string> DrawPlots(const std::string& dir) {
@@ -147,7 +215,8 @@ std::vector<std::string> DrawPlots(const std::string& dir) {
                                                                     : "") +
         "; the data are in " + dir + " (" + script + " " + dir + " draws them again)");
   std::vector<std::string> files;
-  for (const char* name : {"membership.png", "activation.png", "surface.png", "gain_schedule.png"})
+  for (const char* name :
+       {"membership.png", "activation.png", "surface.png", "gain_schedule.png", "gain_surface.png"})
     if (fs::exists(fs::path(dir) / name)) files.push_back((fs::path(dir) / name).string());
   return files;
 }

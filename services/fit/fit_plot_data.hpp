@@ -18,8 +18,10 @@ namespace odonata::fit {
 /// Writes into `dir` (created if missing): model.json, readable_model.json (when `readable`),
 /// report.json, activation.csv over `run` (sample, t_s, measured, one_step, free_run, then each
 /// readable rule's normalised firing, first output), and surface.csv for a model without output
-/// lags. `sample_time_s` 0: t_s is the sample index. @throws std::runtime_error naming a file
-/// that cannot be written.
+/// lags, or gain_surface.csv for a dynamic one of several linear rules (its steady-state gains
+/// over the two signals its rules spread over most, the rules blended by their firing).
+/// `sample_time_s` 0: t_s is the sample index. @throws std::runtime_error naming a file that cannot
+/// be written.
 void WritePlotData(const std::string& dir, const sysid::NarxModel& model,
                    const sysid::ReadableModel* readable, const sysid::Series& run,
                    double sample_time_s, const nlohmann::json& report);

@@ -478,8 +478,14 @@ TEST(FitCli, PlotDrawsTermsActivationAndGainScheduleOrSurface) {
   ASSERT_EQ(d.status, 0) << d.out;
   const auto j = nlohmann::json::parse(d.out);
   ASSERT_TRUE(j.contains("plots")) << j["warnings"];
-  for (const char* f : {"membership.png", "activation.png", "gain_schedule.png"})
+  ASSERT_GT(j["rules"].get<int>(), 1);
+  for (const char* f :
+       {"membership.png", "activation.png", "gain_schedule.png", "gain_surface.png"})
     EXPECT_TRUE(std::ifstream(dynamic_dir + "/" + f).good()) << f;
+  // The gain surface's header names its two signals (one lag of each) and the gain from u.
+  std::string surface_header;
+  ReadCsvNumbers(dynamic_dir + "/gain_surface.csv", &surface_header);
+  EXPECT_NE(surface_header.find("gain from u"), std::string::npos) << surface_header;
   std::string header;
   const auto rows = ReadCsvNumbers(dynamic_dir + "/activation.csv", &header);
   ASSERT_GT(rows.size(), 100u);
@@ -493,7 +499,8 @@ TEST(FitCli, PlotDrawsTermsActivationAndGainScheduleOrSurface) {
   const std::string static_dir = Dir() + "/plot-static";
   const ProcessResult s = Exec("--train " + Example("train.csv") +
                                    " --output y --input u --ny 0 --delay 0 --no-select --json "
-                                   "--plot " + static_dir,
+                                   "--plot " +
+                                   static_dir,
                                false);
   ASSERT_EQ(s.status, 0) << s.out;
   EXPECT_TRUE(std::ifstream(static_dir + "/surface.png").good());
