@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -169,55 +170,94 @@ ReadableModel MakeReadable(const NarxModel& full, const Series& train, double sa
     for (std::size_t s = 0; s < signals.size(); ++s)
       for (const auto& [key, rules] : groups)
         if (key[s] != groups.begin()->first[s]) kept[s] = true;
-    std::vector<fuzzy::RuleState> rules;
-    std::vector<std::vector<double>> coefficients, covariances;
     // Per readable rule, its full rules: their consequents and rule weights (output widths) are
     // averaged, so a rule that stands alone keeps its own exactly.
-    std::map<std::vector<int>, std::vector<int>> merged;
-    for (const auto& [key, members] : groups) {
-      std::vector<int> shown(key.size(), -1);
-      for (std::size_t s = 0; s < key.size(); ++s)
-        if (kept[s]) shown[s] = key[s];
-      auto& all = merged[shown];
-      all.insert(all.end(), members.begin(), members.end());
-    }
-    for (const auto& [shown, members] : merged) {
-      Eigen::VectorXd theta = Eigen::VectorXd::Zero(fm.inputs() + 1);
-      double width = 0;
-      for (const int j : members) {
-        theta += Theta(fm, j) / static_cast<double>(members.size());
-        width += rb.output_width(j) / static_cast<double>(members.size());
+    const auto merge = [&groups](const std::vector<bool>& keep) {
+      std::map<std::vector<int>, std::vector<int>> merged;
+      for (const auto& [key, members] : groups) {
+        std::vector<int> shown(key.size(), -1);
+        for (std::size_t s = 0; s < key.size(); ++s)
+          if (keep[s]) shown[s] = key[s];
+        auto& all = merged[shown];
+        all.insert(all.end(), members.begin(), members.end());
       }
-      fuzzy::RuleState rule;
-      rule.centre.assign(static_cast<std::size_t>(fm.inputs()), 0.0);
-      rule.sigma.assign(static_cast<std::size_t>(fm.inputs()), kLeftOut);
-      for (std::size_t s = 0; s < signals.size(); ++s)
-        if (shown[s] >= 0)
-          for (const auto c : signals[s].columns) {
-            const auto& term = signal_terms[s];
-            rule.centre[static_cast<std::size_t>(c)] =
-                term.centre[static_cast<std::size_t>(shown[s])];
-            rule.sigma[static_cast<std::size_t>(c)] =
-                term.sigma[static_cast<std::size_t>(shown[s])];
-          }
-      rule.output_width = width;
-      rule.born = f.clock;
-      rules.push_back(rule);
-      if (f.consequent.kind == fuzzy::ConsequentKind::kSingleton) {
-        coefficients.push_back({theta(0)});
-      } else {
-        coefficients.emplace_back(theta.data(), theta.data() + theta.size());
-        const auto n1 = static_cast<std::size_t>(theta.size());
-        std::vector<double> p(n1 * n1, 0.0);
-        for (std::size_t k = 0; k < n1; ++k) p[k * n1 + k] = f.consequent.initial_covariance;
-        covariances.push_back(std::move(p));
+      return merged;
+    };
+    // The output's readable rules from `merged` into `into` (its rules, consequents, covariances)
+    // and their terms into `shown_terms`.
+    const auto build = [&](const std::map<std::vector<int>, std::vector<int>>& merged,
+                           fuzzy::FuzzyModelState* into,
+                           std::vector<std::vector<int>>* shown_terms) {
+      std::vector<fuzzy::RuleState> rules;
+      std::vector<std::vector<double>> coefficients, covariances;
+      shown_terms->clear();
+      for (const auto& [shown, members] : merged) {
+        Eigen::VectorXd theta = Eigen::VectorXd::Zero(fm.inputs() + 1);
+        double width = 0;
+        for (const int j : members) {
+          theta += Theta(fm, j) / static_cast<double>(members.size());
+          width += rb.output_width(j) / static_cast<double>(members.size());
+        }
+        fuzzy::RuleState rule;
+        rule.centre.assign(static_cast<std::size_t>(fm.inputs()), 0.0);
+        rule.sigma.assign(static_cast<std::size_t>(fm.inputs()), kLeftOut);
+        for (std::size_t s = 0; s < signals.size(); ++s)
+          if (shown[s] >= 0)
+            for (const auto c : signals[s].columns) {
+              const auto& term = signal_terms[s];
+              rule.centre[static_cast<std::size_t>(c)] =
+                  term.centre[static_cast<std::size_t>(shown[s])];
+              rule.sigma[static_cast<std::size_t>(c)] =
+                  term.sigma[static_cast<std::size_t>(shown[s])];
+            }
+        rule.output_width = width;
+        rule.born = f.clock;
+        rules.push_back(rule);
+        if (f.consequent.kind == fuzzy::ConsequentKind::kSingleton) {
+          coefficients.push_back({theta(0)});
+        } else {
+          coefficients.emplace_back(theta.data(), theta.data() + theta.size());
+          const auto n1 = static_cast<std::size_t>(theta.size());
+          std::vector<double> p(n1 * n1, 0.0);
+          for (std::size_t k = 0; k < n1; ++k) p[k * n1 + k] = f.consequent.initial_covariance;
+          covariances.push_back(std::move(p));
+        }
+        shown_terms->push_back(shown);
       }
-      terms[static_cast<std::size_t>(o)].push_back(shown);
+      into->rules = rules;
+      into->consequent.coefficients = coefficients;
+      into->consequent.covariances = covariances;
+    };
+    auto merged = merge(kept);
+    // More rules than a person takes in at once: the signal whose terms cost least to leave out
+    // of every rule (the training score, in the full model's mode, with consequents fitted again)
+    // goes, until at most kReadableRules remain; the cost shows in the readable form's FIT.
+    while (merged.size() > static_cast<std::size_t>(options.max_rules)) {
+      double best = std::numeric_limits<double>::infinity();
+      std::size_t drop = signals.size();
+      for (std::size_t s = 0; s < signals.size(); ++s) {
+        if (!kept[s]) continue;
+        std::vector<bool> trial = kept;
+        trial[s] = false;
+        NarxModelState candidate = state;
+        std::vector<std::vector<int>> unused;
+        build(merge(trial), &candidate.models[static_cast<std::size_t>(o)], &unused);
+        NarxModel m = NarxModel::FromState(candidate);
+        m.mutable_model(o).RefineConsequents(xs, ys.col(o));
+        const double score = options.criterion_horizon > 1
+                                 ? m.NdeiAhead(train, options.criterion_horizon)
+                                 : m.Ndei(train, spec.output_lags > 0);
+        if (drop == signals.size() || score < best) {
+          best = score;
+          drop = s;
+        }
+      }
+      if (drop == signals.size()) break;
+      kept[drop] = false;
+      merged = merge(kept);
     }
+    build(merged, &f, &terms[static_cast<std::size_t>(o)]);
     term_sets[static_cast<std::size_t>(o)] = signal_terms;
-    f.rules = rules;
-    f.consequent.coefficients = coefficients;
-    f.consequent.covariances = covariances;
     linear[static_cast<std::size_t>(o)] = same;
   }
   NarxModel readable = NarxModel::FromState(state);

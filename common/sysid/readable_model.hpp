@@ -23,6 +23,9 @@ struct ReadableOptions {
   /// least squares is made in it, on the training data): K > 1 steps ahead, else free run (one
   /// step without output lags).
   int criterion_horizon = 0;
+  /// At most this many readable rules per output (a person takes in about seven at once): beyond
+  /// it, signals leave every rule's premise, the cheapest first (MakeReadable).
+  int max_rules = 7;
 };
 
 struct ReadableModel {
