@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "narendra_series.hpp"
@@ -66,6 +67,32 @@ TEST(ReadableModel, SharedTermsOneClausePerSignalAndAScore) {
   const double full_ndei = full.Ndei(validate, false),
                readable_ndei = r.model.Ndei(validate, false);
   EXPECT_LT(readable_ndei, 2 * full_ndei + 0.05) << "full " << full_ndei;
+}
+
+// More readable rules than the cap: signals leave every premise, the cheapest first, until at
+// most max_rules remain; the model still predicts, and every sentence is about the signals kept.
+TEST(ReadableModel, AtMostMaxRulesASignalLeavingThePremisesFirst) {
+  const NarxModel full = Trained(0.49);
+  const Series train = testing::NarendraTrain(2000);
+  ReadableOptions uncapped;
+  uncapped.max_rules = 1000;
+  const ReadableModel all = MakeReadable(full, train, 0, uncapped);
+  ASSERT_GT(all.model.model(0).rules(), 2) << "the cap must have something to do";
+  ReadableOptions capped;
+  capped.max_rules = 2;
+  const ReadableModel r = MakeReadable(full, train, 0, capped);
+  EXPECT_LE(r.model.model(0).rules(), 2);
+  EXPECT_GE(r.model.model(0).rules(), 1);
+  // One signal is left: y or u, never both in one rule.
+  for (const auto& s : r.sentences[0]) {
+    if (s.rfind("IF ", 0) != 0) continue;
+    EXPECT_EQ(s.find(" AND "), std::string::npos) << s;
+  }
+  const double ndei = r.model.Ndei(testing::NarendraValidate(800), false);
+  EXPECT_TRUE(std::isfinite(ndei));
+  // The default cap is seven.
+  EXPECT_EQ(ReadableOptions{}.max_rules, 7);
+  EXPECT_LE(MakeReadable(full, train).model.model(0).rules(), 7);
 }
 
 }  // namespace
