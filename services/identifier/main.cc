@@ -9,14 +9,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus_cli/channel_options.hpp"
-#include "bus_cli/control_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "identifier_node.hpp"
 #include "model_export/fis_import.hpp"
 
 int main(int argc, char** argv) {
-  std::string config_path, model_path, save_path, lcm_url, instance;
+  std::string config_path, model_path, save_path;
   bool print_config = false, check_config = false;
   double resume_wait_s = -1;
   CLI::App app{
@@ -36,12 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--models-dir", models_dir,
                  "where save-model with a file name writes (a plain name only; default: the "
                  "directory of --save-model; without either, named saves are refused)");
-  std::vector<std::string> control_senders;
-  odonata::cli::AddControlOptions(&app, &control_senders);
-  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--instance", instance, "instance name (overrides the configuration)");
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(&app, &channels);
+  odonata::cli::BusCliOptions bus_options;
+  odonata::cli::AddBusOptions(&app, &bus_options, {"instance name (overrides the configuration)"});
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
   app.add_flag("--print-config", print_config, "print an example configuration and exit");
   app.add_flag("--check-config", check_config,
@@ -61,9 +56,9 @@ int main(int argc, char** argv) {
     if (config_path.empty())
       std::fprintf(stderr, "[%s] no --config: identifying the roll loop (see --print-config)\n",
                    config.instance.c_str());
-    if (!instance.empty()) config.instance = instance;
+    if (!bus_options.instance.empty()) config.instance = bus_options.instance;
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
-    channels.ApplyTo(&config.channels);
+    bus_options.channels.ApplyTo(&config.channels);
     std::optional<odonata::sysid::NarxModel> initial;
     if (!model_path.empty()) {
       if (model_path.size() > 4 && model_path.compare(model_path.size() - 4, 4, ".fis") == 0) {
@@ -95,13 +90,11 @@ int main(int argc, char** argv) {
                   initial ? ", starting from the model given" : "");
       return 0;
     }
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = "odonata-identifier";
+    // The configuration names the instance and the channels (--instance, --channel applied to
+    // it above).
+    odonata::bus::BusOptions opts = bus_options.ToBusOptions("odonata-identifier");
     opts.instance = config.instance;
     opts.channels = config.channels;
-    opts.control_senders = control_senders;
     if (models_dir.empty() && !save_path.empty()) {
       models_dir = std::filesystem::path(save_path).parent_path().string();
       if (models_dir.empty()) models_dir = ".";

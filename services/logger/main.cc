@@ -8,8 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/event_log_reader.hpp"
-#include "bus_cli/channel_options.hpp"
-#include "bus_cli/control_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "log_export/log_csv_export.hpp"
 #include "logger_node.hpp"
@@ -21,7 +20,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   odonata::logger::RecordOptions rec;
-  std::string lcm_url, instance = "logger";
+  odonata::cli::BusCliOptions bus_options;
+  bus_options.instance = "logger";
   double split_mb = 0;
   auto* record = app.add_subcommand("record", "record channels until SIGINT/SIGTERM");
   record
@@ -48,12 +48,7 @@ int main(int argc, char** argv) {
   record->add_option("--flush-period", rec.flush_period_s, "seconds between flushes to disk")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  record->add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  record->add_option("--instance", instance, "instance name in heartbeats")->capture_default_str();
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(record, &channels);
-  std::vector<std::string> control_senders;
-  odonata::cli::AddControlOptions(record, &control_senders);
+  odonata::cli::AddBusOptions(record, &bus_options, {"instance name in heartbeats"});
 
   std::vector<std::string> logs;
   std::string csv;
@@ -168,16 +163,9 @@ int main(int argc, char** argv) {
     rec.split_bytes = static_cast<int64_t>(split_mb * 1e6);
     rec.max_bytes = static_cast<int64_t>(max_mb * 1e6);
     rec.max_event_bytes = static_cast<int64_t>(max_event_kb * 1e3);
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = "odonata-logger";
-    channels.ApplyTo(&opts.channels);
-    opts.control_senders = control_senders;
-    opts.instance = instance;
-    odonata::bus::BusNode bus(opts);
+    odonata::bus::BusNode bus(bus_options.ToBusOptions("odonata-logger"));
     odonata::logger::LoggerNode node(bus, rec);
-    std::fprintf(stderr, "[%s] recording '%s' into %s", instance.c_str(),
+    std::fprintf(stderr, "[%s] recording '%s' into %s", bus_options.instance.c_str(),
                  rec.channels_regex.c_str(), node.writer().files().front().c_str());
     if (node.writer().earlier_files() > 0)
       std::fprintf(stderr, " (after %d earlier file(s) of this prefix, kept)",

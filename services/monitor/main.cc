@@ -8,14 +8,14 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus_cli/channel_options.hpp"
-#include "bus_cli/control_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "monitor_node.hpp"
 
 int main(int argc, char** argv) {
   odonata::monitor::MonitorOptions o;
-  std::string lcm_url, instance = "monitor";
+  odonata::cli::BusCliOptions bus_options;
+  bus_options.instance = "monitor";
   CLI::App app{
       "Scores ODONATA_PREDICTION over a sliding window and since start, publishes "
       "ODONATA_ACCURACY, shows a live table, warns on low accuracy or silent services, "
@@ -51,24 +51,13 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   app.add_option("--summary-json", o.summary_json, "write the final accuracy here on exit");
-  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--instance", instance, "instance name")->capture_default_str();
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(&app, &channels);
-  std::vector<std::string> control_senders;
-  odonata::cli::AddControlOptions(&app, &control_senders);
+  odonata::cli::AddBusOptions(&app, &bus_options);
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   try {
     o.live_table = isatty(STDOUT_FILENO) == 1;
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = "odonata-monitor";
-    opts.instance = instance;
-    channels.ApplyTo(&opts.channels);
-    opts.control_senders = control_senders;
+    odonata::bus::BusOptions opts = bus_options.ToBusOptions("odonata-monitor");
     odonata::bus::BusNode bus(opts);
     odonata::monitor::MonitorNode node(bus, o);
     return bus.Run();

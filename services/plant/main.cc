@@ -9,14 +9,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus_cli/channel_options.hpp"
-#include "bus_cli/control_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "plant_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string mode = "lockstep", preset, config_path, lcm_url, instance;
+  std::string mode = "lockstep", preset, config_path;
   CLI::App app{
       "odonata-plant: the DI-MAV plant as a process. State k is published before command k is "
       "applied; the answer to command k is state k+1 (command_seq k). Beside every state, "
@@ -31,12 +30,8 @@ int main(int argc, char** argv) {
                      odonata::experiments::PresetNames());
   app.add_option("--config", config_path, "plant configuration JSON (default: built-in 40 g set)")
       ->check(CLI::ExistingFile);
-  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--instance", instance, "instance name (default odonata-plant)");
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(&app, &channels);
-  std::vector<std::string> control_senders;
-  odonata::cli::AddControlOptions(&app, &control_senders);
+  odonata::cli::BusCliOptions bus_options;
+  odonata::cli::AddBusOptions(&app, &bus_options, {"instance name (default odonata-plant)"});
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
@@ -53,14 +48,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = odonata::plant_service::kServiceName;
-    opts.instance = instance;
-    channels.ApplyTo(&opts.channels);
-    opts.control_senders = control_senders;
-    odonata::bus::BusNode bus(opts);
+    odonata::bus::BusNode bus(bus_options.ToBusOptions(odonata::plant_service::kServiceName));
     odonata::plant_service::PlantNode node(bus, config,
                                            mode == "lockstep"
                                                ? odonata::pipeline::PlantSession::Mode::kLockstep

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus_cli/channel_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/csv_format_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "io/csv_table.hpp"
@@ -18,7 +18,9 @@
 #include "replay_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string path, summary_json, lcm_url, instance = "replay";
+  std::string path, summary_json;
+  odonata::cli::BusCliOptions bus_options;
+  bus_options.instance = "replay";
   odonata::replay::FlightRowsOptions rows;
   odonata::replay::ReplayOptions o;
   CLI::App app{
@@ -70,10 +72,7 @@ int main(int argc, char** argv) {
   app.add_option("--summary-json", summary_json, "also write what was sent here");
   odonata::cli::CsvFormatOptions csv_format;
   odonata::cli::AddCsvFormatOptions(&app, &csv_format);
-  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--instance", instance, "instance name")->capture_default_str();
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(&app, &channels);
+  odonata::cli::AddBusOptions(&app, &bus_options, {"instance name", false});
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   try {
     const auto format = csv_format.Format();
@@ -90,13 +89,7 @@ int main(int argc, char** argv) {
     if (rate_hz > 0) rows.rate_hz = rate_hz;
     odonata::replay::FlightRows flight = odonata::replay::FlightRowsFromTable(record.table, rows);
     if (o.source.empty()) o.source = std::filesystem::path(path).stem().string();
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = "odonata-replay";
-    opts.instance = instance;
-    channels.ApplyTo(&opts.channels);
-    odonata::bus::BusNode bus(opts);
+    odonata::bus::BusNode bus(bus_options.ToBusOptions("odonata-replay"));
     odonata::replay::ReplayNode node(bus, std::move(flight), o);
     const int code = bus.Run();
     std::printf("odonata-replay: %s\n", node.SummaryLine().c_str());

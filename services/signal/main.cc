@@ -12,7 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bus_cli/channel_options.hpp"
+#include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_schedule.hpp"
@@ -20,8 +20,7 @@
 #include "signal_node.hpp"
 
 int main(int argc, char** argv) {
-  std::string preset, phase = "train", commands_path, config_path, mode = "lockstep", lcm_url,
-                      instance;
+  std::string preset, phase = "train", commands_path, config_path, mode = "lockstep";
   std::uint64_t seed = 1;
   double duration_s = 0.0;
   odonata::signal_service::SignalOptions options;
@@ -90,10 +89,9 @@ int main(int argc, char** argv) {
                  "says 'holding before command K' once every state up to K is confirmed, so a "
                  "fault injected then lands at a definite sample")
       ->check(CLI::PositiveNumber);
-  app.add_option("--lcm-url", lcm_url, "LCM URL (default: LCM_DEFAULT_URL or udpm ttl=0)");
-  app.add_option("--instance", instance, "instance name (default odonata-signal)");
-  odonata::cli::ChannelOptions channels;
-  odonata::cli::AddChannelOptions(&app, &channels);
+  odonata::cli::BusCliOptions bus_options;
+  odonata::cli::AddBusOptions(&app, &bus_options,
+                              {"instance name (default odonata-signal)", false});
   // Any option can also come from a settings file (TOML/INI, option names as keys).
   app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
@@ -125,13 +123,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    odonata::bus::BusOptions opts;
-    opts.lcm_url = lcm_url;
-    opts.key_path = channels.key_path;
-    opts.service = odonata::signal_service::kServiceName;
-    opts.instance = instance;
-    channels.ApplyTo(&opts.channels);
-    odonata::bus::BusNode bus(opts);
+    odonata::bus::BusNode bus(bus_options.ToBusOptions(odonata::signal_service::kServiceName));
     odonata::signal_service::SignalNode node(bus, std::move(schedule), options);
     return bus.Run();
   } catch (const std::exception& e) {
