@@ -20,6 +20,7 @@
 #include "records/record_file.hpp"
 #include "sysid/arx_model.hpp"
 #include "sysid/free_run.hpp"
+#include "sysid/learner_settings.hpp"
 #include "sysid/local_dynamics.hpp"
 #include "sysid/offline_fit.hpp"
 #include "sysid/online_identifier.hpp"
@@ -365,16 +366,12 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     c["ny"] = spec.output_lags;
     c["nu"] = spec.input_lags;
     c["delay"] = spec.delay;
-    c["consequent"] = fuzzy::ToString(fm0.consequent);
-    c["entropy_threshold"] = fm0.entropy.threshold;
-    c["kappa"] = fm0.entropy.kappa;
-    c["max_rules"] = fm0.entropy.max_rules;
-    c["sigma_init"] = fm0.entropy.sigma_init;
-    c["sigma_min"] = fm0.entropy.sigma_min;
-    c["sigma_max"] = fm0.entropy.sigma_max;
-    c["forgetting"] = fm0.forgetting;
-    c["prune_utility"] = fm0.entropy.prune_utility;
-    c["prune_min_age"] = fm0.entropy.prune_min_age;
+    // The learner's settings as chosen here, its refits choosing as this fit did: K steps ahead
+    // with --horizon K (learner_settings.hpp: the one writer of these keys).
+    sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
+    refit.horizon = o.horizon;
+    const nlohmann::ordered_json learner = sysid::LearnerSettingsJson(fm0, refit);
+    for (const auto& [key, value] : learner.items()) c[key] = value;
     nlohmann::json ranges;
     if (!o.ranges.empty()) {
       std::ifstream in(o.ranges);
@@ -383,14 +380,6 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
       ranges = sysid::RangesToJson(sysid::RangesFromSeries(spec, *train));
     }
     c["ranges"] = ranges;
-    const sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
-    c["refit_first"] = refit.first;
-    c["refit_every"] = refit.every;
-    c["refit_buffer"] = refit.buffer;
-    c["refit_history"] = refit.history;
-    c["refit_at_freeze"] = refit.at_freeze;
-    // Its refits choose as this fit did: K steps ahead with --horizon K.
-    c["refit_horizon"] = o.horizon;
     c["source"] = "signals";
     std::ofstream out(o.save_config);
     out << c.dump(2) << "\n";

@@ -1,5 +1,7 @@
 #include "identifier_config.hpp"
 
+#include "sysid/learner_settings.hpp"
+
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
@@ -230,16 +232,9 @@ std::string ExampleIdentifierConfig() {
   j["ny"] = 1;
   j["nu"] = 1;
   j["delay"] = 1;
-  j["consequent"] = fuzzy::ToString(d.consequent);
-  j["entropy_threshold"] = d.entropy.threshold;
-  j["max_rules"] = d.entropy.max_rules;
-  j["kappa"] = d.entropy.kappa;
-  j["sigma_init"] = d.entropy.sigma_init;
-  j["sigma_min"] = d.entropy.sigma_min;
-  j["sigma_max"] = d.entropy.sigma_max;
-  j["forgetting"] = d.forgetting;
-  j["prune_utility"] = d.entropy.prune_utility;
-  j["prune_min_age"] = d.entropy.prune_min_age;
+  const nlohmann::ordered_json learner =
+      sysid::LearnerSettingsJson(d, sysid::RefitSchedule::IdentifierDefault());
+  for (const auto& [key, value] : learner.items()) j[key] = value;
   j["ranges"] = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_applied_rad", {-0.27, 0.27}}};
   j["snapshot_period_s"] = 1.0;
   j["snapshot_every_samples"] = 100;
@@ -247,20 +242,6 @@ std::string ExampleIdentifierConfig() {
   j["decimate"] = 1;
   // Up to this many samples lost in a row are bridged by interpolation (odonata-fit --max-gap).
   j["max_gap"] = 3;
-  // Refit with odonata-fit's learner on refit_buffer samples after refit_first learned, then 2×,
-  // 4×, … up to refit_every, then every refit_every, and once more at a freeze (0: none;
-  // docs/identifier.md §6.3). refit_history of the buffer keeps blocks spread over the whole run,
-  // the rest the most recent samples. odonata-fit --refit-* replays the same schedule.
-  const sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
-  j["refit_first"] = refit.first;
-  j["refit_every"] = refit.every;
-  j["refit_buffer"] = refit.buffer;
-  j["refit_history"] = refit.history;
-  j["refit_at_freeze"] = refit.at_freeze;
-  j["refit_threads"] = refit.threads;
-  // K >= 2: refits choose by the accuracy K samples ahead, for a loop that integrates (rates,
-  // velocities), as odonata-fit --horizon K; 0: in free run.
-  j["refit_horizon"] = refit.horizon;
   // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
   j["source"] = "dimav";
   j["channels"] = {

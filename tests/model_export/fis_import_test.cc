@@ -192,8 +192,8 @@ TEST(FisImport, EveryAbsurdNumberIsRefusedOrPredictsFinitely) {
     for (const char* value : {"1e308", "-1e308", "0", "1e-308"}) {
       std::string text = fis;
       text.replace(at, length, value);
-      const std::string what = fis.substr(at, length) + " -> " + value + " at byte " +
-                               std::to_string(at);
+      const std::string what =
+          fis.substr(at, length) + " -> " + value + " at byte " + std::to_string(at);
       std::optional<sysid::NarxModel> model;
       try {
         model = ModelFromTsk(Parsed(text), Empty(fuzzy::ConsequentKind::kLinear), "probe.fis");
