@@ -13,7 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "fuzzy/fuzzy_model.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 #ifdef ODONATA_HAVE_FUZZYLITE
 #include <fl/Headers.h>

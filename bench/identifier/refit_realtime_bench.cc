@@ -16,9 +16,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "sysid/model_selection.hpp"
-#include "sysid/online_identifier.hpp"
-#include "sysid/signal_ranges.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/online_identifier.hpp"
+#include "sysid/selection/model_selection.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 
 #include "fuzzy/gaussian_rule_base.hpp"
 #include "model_export/raw_tsk_model.hpp"
-#include "sysid/narx_model_state.hpp"
+#include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::model_export {
 namespace {

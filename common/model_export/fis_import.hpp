@@ -7,7 +7,7 @@
 #include <string>
 
 #include "odonata/tsk_model.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::model_export {
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "sysid/local_dynamics.hpp"
+#include "sysid/model/local_dynamics.hpp"
 
 namespace odonata::model_export {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::model_export {
 

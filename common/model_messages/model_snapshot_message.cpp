@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sysid/narx_model_state.hpp"
+#include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::model_messages {
 namespace {

@@ -4,7 +4,7 @@
 // NarxModel::FromState, the same check a model file passes.
 
 #include "odonata/model_snapshot_t.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::model_messages {
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "odonata/prediction_t.hpp"
-#include "sysid/online_identifier.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::model_messages {
 

@@ -10,12 +10,12 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "io/csv_table.hpp"
 #include "progress_bar.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/narx_model.hpp"
-#include "sysid/scheduled_refitter.hpp"
-#include "sysid/search_subsample.hpp"
-#include "sysid/series_from_table.hpp"
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/model/series_from_table.hpp"
+#include "sysid/online/scheduled_refitter.hpp"
+#include "sysid/selection/model_selection.hpp"
+#include "sysid/selection/search_subsample.hpp"
 
 namespace odonata::fit {
 

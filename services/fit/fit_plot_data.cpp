@@ -10,8 +10,8 @@
 #include <stdexcept>
 
 #include "fuzzy/gaussian_rule_base.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/local_dynamics.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/local_dynamics.hpp"
 
 namespace odonata::fit {
 namespace {

@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sysid/narx_model.hpp"
-#include "sysid/readable_model.hpp"
-#include "sysid/regressor_spec.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/model/readable_model.hpp"
+#include "sysid/model/regressor_spec.hpp"
 
 namespace odonata::fit {
 

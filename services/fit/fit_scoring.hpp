@@ -10,11 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "fit_job.hpp"
-#include "sysid/arx_model.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/narx_model.hpp"
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/selection/model_selection.hpp"
 
 namespace odonata::fit {
 

@@ -1,6 +1,6 @@
 #include "identifier_config.hpp"
 
-#include "sysid/learner_settings.hpp"
+#include "sysid/online/learner_settings.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -5,9 +5,9 @@
 
 #include "bus/channel_config.hpp"
 #include "fuzzy/fuzzy_model.hpp"
-#include "sysid/regressor_spec.hpp"
-#include "sysid/scheduled_refitter.hpp"
-#include "sysid/signal_ranges.hpp"
+#include "sysid/model/regressor_spec.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/scheduled_refitter.hpp"
 
 namespace odonata::identifier {
 

@@ -23,7 +23,7 @@
 #include "odonata/plant_state_t.hpp"
 #include "odonata/wing_command_t.hpp"
 #include "sample_stream.hpp"
-#include "sysid/online_identifier.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::identifier {
 

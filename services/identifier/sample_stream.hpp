@@ -12,8 +12,8 @@
 #include "messages/paired_sample.hpp"
 #include "odonata/signals_t.hpp"
 #include "sequence/sample_sequence.hpp"
-#include "sysid/online_identifier.hpp"
-#include "sysid/regressor_spec.hpp"
+#include "sysid/model/regressor_spec.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::identifier {
 

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const nlohmann::json j = nlohmann::json::parse(data, data + size, nullptr, false);

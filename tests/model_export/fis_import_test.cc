@@ -14,9 +14,9 @@
 #include "model_export/fis_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
 
-#include "sysid/online_identifier.hpp"
-#include "sysid/rule_listing.hpp"
-#include "sysid/signal_ranges.hpp"
+#include "sysid/model/rule_listing.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/online_identifier.hpp"
 #include "trained_narendra_model.hpp"
 
 namespace odonata::model_export {

@@ -14,7 +14,7 @@
 #include "model_export/fll_writer.hpp"
 #include "model_export/raw_tsk_model.hpp"
 #include "odonata/tsk_model.hpp"
-#include "sysid/free_run.hpp"
+#include "sysid/model/free_run.hpp"
 #include "trained_narendra_model.hpp"
 
 namespace odonata::model_export {

@@ -4,7 +4,7 @@
 // exercised (Octave, fuzzylite and the .fis import must all apply them).
 
 #include "../sysid/narendra_series.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::model_export::testing {
 

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "../sysid/narendra_series.hpp"
-#include "sysid/local_dynamics.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/local_dynamics.hpp"
+#include "sysid/model/narx_model.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

@@ -17,7 +17,7 @@
 
 #include "../sysid/narendra_series.hpp"
 #include "fuzzy/fuzzy_model_state.hpp"
-#include "sysid/narx_model_state.hpp"
+#include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::model_messages {
 namespace {

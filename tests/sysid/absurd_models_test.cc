@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "online_fixtures.hpp"
-#include "sysid/narx_model.hpp"
-#include "sysid/online_identifier.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::sysid {
 namespace {

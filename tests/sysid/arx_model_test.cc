@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "sysid/arx_model.hpp"
-#include "sysid/quadratic_arx_model.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/quadratic_arx_model.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -8,12 +8,12 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
-#include "sysid/arx_model.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/narx_model.hpp"
-#include "sysid/offline_fit.hpp"
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/selection/model_selection.hpp"
+#include "sysid/selection/offline_fit.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -1,6 +1,6 @@
 // Each rule's dynamics as a control engineer reads them (issue 49 point 2): poles, stability,
 // time constants, damping and steady-state gains of the linear local models, from raw units.
-#include "sysid/local_dynamics.hpp"
+#include "sysid/model/local_dynamics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sysid/arx_model.hpp"
-#include "sysid/rule_listing.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/rule_listing.hpp"
 
 namespace odonata::sysid {
 namespace {

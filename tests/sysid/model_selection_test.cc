@@ -11,8 +11,8 @@
 
 #include "fuzzy/entropy_rule_generator.hpp"
 #include "narendra_series.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {
 namespace {

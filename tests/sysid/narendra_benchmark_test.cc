@@ -6,9 +6,9 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
-#include "sysid/arx_model.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "sysid/regressor_spec.hpp"
+#include "sysid/model/regressor_spec.hpp"
 
 namespace odonata::sysid::testing {
 

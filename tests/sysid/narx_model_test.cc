@@ -9,9 +9,9 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/narx_model.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -3,9 +3,9 @@
 // scaled to the series' signal ranges (as an identifier configuration declares them).
 
 #include "narendra_series.hpp"
-#include "sysid/narx_model.hpp"
-#include "sysid/online_identifier.hpp"
-#include "sysid/signal_ranges.hpp"
+#include "sysid/model/narx_model.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::sysid::testing {
 

@@ -11,13 +11,13 @@
 
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
-#include "sysid/arx_model.hpp"
-#include "sysid/free_run.hpp"
-#include "sysid/narx_model_state.hpp"
-#include "sysid/offline_fit.hpp"
-#include "sysid/online_identifier.hpp"
-#include "sysid/signal_ranges.hpp"
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/free_run.hpp"
+#include "sysid/model/narx_model_state.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/online_identifier.hpp"
+#include "sysid/selection/offline_fit.hpp"
 
 namespace odonata::sysid {
 namespace {

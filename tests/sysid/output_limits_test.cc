@@ -1,6 +1,6 @@
 // Saturation limits found in the training outputs (docs/identifier.md §7.2): what counts as a
 // saturation, how predictions are held, and that a model keeps its limits when saved.
-#include "sysid/output_limits.hpp"
+#include "sysid/model/output_limits.hpp"
 
 #include <cmath>
 #include <limits>
@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "sysid/narx_model.hpp"
+#include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {
 namespace {

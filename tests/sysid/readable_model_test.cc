@@ -1,7 +1,7 @@
 // The readable form of a model (issue 49 point 1): shared named terms, lags as one clause, rules
 // that read alike as one, a model whose local models coincide as "linear: one rule"; and it is a
 // model: it predicts and is scored.
-#include "sysid/readable_model.hpp"
+#include "sysid/model/readable_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <set>
 
 #include "narendra_series.hpp"
-#include "sysid/narx_model_state.hpp"
+#include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "narendra_series.hpp"
-#include "sysid/arx_model.hpp"
-#include "sysid/consequent_tracker.hpp"
-#include "sysid/online_identifier.hpp"
-#include "sysid/recursive_arx.hpp"
-#include "sysid/signal_ranges.hpp"
+#include "sysid/estimation/consequent_tracker.hpp"
+#include "sysid/estimation/recursive_arx.hpp"
+#include "sysid/model/arx_model.hpp"
+#include "sysid/model/signal_ranges.hpp"
+#include "sysid/online/online_identifier.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "sysid/regressor_spec.hpp"
+#include "sysid/model/regressor_spec.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "fuzzy/linear_consequent.hpp"
-#include "sysid/rule_listing.hpp"
+#include "sysid/model/rule_listing.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -1,6 +1,6 @@
 // A long record's settings are chosen on blocks spread over it, and the chosen setting is then
 // trained on every row (issue 22, docs/identifier.md §9 "Long records").
-#include "sysid/search_subsample.hpp"
+#include "sysid/selection/search_subsample.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "narendra_series.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/offline_fit.hpp"
+#include "sysid/selection/model_selection.hpp"
+#include "sysid/selection/offline_fit.hpp"
 
 namespace odonata::sysid {
 namespace {

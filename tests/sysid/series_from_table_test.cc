@@ -1,12 +1,12 @@
 // Real logs into series (docs/identifier.md §7.1): bridging, resampling, segments, and the
 // regressor never reaching across a break.
-#include "sysid/series_from_table.hpp"
+#include "sysid/model/series_from_table.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sysid/free_run.hpp"
+#include "sysid/model/free_run.hpp"
 
 namespace odonata::sysid {
 namespace {

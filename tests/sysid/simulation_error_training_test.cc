@@ -1,7 +1,7 @@
 // Simulation-error training: the multiple-shooting gradient against finite differences, and
 // what it is for — on a system with output noise, one-step training is biased and simulation
 // training is not.
-#include "sysid/simulation_error_training.hpp"
+#include "sysid/estimation/simulation_error_training.hpp"
 
 #include <cmath>
 #include <random>
@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "sysid/arx_model.hpp"
+#include "sysid/model/arx_model.hpp"
 
 namespace odonata::sysid {
 namespace {

@@ -14,8 +14,8 @@
 
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
-#include "sysid/model_selection.hpp"
-#include "sysid/online_identifier.hpp"
+#include "sysid/online/online_identifier.hpp"
+#include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {
 namespace {

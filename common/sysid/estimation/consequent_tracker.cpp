@@ -1,0 +1,77 @@
+#include "sysid/estimation/consequent_tracker.hpp"
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+namespace odonata::sysid {
+
+Eigen::VectorXd ConsequentTracker::GlobalRow(const fuzzy::FuzzyModel& m,
+                                             const Eigen::Ref<const Eigen::VectorXd>& x_scaled) {
+  const int r = m.rules();
+  const int w = m.consequent().LeastSquaresWidth();
+  fuzzy::Inference inf;
+  m.rule_base().Evaluate(x_scaled, &inf);
+  Eigen::VectorXd z(w);
+  m.consequent().LeastSquaresRow(x_scaled, z);
+  Eigen::VectorXd row(static_cast<Eigen::Index>(r) * w);
+  for (int j = 0; j < r; ++j) row.segment(j * w, w) = inf.normalized(j) * z;
+  return row;
+}
+
+ConsequentTracker ConsequentTracker::Build(const NarxModel& model, const Series& samples,
+                                           double ridge) {
+  if (samples.samples() <= model.spec().first_target()) return ConsequentTracker{};
+  return Build(model, BuildRegression(model.spec(), samples), ridge);
+}
+
+ConsequentTracker ConsequentTracker::Build(const NarxModel& model, const RegressionData& d,
+                                           double ridge) {
+  ConsequentTracker t;
+  if (d.x.rows() == 0) return t;
+  for (int o = 0; o < model.outputs(); ++o) {
+    const fuzzy::FuzzyModel& m = model.model(o);
+    if (m.rules() == 0) return ConsequentTracker{};
+    const Eigen::Index width =
+        static_cast<Eigen::Index>(m.rules()) * m.consequent().LeastSquaresWidth();
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(width, width);
+    for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
+      const Eigen::VectorXd row =
+          GlobalRow(m, model.scaling().ScaleRegressor(d.x.row(k).transpose()));
+      normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    }
+    normal = normal.selfadjointView<Eigen::Lower>();
+    normal.diagonal().array() += ridge * normal.diagonal().mean() + 1e-12;
+    t.covariance_.push_back(normal.ldlt().solve(Eigen::MatrixXd::Identity(width, width)));
+    if (!t.covariance_.back().allFinite()) return ConsequentTracker{};
+    t.rules_.push_back(m.rules());
+  }
+  return t;
+}
+
+void ConsequentTracker::Step(NarxModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  if (empty() || static_cast<int>(covariance_.size()) != model.outputs()) return;
+  if (!x.allFinite() || !y.allFinite()) return;
+  const Eigen::VectorXd xs = model.scaling().ScaleRegressor(x);
+  for (int o = 0; o < model.outputs(); ++o) {
+    fuzzy::FuzzyModel& m = model.mutable_model(o);
+    if (m.rules() != rules_[static_cast<std::size_t>(o)]) return;
+    Eigen::MatrixXd& p = covariance_[static_cast<std::size_t>(o)];
+    const Eigen::VectorXd row = GlobalRow(m, xs);
+    Eigen::VectorXd theta = m.consequent().Parameters();
+    const double lambda = m.config().forgetting;
+    const Eigen::VectorXd pr = p * row;
+    const double gain_denominator = lambda + row.dot(pr);
+    if (!(gain_denominator > 0.0)) continue;
+    const double error = model.scaling().ScaleOutput(o, y(o)) - row.dot(theta);
+    theta += pr * (error / gain_denominator);
+    p.noalias() -= (pr / gain_denominator) * pr.transpose();
+    p /= lambda;
+    // Rounding makes P drift from symmetric over a long stretch; keep it symmetric.
+    p = 0.5 * (p + p.transpose()).eval();
+    m.mutable_consequent().SetParameters(theta);
+  }
+  ++steps_;
+}
+
+}  // namespace odonata::sysid
