@@ -1,5 +1,5 @@
 // odonata-fit (and odonata-identifier) run as real processes from a GoogleTest suite: the helpers
-// fit_cli_test.cc and fit_cli_selection_test.cc share.
+// fit_cli_test.cpp and fit_cli_selection_test.cpp share.
 #pragma once
 
 #include <sys/wait.h>

@@ -56,7 +56,7 @@ wait_for_log() {
 # "the run is halfway" breaks on a machine faster or slower than the one it was tuned on.
 #
 # wait_up URL NAME... [-- HEARTBEAT_WAIT_FLAGS...]: waits (up to 60 s) until every named instance
-# (or service) has published a heartbeat meeting the flags after `--` (heartbeat_wait.cc), e.g.
+# (or service) has published a heartbeat meeting the flags after `--` (heartbeat_wait.cpp), e.g.
 # `-- --state running --fresh`; fails naming them and what it last saw of each.
 wait_up() {
   local url=$1 args=()

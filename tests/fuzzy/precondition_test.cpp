@@ -12,7 +12,7 @@ namespace {
 
 TEST(PreconditionDeathTest, AViolationAbortsNamingTheCondition) {
   EXPECT_DEATH(ODONATA_EXPECTS(1 + 1 == 3),
-               "precondition_test.cc:[0-9]+: precondition failed: 1 \\+ 1 == 3");
+               "precondition_test.cpp:[0-9]+: precondition failed: 1 \\+ 1 == 3");
   EXPECT_DEATH(GaussianRuleBase(0, 4), "precondition failed: inputs >= 1");
   GaussianRuleBase rules(2, 4);
   // A regressor of the wrong size would have been read past its end with assert compiled out.

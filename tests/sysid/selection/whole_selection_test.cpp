@@ -2,7 +2,7 @@
 // learner alone, steady-state refits reusing a selection, and a selection's independence of the
 // thread count. Seconds in Release and minutes each under the sanitizers, so this executable is
 // labelled slow (Release only). The refit machinery itself (worker thread, landings, replay) is
-// tested under the sanitizers by online_identifier_test.cc, and the selection by the fit tests.
+// tested under the sanitizers by online_identifier_test.cpp, and the selection by the fit tests.
 
 #include <cstdio>
 #include <sstream>
