@@ -23,7 +23,7 @@ monitor=$!
   >"$TMP/logger.log" 2>&1 &
 logger=$!
 sleep 1
-"$BUILD/bench/monitor/flood_publisher" "$URL" "$SECONDS_FLOOD" $MODE >"$TMP/flood.log" &
+"$BUILD/tests/integration/flood_publisher" "$URL" "$SECONDS_FLOOD" $MODE >"$TMP/flood.log" &
 flood=$!
 peak() { awk '/VmHWM/ {print int($2 / 1024)}' "/proc/$1/status"; }
 while kill -0 $flood 2>/dev/null; do sleep 1; done

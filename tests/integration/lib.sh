@@ -121,6 +121,10 @@ odonata_run() {
     { cat "$OUT/run.log"; fail "odonata-run failed"; }
 }
 
+# new_bus_key PATH: a fresh shared key for a signed bus (docs/lcm.md §15), readable by its owner
+# only, as the services require.
+new_bus_key() { (umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$1"); }
+
 json_get() { "$PY" -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
 
 # Fails unless two model files hold the same model, compared as parsed JSON (doubles exactly).

@@ -14,7 +14,7 @@ CFG=$SRC/examples/own_vehicle/identifier.json
 export PYTHONPATH=$SRC/python
 N=1500
 BUS_KEY=$OUT/bus.key
-(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$BUS_KEY")
+new_bus_key "$BUS_KEY"
 start logger "$LOGGER" record -o "$OUT/log" --lcm-url "$URL" --key "$BUS_KEY"
 start ident "$IDENT" --config "$CFG" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json" \
   --key "$BUS_KEY"

@@ -11,7 +11,7 @@ enter_netns "$@"
 OUT=$(mktemp -d)
 trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 KEY=$OUT/bus.key
-(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$KEY")
+new_bus_key "$KEY"
 "$SRC/deploy/make-identifier-config" --preset roll --duration 20 --build "$BUILD" --output "$OUT/id.json"
 HOLD=1000  # of 2000: the kill lands here, whatever the machine's speed
 

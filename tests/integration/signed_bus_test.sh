@@ -15,7 +15,7 @@ OUT=$(mktemp -d)
 trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7693?ttl=0'
 KEY=$OUT/bus.key
-(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$KEY")
+new_bus_key "$KEY"
 K=(--lcm-url "$URL" --key "$KEY")
 "$SRC/deploy/make-identifier-config" --preset roll --duration 10 --build "$BUILD" --output "$OUT/id.json"
 

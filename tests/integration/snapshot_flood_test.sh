@@ -11,9 +11,9 @@ OUT=$(mktemp -d)
 trap 'stop_all; [[ -n ${KEEP:-} ]] || rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7713?ttl=0'
 KEY=$OUT/bus.key
-(umask 077 && od -An -tx1 -N32 /dev/urandom | tr -d ' \n' >"$KEY")
+new_bus_key "$KEY"
 K=(--lcm-url "$URL" --key "$KEY")
-FLOOD=$BUILD/bench/monitor/flood_publisher
+FLOOD=$BUILD/tests/integration/flood_publisher
 [[ -x $FLOOD ]] || fail "$FLOOD is not built"
 "$SRC/deploy/make-identifier-config" --preset roll --duration 6 --build "$BUILD" --output "$OUT/id.json"
 start monitor "$MONITOR" "${K[@]}"
