@@ -2,6 +2,7 @@
 // The paper's six identification experiments (section IV) as reproducible presets.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,9 @@ namespace odonata::experiments {
 /// training (the model learns from it), selection (every choice — H̄, widths, model order — is
 /// scored on it) and validation (the final score, never used for a choice).
 enum class Phase { kTrain, kValidate, kSelect };
+
+struct ExcitationContext;  // preset_kit.hpp
+struct RunBuilder;
 
 /// What an experiment excites and what the identifier should do with the data.
 struct ExperimentPreset {
@@ -57,6 +61,10 @@ struct ExperimentPreset {
   /// The damage scenarios: what fails during the validation run (a vehicle that changes in
   /// flight), which the online identifier must follow while it keeps learning. Never by default.
   plant::ActuatorDamage validate_damage{};
+  /// The run's commands for a phase, built by the preset's family (actuator_presets.cpp,
+  /// attitude_presets.cpp, beyond_paper_presets.cpp: each preset's table entry and excitation in
+  /// one place); a held variant keeps its base preset's.
+  std::function<void(const ExcitationContext&, RunBuilder&)> excite;
 };
 
 /// The scalar command channels of the free-flight presets (docs/plant.md §12), read
