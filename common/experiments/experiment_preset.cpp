@@ -8,10 +8,6 @@
 
 namespace odonata::experiments {
 
-using plant::CommandMatrix;
-using plant::kStrokeAmplitude;
-using plant::kStrokePlaneAngle;
-
 const std::vector<ExperimentPreset>& Presets() {
   static const std::vector<ExperimentPreset> kPresets = [] {
     // The paper's in its order (test stand, free flight, held variants), then beyond it.
@@ -72,34 +68,6 @@ double PhaseDurationS(const ExperimentPreset& preset, Phase phase) {
   return preset.validate_duration_s;
 }
 
-double VerticalChannelRad(const CommandMatrix& c, double trim_amp_rad) {
-  return 0.5 * (PairMean(c, kLeft, kStrokeAmplitude) + PairMean(c, kRight, kStrokeAmplitude)) -
-         trim_amp_rad;
-}
-
-double RollChannelRad(const CommandMatrix& c) {
-  return 0.5 * (PairMean(c, kLeft, kStrokeAmplitude) - PairMean(c, kRight, kStrokeAmplitude));
-}
-
-double PitchChannelRad(const CommandMatrix& c) {
-  return 0.5 * (PairMean(c, kFront, kStrokeAmplitude) - PairMean(c, kBack, kStrokeAmplitude));
-}
-
-double YawChannelRad(const CommandMatrix& c) {
-  return 0.5 * (PairMean(c, kRight, kStrokePlaneAngle) - PairMean(c, kLeft, kStrokePlaneAngle));
-}
-
-const std::vector<std::string>& AppliedChannelNames() {
-  static const std::vector<std::string> kNames = {"u_vertical_applied_rad", "u_roll_applied_rad",
-                                                  "u_pitch_applied_rad", "u_yaw_applied_rad"};
-  return kNames;
-}
-
-std::vector<double> AppliedChannelValues(const CommandMatrix& applied, double trim_amp_rad) {
-  return {VerticalChannelRad(applied, trim_amp_rad), RollChannelRad(applied),
-          PitchChannelRad(applied), YawChannelRad(applied)};
-}
-
 ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, std::uint64_t seed,
                                  double duration_s, const plant::PlantConfig& config) {
   if (!preset.excite)
@@ -116,7 +84,7 @@ ExperimentRun BuildExperimentRun(const ExperimentPreset& preset, Phase phase, st
   b.run.initial.clamped_body = preset.clamped_body;
   b.run.attitude_hold = preset.attitude_hold;
   b.run.record_applied = preset.attitude_hold;
-  b.run.hold_gains = DefaultAttitudeHoldGains();
+  b.run.hold_gains = vehicle::DefaultAttitudeHoldGains();
   b.run.initial.state.position_m = Eigen::Vector3d(0.0, 0.0, preset.start_altitude_m);
   if (phase == Phase::kValidate) b.run.damage = preset.validate_damage;
   // The preset's own excitation (its family's file; a held variant flies its base preset's).

@@ -7,12 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "experiments/attitude_hold.hpp"
 #include "plant/actuator_damage.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
 #include "plant/trim_finder.hpp"
 #include "plant/wing_command.hpp"
+#include "vehicle/attitude_hold.hpp"
+#include "vehicle/wing_channels.hpp"
 
 namespace odonata::experiments {
 
@@ -67,24 +68,6 @@ struct ExperimentPreset {
   std::function<void(const ExcitationContext&, RunBuilder&)> excite;
 };
 
-/// The scalar command channels of the free-flight presets (docs/plant.md §12), read
-/// from any command matrix. Excitation columns are these channels of the designed command;
-/// *_applied_* columns the same channels of the command actually applied (hold added, clamped).
-/// Vertical: mean φ₀ of the four wings minus the trim φ₀ (rad).
-double VerticalChannelRad(const plant::CommandMatrix& c, double trim_amp_rad);
-/// Roll: half the mean φ₀ of the left wings (1, 2) minus that of the right wings (3, 4) (rad).
-double RollChannelRad(const plant::CommandMatrix& c);
-/// Pitch: half the mean φ₀ of the front wings (1, 4) minus that of the back wings (2, 3) (rad).
-double PitchChannelRad(const plant::CommandMatrix& c);
-/// Yaw: half the mean β of the right wings (3, 4) minus that of the left wings (1, 2) (rad).
-double YawChannelRad(const plant::CommandMatrix& c);
-
-/// The applied-command columns, in this order: "u_vertical_applied_rad", "u_roll_applied_rad",
-/// "u_pitch_applied_rad", "u_yaw_applied_rad".
-const std::vector<std::string>& AppliedChannelNames();
-/// The four channels of `applied` in AppliedChannelNames() order.
-std::vector<double> AppliedChannelValues(const plant::CommandMatrix& applied, double trim_amp_rad);
-
 /// Commands and excitation of one run, sampled at the plant's sample rate.
 struct ExperimentRun {
   std::vector<plant::CommandMatrix> commands;  ///< sample k is applied over [t_k, t_k+1)
@@ -96,7 +79,7 @@ struct ExperimentRun {
   /// Write the applied-command columns (AppliedChannelNames()) beside the excitation: set for
   /// the free-flight presets, whose applied command differs from the designed one by the hold.
   bool record_applied{};
-  AttitudeHoldGains hold_gains{};  ///< its gains (free-flight presets)
+  vehicle::AttitudeHoldGains hold_gains{};  ///< its gains (free-flight presets)
   double sample_period_s{};
   /// Samples whose designed command left the actuator limits and was clamped: a well-designed
   /// excitation has none, since clamping distorts the spectrum it was designed to have.

@@ -43,10 +43,6 @@ std::uint64_t AprbsSeed(std::uint64_t seed, Phase phase, std::uint64_t purpose) 
   return rng();
 }
 
-double PairMean(const plant::CommandMatrix& c, const int (&wings)[2], int input) {
-  return 0.5 * (c(wings[0], input) + c(wings[1], input));
-}
-
 double MeanFrequencyHz(const plant::CommandMatrix& c) {
   return c.col(plant::kFlapFrequency).mean();
 }

@@ -16,6 +16,7 @@
 #include "plant/plant_config.hpp"
 #include "plant/trim_finder.hpp"
 #include "plant/wing_command.hpp"
+#include "vehicle/wing_channels.hpp"
 
 namespace odonata::experiments {
 
@@ -30,11 +31,15 @@ inline constexpr double kNoisePowerW = 0.01;
 inline constexpr double kNoiseClipSigmas = 2.5;
 inline constexpr const char* kNotInPaper = "not in the paper";
 
-// Wing groups (0-based rows): 1 fore-left, 2 hind-left, 3 hind-right, 4 fore-right.
-inline constexpr int kLeft[2] = {0, 1};
-inline constexpr int kRight[2] = {2, 3};
-inline constexpr int kFront[2] = {0, 3};
-inline constexpr int kBack[2] = {1, 2};
+// The wing groups and the channels they make (vehicle/wing_channels.hpp).
+using vehicle::kBack;
+using vehicle::kFront;
+using vehicle::kLeft;
+using vehicle::kRight;
+using vehicle::PitchChannelRad;
+using vehicle::RollChannelRad;
+using vehicle::VerticalChannelRad;
+using vehicle::YawChannelRad;
 
 /// Independent random stream per (seed, phase, purpose).
 std::mt19937_64 Stream(std::uint64_t seed, Phase phase, std::uint64_t purpose);
@@ -42,8 +47,6 @@ double RandomPhaseRad(std::uint64_t seed, Phase phase, std::uint64_t purpose);
 std::uint64_t NoiseSeed(std::uint64_t seed, Phase phase);
 /// Seed of an APRBS stream: independent per (seed, phase, purpose), like the chirp phases.
 std::uint64_t AprbsSeed(std::uint64_t seed, Phase phase, std::uint64_t purpose);
-/// Mean of a command entry over a pair of wings (exact when the two are equal).
-double PairMean(const plant::CommandMatrix& c, const int (&wings)[2], int input);
 /// Mean flapping frequency of the four wings (Hz).
 double MeanFrequencyHz(const plant::CommandMatrix& c);
 

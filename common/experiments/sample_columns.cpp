@@ -26,7 +26,7 @@ std::vector<std::string> SampleColumnNames(const std::vector<std::string>& excit
   add(plant::StateSignalNames());
   add(excitation_names);
   if (beat_averages) add(plant::BeatSignalNames());
-  if (applied_channels) add(AppliedChannelNames());
+  if (applied_channels) add(vehicle::AppliedChannelNames());
   return h;
 }
 

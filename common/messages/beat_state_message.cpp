@@ -17,7 +17,7 @@ auto AppliedArrays(Msg& m) {
                     m.applied_pitch_mean_rad, m.applied_pitch_amp_rad, m.applied_phase_rad};
 }
 
-// The applied channels in experiments::AppliedChannelNames() order.
+// The applied channels in vehicle::AppliedChannelNames() order.
 std::array<double, 4> AppliedChannels(const odonata::beat_state_t& m) {
   return {m.u_vertical_applied_rad, m.u_roll_applied_rad, m.u_pitch_applied_rad,
           m.u_yaw_applied_rad};
@@ -39,7 +39,7 @@ plant::BeatAverages ToBeatAverages(const odonata::beat_state_t& m) {
 }
 
 std::optional<std::size_t> AppliedIndex(const std::string& name) {
-  const auto& names = experiments::AppliedChannelNames();
+  const auto& names = vehicle::AppliedChannelNames();
   const auto it = std::find(names.begin(), names.end(), name);
   if (it == names.end()) return std::nullopt;
   return static_cast<std::size_t>(it - names.begin());
@@ -70,7 +70,7 @@ odonata::beat_state_t ToBeatStateMessage(const pipeline::PlantSample& sample,
   for (int w = 0; w < plant::kWingCount; ++w)
     for (int i = 0; i < plant::kCommandsPerWing; ++i) arrays[i][w] = c(w, i);
   const std::vector<double> u =
-      experiments::AppliedChannelValues(c, setup.trim_command(0, plant::kStrokeAmplitude));
+      vehicle::AppliedChannelValues(c, setup.trim_command(0, plant::kStrokeAmplitude));
   m.u_vertical_applied_rad = u[0];
   m.u_roll_applied_rad = u[1];
   m.u_pitch_applied_rad = u[2];

@@ -1,7 +1,7 @@
 #pragma once
 // beat_state_t ⇄ the plant's beat averages and the command its wings applied, and its named
 // fields: the beat averages (plant::BeatSignalNames()) and the applied-command channels
-// (experiments::AppliedChannelNames()).
+// (vehicle::AppliedChannelNames()).
 
 #include <cstdint>
 #include <optional>

@@ -4,8 +4,8 @@
 #include <stdexcept>
 
 #include "io/csv_table.hpp"
-#include "pipeline/command_limits.hpp"
 #include "pipeline/vehicle_setup.hpp"
+#include "vehicle/command_limits.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -70,7 +70,7 @@ CommandSchedule FileSchedule(const std::string& path, const plant::PlantConfig& 
         s.commands[k](w, i) = (*columns[w * plant::kCommandsPerWing + i])[k];
       }
     }
-    const std::string limits = CommandLimitProblems(s.commands[k], config.limits);
+    const std::string limits = vehicle::CommandLimitProblems(s.commands[k], config.limits);
     if (!limits.empty()) problem("sample " + std::to_string(k) + ": " + limits);
   }
   if (listed > 0) {

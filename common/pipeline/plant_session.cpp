@@ -4,9 +4,9 @@
 #include <cmath>
 #include "contract/precondition.hpp"
 
-#include "experiments/vehicle_step.hpp"
-#include "pipeline/command_limits.hpp"
 #include "sequence/sequence_window.hpp"
+#include "vehicle/command_limits.hpp"
+#include "vehicle/vehicle_step.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -48,8 +48,8 @@ const PlantSample& PlantSession::Reset(VehicleSetup setup) {
 
 void PlantSession::StepWith(const plant::CommandMatrix& command, int64_t command_seq) {
   const double t_s = static_cast<double>(last_.seq) / plant_.config().integration.sample_rate_hz;
-  const experiments::VehicleStep step = experiments::StepVehicle(
-      plant_, command, setup_.attitude_hold, setup_.hold_gains, setup_.damage, t_s);
+  const vehicle::VehicleStep step = vehicle::StepVehicle(plant_, command, setup_.attitude_hold,
+                                                         setup_.hold_gains, setup_.damage, t_s);
   const plant::StepStatus status = step.status;
   const plant::CommandMatrix& applied = step.applied;
   PlantSample next{last_.seq + 1, command_seq, plant_.output(), StatusOf(plant_.output()), applied};
@@ -71,7 +71,7 @@ CommandOutcome PlantSession::Submit(int64_t seq, const plant::CommandMatrix& com
       std::max(newest_seq_.value_or(-1), held_.empty() ? -1 : held_.rbegin()->first);
   out.problem = leaps_.Problem("command", seq, newest);
   if (!out.problem.empty()) return out;  // kRejected
-  out.problem = CommandLimitProblems(command, plant_.config().limits);
+  out.problem = vehicle::CommandLimitProblems(command, plant_.config().limits);
   if (!out.problem.empty()) return out;  // kRejected
 
   if (mode_ == Mode::kLockstep) {

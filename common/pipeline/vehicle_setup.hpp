@@ -4,10 +4,10 @@
 
 #include <string>
 
-#include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "plant/dimav_plant.hpp"
 #include "plant/plant_config.hpp"
+#include "vehicle/attitude_hold.hpp"
 
 namespace odonata::pipeline {
 
@@ -16,7 +16,7 @@ struct VehicleSetup {
   std::string name;                   ///< the preset's name, or "default"
   plant::InitialCondition initial{};  ///< state at t = 0
   bool attitude_hold{};               ///< the vehicle's onboard roll/pitch hold is on
-  experiments::AttitudeHoldGains hold_gains{};
+  vehicle::AttitudeHoldGains hold_gains{};
   plant::CommandMatrix trim_command{plant::CommandMatrix::Zero()};  ///< hover trim
   /// What fails during the run (a damage preset's validation run); nothing by default.
   plant::ActuatorDamage damage{};

@@ -63,7 +63,7 @@ TEST(Presets, FreeFlightInputsAreTheAppliedCommandUnlessNamedHeld) {
       EXPECT_TRUE(p.attitude_hold);
     } else {
       EXPECT_NE(in.find("_applied_rad"), std::string::npos) << in;
-      const auto& names = AppliedChannelNames();
+      const auto& names = vehicle::AppliedChannelNames();
       EXPECT_NE(std::find(names.begin(), names.end(), in), names.end()) << in;
     }
   }
@@ -80,13 +80,13 @@ TEST(Phases, HaveNamesAndParse) {
 }
 
 // The channel readers see the designed mappings, and only their own channel: the hold's roll
-// and pitch corrections (ApplyAttitudeHold) leave the vertical and yaw channels alone and show
-// up in full in the roll and pitch ones.
+// and pitch corrections (vehicle::ApplyAttitudeHold) leave the vertical and yaw channels alone and
+// show up in full in the roll and pitch ones.
 TEST(CommandChannels, ReadTheActuatorMappingsAndTheHold) {
   const plant::PlantConfig config = plant::DefaultPlantConfig();
   const plant::TrimResult trim = plant::FindHoverTrim(config);
   plant::CommandMatrix c = trim.command;
-  const std::vector<double> at_trim = AppliedChannelValues(c, trim.amp_rad);
+  const std::vector<double> at_trim = vehicle::AppliedChannelValues(c, trim.amp_rad);
   for (const double v : at_trim) EXPECT_EQ(v, 0.0);
   c(0, plant::kStrokeAmplitude) += 0.03;  // fore-left
   c(1, plant::kStrokeAmplitude) += 0.01;  // hind-left
@@ -95,23 +95,24 @@ TEST(CommandChannels, ReadTheActuatorMappingsAndTheHold) {
   c(2, plant::kStrokePlaneAngle) = 0.2;
   c(3, plant::kStrokePlaneAngle) = 0.1;
   c(0, plant::kStrokePlaneAngle) = -0.1;
-  EXPECT_NEAR(VerticalChannelRad(c, trim.amp_rad), (0.03 + 0.01 - 0.02) / 4, 1e-14);
-  EXPECT_NEAR(RollChannelRad(c), 0.5 * ((0.03 + 0.01) / 2 - (-0.02) / 2), 1e-14);
-  EXPECT_NEAR(PitchChannelRad(c), 0.5 * ((0.03 + 0.0) / 2 - (0.01 - 0.02) / 2), 1e-14);
-  EXPECT_NEAR(YawChannelRad(c), 0.5 * ((0.2 + 0.1) / 2 - (-0.1) / 2), 1e-14);
+  EXPECT_NEAR(vehicle::VerticalChannelRad(c, trim.amp_rad), (0.03 + 0.01 - 0.02) / 4, 1e-14);
+  EXPECT_NEAR(vehicle::RollChannelRad(c), 0.5 * ((0.03 + 0.01) / 2 - (-0.02) / 2), 1e-14);
+  EXPECT_NEAR(vehicle::PitchChannelRad(c), 0.5 * ((0.03 + 0.0) / 2 - (0.01 - 0.02) / 2), 1e-14);
+  EXPECT_NEAR(vehicle::YawChannelRad(c), 0.5 * ((0.2 + 0.1) / 2 - (-0.1) / 2), 1e-14);
 
   plant::PlantOutput o;
   o.roll_rad = 0.1;
   o.pitch_rad = -0.05;
   o.rate_body_radps = Eigen::Vector3d(0.3, 0.2, 0.0);
-  const AttitudeHoldGains g = DefaultAttitudeHoldGains();
-  const plant::CommandMatrix held = ApplyAttitudeHold(g, c, o);
-  EXPECT_NEAR(VerticalChannelRad(held, trim.amp_rad), VerticalChannelRad(c, trim.amp_rad), 1e-14);
-  EXPECT_EQ(YawChannelRad(held), YawChannelRad(c));
-  EXPECT_NEAR(RollChannelRad(held) - RollChannelRad(c), -(g.roll_kp * 0.1 + g.roll_kd_s * 0.3),
-              1e-14);
-  EXPECT_NEAR(PitchChannelRad(held) - PitchChannelRad(c), g.pitch_kp * -0.05 + g.pitch_kd_s * 0.2,
-              1e-14);
+  const vehicle::AttitudeHoldGains g = vehicle::DefaultAttitudeHoldGains();
+  const plant::CommandMatrix held = vehicle::ApplyAttitudeHold(g, c, o);
+  EXPECT_NEAR(vehicle::VerticalChannelRad(held, trim.amp_rad),
+              vehicle::VerticalChannelRad(c, trim.amp_rad), 1e-14);
+  EXPECT_EQ(vehicle::YawChannelRad(held), vehicle::YawChannelRad(c));
+  EXPECT_NEAR(vehicle::RollChannelRad(held) - vehicle::RollChannelRad(c),
+              -(g.roll_kp * 0.1 + g.roll_kd_s * 0.3), 1e-14);
+  EXPECT_NEAR(vehicle::PitchChannelRad(held) - vehicle::PitchChannelRad(c),
+              g.pitch_kp * -0.05 + g.pitch_kd_s * 0.2, 1e-14);
 }
 
 class EveryPreset : public ::testing::TestWithParam<std::string> {};
@@ -176,7 +177,7 @@ TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
         in.rfind("w1_", 0) == 0 || (in.size() > 4 && in.substr(in.size() - 4) == "_avg");
     bool is_excitation = false;
     for (const std::string& name : train.excitation_names) is_excitation |= name == in;
-    for (const std::string& name : AppliedChannelNames())
+    for (const std::string& name : vehicle::AppliedChannelNames())
       is_excitation |= train.record_applied && name == in;
     EXPECT_TRUE(is_command || is_excitation) << in;
   }
@@ -184,12 +185,12 @@ TEST_P(EveryPreset, TrainSelectAndValidateDifferStayWithinLimitsAndAreSeeded) {
   if (train.record_applied) {
     const std::string& u = train.excitation_names.at(0);
     const std::string applied = u.substr(0, u.size() - 4) + "_applied_rad";
-    const auto& names = AppliedChannelNames();
+    const auto& names = vehicle::AppliedChannelNames();
     const std::size_t channel =
         static_cast<std::size_t>(std::find(names.begin(), names.end(), applied) - names.begin());
     ASSERT_LT(channel, names.size()) << applied;
     for (std::size_t k = 0; k < train.commands.size(); ++k) {
-      ASSERT_EQ(AppliedChannelValues(train.commands[k], train.trim.amp_rad)[channel],
+      ASSERT_EQ(vehicle::AppliedChannelValues(train.commands[k], train.trim.amp_rad)[channel],
                 train.excitation_values[0][k])
           << k;
     }
@@ -251,7 +252,7 @@ TEST(Presets, BeyondThePaperAreDecimatedAndReadLiveSignals) {
     EXPECT_EQ(p.paper_accuracy_text, "not in the paper");
     const ExperimentRun run = BuildExperimentRun(p, Phase::kTrain, 1, 0.0, config);
     for (const std::string& in : p.input_columns) {
-      const auto& applied = AppliedChannelNames();
+      const auto& applied = vehicle::AppliedChannelNames();
       const bool ok =
           (p.attitude_hold && std::find(applied.begin(), applied.end(), in) != applied.end()) ||
           std::find(run.excitation_names.begin(), run.excitation_names.end(), in) !=

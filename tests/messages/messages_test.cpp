@@ -84,9 +84,9 @@ TEST(Messages, BeatAveragesAndAppliedChannelsReadBackFromTheBeatState) {
     EXPECT_EQ(*BeatStateField(m, name), values[i]) << name;
     EXPECT_EQ(BeatStateOffset(name), 0) << name;
   }
-  const auto applied = experiments::AppliedChannelValues(s.applied_command, 0.5);
+  const auto applied = vehicle::AppliedChannelValues(s.applied_command, 0.5);
   for (std::size_t i = 0; i < applied.size(); ++i) {
-    const std::string& name = experiments::AppliedChannelNames()[i];
+    const std::string& name = vehicle::AppliedChannelNames()[i];
     EXPECT_EQ(*BeatStateField(m, name), applied[i]) << name;
     EXPECT_EQ(BeatStateOffset(name), 1) << name;
   }
@@ -148,7 +148,7 @@ TEST(SampleColumns, DecimationAveragesWhatHoldsOverASampleAndSamplesTheRest) {
   for (const auto& n : plant::BeatSignalNames()) EXPECT_FALSE(experiments::IsAveragedSignal(n));
   for (const auto& n : experiments::CommandSignalNames())
     EXPECT_TRUE(experiments::IsAveragedSignal(n));
-  for (const auto& n : experiments::AppliedChannelNames())
+  for (const auto& n : vehicle::AppliedChannelNames())
     EXPECT_TRUE(experiments::IsAveragedSignal(n));
   EXPECT_TRUE(experiments::IsAveragedSignal("u_roll_rad"));  // an excitation
   EXPECT_FALSE(experiments::IsAveragedSignal("t_s"));

@@ -177,7 +177,7 @@ void ExpectSameAsSim(const Recording& rec, const odonata::io::CsvTable& sim, boo
           << name << " at sample " << k << ": bus " << got << ", odonata-sim " << want;
     }
     const auto& names = sim.names();
-    for (const std::string& name : odonata::experiments::AppliedChannelNames()) {
+    for (const std::string& name : odonata::vehicle::AppliedChannelNames()) {
       if (std::find(names.begin(), names.end(), name) == names.end()) continue;
       ASSERT_EQ(rec.beats.count(k + 1), 1u);
       const double got = *odonata::messages::BeatStateField(rec.beats.at(k + 1), name);
@@ -246,7 +246,7 @@ TEST_F(PipelineProcess, LockstepRollMatchesOdonataSimBitForBit) {
   std::vector<std::string> compared = odonata::plant::StateSignalNames();
   compared.push_back("u_roll_rad");
   for (const auto* names :
-       {&odonata::plant::BeatSignalNames(), &odonata::experiments::AppliedChannelNames()})
+       {&odonata::plant::BeatSignalNames(), &odonata::vehicle::AppliedChannelNames()})
     compared.insert(compared.end(), names->begin(), names->end());
   for (const std::string& name : compared) {
     const std::vector<double>& got = csv.Column(name);

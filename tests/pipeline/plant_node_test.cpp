@@ -13,7 +13,6 @@
 #include <limits>
 #include <vector>
 
-#include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
 #include "experiments/sample_columns.hpp"
 #include "messages/beat_state_message.hpp"
@@ -22,6 +21,7 @@
 #include "pipeline/vehicle_setup.hpp"
 #include "plant/output_signals.hpp"
 #include "support/memq_bus.hpp"
+#include "vehicle/attitude_hold.hpp"
 
 namespace odonata::plant_service {
 namespace {
@@ -117,7 +117,7 @@ void ExpectBeatState(const odonata::beat_state_t& m, const plant::PlantOutput& o
     EXPECT_TRUE(Same(m.applied_pitch_amp_rad[w], applied(w, plant::kPitchAmplitude))) << w;
     EXPECT_TRUE(Same(m.applied_phase_rad[w], applied(w, plant::kPitchPhase))) << w;
   }
-  const std::vector<double> u = experiments::AppliedChannelValues(applied, trim_amp_rad);
+  const std::vector<double> u = vehicle::AppliedChannelValues(applied, trim_amp_rad);
   EXPECT_TRUE(Same(m.u_vertical_applied_rad, u[0]));
   EXPECT_TRUE(Same(m.u_roll_applied_rad, u[1]));
   EXPECT_TRUE(Same(m.u_pitch_applied_rad, u[2]));
@@ -148,7 +148,7 @@ TEST_F(PlantNodeTest, PublishesTheBeatStateBesideEveryStateWithTheSameSeq) {
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     Send(Command(static_cast<int64_t>(k), run.commands[k]));
     const plant::CommandMatrix applied = reference.ClampToLimits(
-        experiments::ApplyAttitudeHold(setup.hold_gains, run.commands[k], reference.output()));
+        vehicle::ApplyAttitudeHold(setup.hold_gains, run.commands[k], reference.output()));
     ASSERT_EQ(reference.Step(applied), plant::StepStatus::kOk);
     ASSERT_EQ(beats_.size(), states_.size());
     const odonata::beat_state_t& b = beats_.back();

@@ -8,11 +8,11 @@
 #include <cstring>
 #include <limits>
 
-#include "experiments/attitude_hold.hpp"
 #include "experiments/experiment_preset.hpp"
-#include "pipeline/command_limits.hpp"
 #include "pipeline/vehicle_setup.hpp"
 #include "sequence/sequence_window.hpp"
+#include "vehicle/attitude_hold.hpp"
+#include "vehicle/command_limits.hpp"
 
 namespace odonata::pipeline {
 namespace {
@@ -71,7 +71,7 @@ TEST_F(PlantSessionTest, LockstepStepsExactlyAsOdonataSimDoes) {
     ASSERT_EQ(out.verdict, CommandVerdict::kStepped) << k;
     ASSERT_EQ(out.publish.size(), 1u);
     reference.Step(reference.ClampToLimits(
-        experiments::ApplyAttitudeHold(run.hold_gains, run.commands[k], reference.output())));
+        vehicle::ApplyAttitudeHold(run.hold_gains, run.commands[k], reference.output())));
     EXPECT_EQ(out.publish[0].seq, static_cast<int64_t>(k) + 1);
     EXPECT_EQ(out.publish[0].command_seq, static_cast<int64_t>(k));
     ASSERT_TRUE(SameBits(out.publish[0].output, reference.output())) << "sample " << k + 1;
@@ -371,10 +371,10 @@ TEST_F(PlantSessionTest, DivergenceStopsWithoutNaN) {
 TEST(CommandLimits, ListsEveryProblem) {
   const plant::PlantConfig config = plant::DefaultPlantConfig();
   plant::CommandMatrix c = plant::UniformCommand(config.nominal_command);
-  EXPECT_EQ(CommandLimitProblems(c, config.limits), "");
+  EXPECT_EQ(vehicle::CommandLimitProblems(c, config.limits), "");
   c(0, plant::kFlapFrequency) = 9.0;
   c(3, plant::kPitchPhase) = std::numeric_limits<double>::infinity();
-  const std::string p = CommandLimitProblems(c, config.limits);
+  const std::string p = vehicle::CommandLimitProblems(c, config.limits);
   EXPECT_NE(p.find("w1_freq_hz = 9"), std::string::npos) << p;
   EXPECT_NE(p.find("w4_phase_rad is not finite"), std::string::npos) << p;
 }

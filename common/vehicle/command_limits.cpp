@@ -1,9 +1,9 @@
-#include "pipeline/command_limits.hpp"
+#include "vehicle/command_limits.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-namespace odonata::pipeline {
+namespace odonata::vehicle {
 
 std::string CommandLimitProblems(const plant::CommandMatrix& command,
                                  const plant::ActuatorLimits& limits) {
@@ -27,4 +27,4 @@ std::string CommandLimitProblems(const plant::CommandMatrix& command,
   return problems;
 }
 
-}  // namespace odonata::pipeline
+}  // namespace odonata::vehicle

@@ -1,6 +1,6 @@
-#include "experiments/vehicle_step.hpp"
+#include "vehicle/vehicle_step.hpp"
 
-namespace odonata::experiments {
+namespace odonata::vehicle {
 
 VehicleStep StepVehicle(plant::DimavPlant& plant, const plant::CommandMatrix& command,
                         bool attitude_hold, const AttitudeHoldGains& hold_gains,
@@ -12,4 +12,4 @@ VehicleStep StepVehicle(plant::DimavPlant& plant, const plant::CommandMatrix& co
   return step;
 }
 
-}  // namespace odonata::experiments
+}  // namespace odonata::vehicle

@@ -1,6 +1,6 @@
-#include "experiments/attitude_hold.hpp"
+#include "vehicle/attitude_hold.hpp"
 
-namespace odonata::experiments {
+namespace odonata::vehicle {
 
 AttitudeHoldGains DefaultAttitudeHoldGains() { return AttitudeHoldGains{0.3, 0.0, 0.4, 0.02}; }
 
@@ -19,4 +19,4 @@ plant::CommandMatrix ApplyAttitudeHold(const AttitudeHoldGains& gains,
   return c;
 }
 
-}  // namespace odonata::experiments
+}  // namespace odonata::vehicle

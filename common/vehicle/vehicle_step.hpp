@@ -4,11 +4,11 @@
 // than it is told. odonata-sim and the plant service (pipeline/plant_session.hpp) both step
 // through here, so a CSV row and a bus sample mean the same thing.
 
-#include "experiments/attitude_hold.hpp"
 #include "plant/actuator_damage.hpp"
 #include "plant/dimav_plant.hpp"
+#include "vehicle/attitude_hold.hpp"
 
-namespace odonata::experiments {
+namespace odonata::vehicle {
 
 struct VehicleStep {
   /// What the vehicle's own command path applied over the sample (hold added, clamped), before
@@ -23,4 +23,4 @@ VehicleStep StepVehicle(plant::DimavPlant& plant, const plant::CommandMatrix& co
                         bool attitude_hold, const AttitudeHoldGains& hold_gains,
                         const plant::ActuatorDamage& damage, double t_s);
 
-}  // namespace odonata::experiments
+}  // namespace odonata::vehicle

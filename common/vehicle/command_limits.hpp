@@ -6,11 +6,11 @@
 #include "plant/plant_config.hpp"
 #include "plant/wing_command.hpp"
 
-namespace odonata::pipeline {
+namespace odonata::vehicle {
 
 /// Every problem of `command`, one per line ("w2_amp_rad = 1.6 is above its limit 1.48"), or an
 /// empty string when every entry is finite and inside its inclusive limit.
 std::string CommandLimitProblems(const plant::CommandMatrix& command,
                                  const plant::ActuatorLimits& limits);
 
-}  // namespace odonata::pipeline
+}  // namespace odonata::vehicle

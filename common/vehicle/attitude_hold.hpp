@@ -4,7 +4,7 @@
 #include "plant/dimav_plant.hpp"
 #include "plant/wing_command.hpp"
 
-namespace odonata::experiments {
+namespace odonata::vehicle {
 
 /// Gains of the attitude hold, in rad of stroke-amplitude differential per rad (and per rad/s).
 struct AttitudeHoldGains {
@@ -31,4 +31,4 @@ plant::CommandMatrix ApplyAttitudeHold(const AttitudeHoldGains& gains,
                                        const plant::CommandMatrix& command,
                                        const plant::PlantOutput& output);
 
-}  // namespace odonata::experiments
+}  // namespace odonata::vehicle
