@@ -4,11 +4,11 @@
 #include <stdexcept>
 
 #include "experiments/sample_columns.hpp"
-#include "experiments/vehicle_step.hpp"
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "io/row_decimator.hpp"
 #include "plant/output_signals.hpp"
+#include "vehicle/vehicle_step.hpp"
 
 namespace odonata::sim {
 
@@ -33,7 +33,7 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
   for (std::size_t k = 0; k < run.commands.size(); ++k) {
     const plant::PlantOutput o = plant.output();  // row k: the outputs at t_k, before the step
     const double t_s = static_cast<double>(k) * run.sample_period_s;
-    const experiments::VehicleStep step = experiments::StepVehicle(
+    const vehicle::VehicleStep step = vehicle::StepVehicle(
         plant, run.commands[k], run.attitude_hold, run.hold_gains, run.damage, t_s);
     // The command actually applied (hold added, clamped) is what the wings did, so that is what
     // is written; a damaged wing flies less, and the CSV keeps what was commanded.
@@ -46,7 +46,7 @@ SimResult RunAndWrite(const plant::PlantConfig& config, const experiments::Exper
     for (const std::vector<double>& values : run.excitation_values) row[c++] = values[k];
     for (const double v : plant::BeatSignalValues(o.beat)) row[c++] = v;
     if (run.record_applied) {
-      for (const double v : experiments::AppliedChannelValues(step.applied, run.trim.amp_rad)) {
+      for (const double v : vehicle::AppliedChannelValues(step.applied, run.trim.amp_rad)) {
         row[c++] = v;
       }
     }
