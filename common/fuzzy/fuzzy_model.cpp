@@ -384,6 +384,17 @@ int FuzzyModel::PruneUnsupported(const Eigen::Ref<const Eigen::MatrixXd>& X, dou
   return removed;
 }
 
+void FuzzyModel::DesignRow(const Eigen::Ref<const Eigen::VectorXd>& x,
+                           Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row,
+                           Inference* inference, Eigen::VectorXd* z) const {
+  const int r = rules_.rules();
+  const int w = consequent_->LeastSquaresWidth();
+  rules_.Evaluate(x, inference);
+  z->resize(w);
+  consequent_->LeastSquaresRow(x, *z);
+  for (int j = 0; j < r; ++j) row.segment(j * w, w) = inference->normalized(j) * z->transpose();
+}
+
 bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
                                    double deviation_ridge) {
@@ -402,11 +413,7 @@ bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
   for (Eigen::Index start = 0; start < X.rows(); start += block) {
     const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
     for (Eigen::Index k = 0; k < rows; ++k) {
-      const Eigen::VectorXd xk = X.row(start + k).transpose();
-      rules_.Evaluate(xk, &inf);
-      consequent_->LeastSquaresRow(xk, z);
-      for (int j = 0; j < r; ++j)
-        phi_rows.block(k, j * w, 1, w) = inf.normalized(j) * z.transpose();
+      DesignRow(X.row(start + k).transpose(), phi_rows.row(k), &inf, &z);
     }
     ls.AddRows(phi_rows.topRows(rows), Y.segment(start, rows));
   }
@@ -434,12 +441,8 @@ bool FuzzyModel::RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
   for (Eigen::Index start = 0; start < X.rows(); start += block) {
     const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
     for (Eigen::Index k = 0; k < rows; ++k) {
-      const Eigen::VectorXd xk = X.row(start + k).transpose();
-      rules_.Evaluate(xk, &inf);
-      consequent_->LeastSquaresRow(xk, z);
+      DesignRow(X.row(start + k).transpose(), rows_buf.row(k).tail(m - w), &inf, &z);
       rows_buf.block(k, 0, 1, w) = z.transpose();
-      for (int j = 0; j < r; ++j)
-        rows_buf.block(k, (j + 1) * w, 1, w) = inf.normalized(j) * z.transpose();
     }
     deviation_squares += rows_buf.topRows(rows).rightCols(m - w).squaredNorm();
     ls.AddRows(rows_buf.topRows(rows), Y.segment(start, rows));

@@ -110,6 +110,13 @@ class FuzzyModel {
   /// Moves centres by dc and widths by ds (rules × inputs), widths floored at σ_min.
   void StepPremises(const Eigen::ArrayXXd& dc, const Eigen::ArrayXXd& ds);
 
+  /// The consequents' least-squares design row at x: [φ_1(x) z(x), …, φ_R(x) z(x)], z the
+  /// consequent's regressor (Consequent::LeastSquaresRow), written into `row` (R · width).
+  /// The one home of the row that RefineConsequents, its global-plus-deviations form and the
+  /// consequent tracker (sysid/estimation) all solve for. `inference` and `z` are scratch.
+  void DesignRow(const Eigen::Ref<const Eigen::VectorXd>& x,
+                 Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row, Inference* inference,
+                 Eigen::VectorXd* z) const;
   /// The ANFIS forward pass: with the antecedents fixed, sets every consequent to the global
   /// ridge-regularised least-squares optimum over the rows of X (samples × inputs) and Y, solved
   /// on the weighted design matrix Φ by blockwise QR (BlockwiseLeastSquares). `ridge` is relative

@@ -8,15 +8,11 @@ namespace odonata::sysid {
 
 Eigen::VectorXd ConsequentTracker::GlobalRow(const fuzzy::FuzzyModel& m,
                                              const Eigen::Ref<const Eigen::VectorXd>& x_scaled) {
-  const int r = m.rules();
-  const int w = m.consequent().LeastSquaresWidth();
   fuzzy::Inference inf;
-  m.rule_base().Evaluate(x_scaled, &inf);
-  Eigen::VectorXd z(w);
-  m.consequent().LeastSquaresRow(x_scaled, z);
-  Eigen::VectorXd row(static_cast<Eigen::Index>(r) * w);
-  for (int j = 0; j < r; ++j) row.segment(j * w, w) = inf.normalized(j) * z;
-  return row;
+  Eigen::VectorXd z;
+  Eigen::RowVectorXd row(static_cast<Eigen::Index>(m.rules()) * m.consequent().LeastSquaresWidth());
+  m.DesignRow(x_scaled, row, &inf, &z);
+  return row.transpose();
 }
 
 ConsequentTracker ConsequentTracker::Build(const NarxModel& model, const Series& samples,
