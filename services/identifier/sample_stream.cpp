@@ -40,6 +40,8 @@ std::vector<SampleStream::Event> SampleStream::OnCommand(const odonata::wing_com
 std::vector<SampleStream::Event> SampleStream::OnState(const odonata::plant_state_t& msg) {
   if (!messages::AllFinite(msg)) throw std::invalid_argument("state with NaN or Inf fields");
   std::vector<Event> events = Form(pairer_.OnState(msg));
+  // The first state is a run's very first: its samples are new, whatever a resumed model had
+  // learned of an earlier run (the pairer sees no restart, having no earlier state).
   if (!state_seen_ && msg.seq == 0 && msg.command_seq < 0)
     events.insert(events.begin(), RunBegins());
   state_seen_ = true;
@@ -47,8 +49,7 @@ std::vector<SampleStream::Event> SampleStream::OnState(const odonata::plant_stat
 }
 
 SampleStream::Event SampleStream::RunBegins() {
-  // The first state is a run's very first: its samples are new, whatever a resumed model had
-  // learned of an earlier run (the pairer sees no restart, having no earlier state).
+  decimator_.Reset();  // a block never spans two runs
   Event e;
   e.kind = Event::Kind::kRestart;
   return e;
@@ -71,10 +72,7 @@ std::vector<SampleStream::Event> SampleStream::OnSignals(const odonata::signals_
   signals_seen_ = true;
   if (verdict.kind == Kind::kRestart || run_begins) {
     // The model's history restarts, as for a restarted plant.
-    decimator_.Reset();
-    Event e;
-    e.kind = Event::Kind::kRestart;
-    events.push_back(std::move(e));
+    events.push_back(RunBegins());
   } else if (verdict.lost > 0) {
     Event e;
     e.kind = Event::Kind::kGap;
@@ -120,9 +118,7 @@ std::vector<SampleStream::Event> SampleStream::Form(
     Event e;
     switch (p.kind) {
       case Paired::Kind::kRestart:
-        decimator_.Reset();
-        e.kind = Event::Kind::kRestart;
-        events.push_back(std::move(e));
+        events.push_back(RunBegins());
         break;
       case Paired::Kind::kGap:
         e.kind = Event::Kind::kGap;

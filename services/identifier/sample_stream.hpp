@@ -66,8 +66,9 @@ class SampleStream {
   sysid::RegressorSpec spec_;
   messages::MessagePairer pairer_;
   io::RowDecimator decimator_;
-  // A kRestart event: the run begins with the first state (seq 0) this stream sees.
-  static Event RunBegins();
+  // A run begins (the first state or signals of the stream, or a confirmed restart): the
+  // decimator starts a fresh block, and the kRestart event restarts the model's history.
+  Event RunBegins();
 
   bool started_ = false;
   bool state_seen_ = false;    // a state has been taken: a seq 0 after it is the pairer's restart
