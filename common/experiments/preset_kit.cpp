@@ -88,15 +88,17 @@ double ExcitationContext::Fade(double t) const {
   return signals::TukeyEnvelope(t, t_end_s, kRampS);
 }
 
-ExperimentPreset Actuator(const std::string& name, const std::string& output,
-                          std::vector<std::string> inputs, double h, const std::string& h_text,
-                          int mfs, const std::string& accuracy) {
+namespace {
+
+// What every preset of the paper's section IV shares: its signals, the paper's H̄, membership
+// function count and accuracy for comparison, 30 s phases and the start altitude.
+ExperimentPreset PaperPreset(const std::string& name, const std::string& output,
+                             std::vector<std::string> inputs, double h, const std::string& h_text,
+                             int mfs, const std::string& accuracy) {
   ExperimentPreset p;
   p.name = name;
   p.output_column = output;
   p.input_columns = std::move(inputs);
-  p.ny = 2;
-  p.nu = 2;
   p.delay = 1;
   p.entropy_threshold = h;
   p.paper_entropy_text = h_text;
@@ -105,30 +107,29 @@ ExperimentPreset Actuator(const std::string& name, const std::string& output,
   p.train_duration_s = 30.0;
   p.validate_duration_s = 30.0;
   p.select_duration_s = 30.0;
-  p.clamped_body = true;
   p.start_altitude_m = kStartAltitudeM;
+  return p;
+}
+
+}  // namespace
+
+ExperimentPreset Actuator(const std::string& name, const std::string& output,
+                          std::vector<std::string> inputs, double h, const std::string& h_text,
+                          int mfs, const std::string& accuracy) {
+  ExperimentPreset p = PaperPreset(name, output, std::move(inputs), h, h_text, mfs, accuracy);
+  p.ny = 2;
+  p.nu = 2;
+  p.clamped_body = true;  // a test stand
   return p;
 }
 
 ExperimentPreset Attitude(const std::string& name, const std::string& output,
                           const std::string& input, double h, const std::string& h_text, int mfs,
                           const std::string& accuracy) {
-  ExperimentPreset p;
-  p.name = name;
-  p.output_column = output;
-  p.input_columns = {input};
+  ExperimentPreset p = PaperPreset(name, output, {input}, h, h_text, mfs, accuracy);
   p.ny = 3;
   p.nu = 2;
-  p.delay = 1;
-  p.entropy_threshold = h;
-  p.paper_entropy_text = h_text;
-  p.paper_mf_count = mfs;
-  p.paper_accuracy_text = accuracy;
-  p.train_duration_s = 30.0;
-  p.validate_duration_s = 30.0;
-  p.select_duration_s = 30.0;
-  p.clamped_body = false;
-  p.start_altitude_m = kStartAltitudeM;
+  p.clamped_body = false;  // free flight, the onboard hold on
   p.attitude_hold = true;
   return p;
 }
