@@ -17,6 +17,7 @@
 #include "bus/bus_node.hpp"
 #include "replay/flight_rows.hpp"
 #include "replay/lockstep_receipts.hpp"
+#include "sequence/lockstep_window.hpp"
 
 namespace odonata::replay {
 
@@ -33,7 +34,7 @@ struct ReplayOptions {
   std::vector<std::string> wait_for;
   /// Lockstep: seconds to listen for identifier and logger heartbeats first; each one heard is
   /// waited for too (0: only wait_for).
-  double discover_s = 1.1;
+  double discover_s = pipeline::kLockstepDiscoverySeconds;
   int timeout_ms = 200;   ///< lockstep: resend a sample after this long without every receipt
   int max_resends = 100;  ///< lockstep: resends of one sample before giving up on a consumer
   double progress_s = 5;  ///< seconds between progress lines on stderr (0: none)

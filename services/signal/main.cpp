@@ -17,6 +17,7 @@
 #include "experiments/experiment_preset.hpp"
 #include "pipeline/command_schedule.hpp"
 #include "plant/plant_config.hpp"
+#include "sequence/lockstep_window.hpp"
 #include "signal_node.hpp"
 
 int main(int argc, char** argv) {
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
   app.add_flag("--reset-plant,!--no-reset-plant", options.reset_plant,
                "send RESET (with the preset) first and wait for a fresh state 0 (default on)");
   app.add_option("--plant", options.plant, "plant instance to reset and wait for");
-  options.discover_s = 1.1;  // a heartbeat period and a margin
+  options.discover_s = odonata::pipeline::kLockstepDiscoverySeconds;
   app.add_option("--wait-for", options.wait_for,
                  "lockstep: a consumer instance whose receipt (ODONATA_ACK) of each state the "
                  "window waits for (repeatable)");

@@ -24,7 +24,8 @@ loss() {  # loss PERCENT: drop that share of the datagrams on the port (0: none)
 dropped() { iptables -L INPUT -v -n -x | awk '/DROP/ {print $1}'; }
 
 # Lockstep: clean one command at a time, then 5 % loss with the default window, same seed: the
-# same model.
+# same model. The consumers are named (--wait-for): discovery alone could miss both heartbeats
+# under the loss and leave them out of the run (it did once, under four CPU hogs).
 lockstep() {  # lockstep NAME [SIGNAL_FLAGS...]
   local name=$1
   shift
@@ -34,7 +35,8 @@ lockstep() {  # lockstep NAME [SIGNAL_FLAGS...]
     --save-model "$OUT/$name/model.json"
   wait_up "$URL" logger odonata-plant identifier -- --fresh
   timeout 120 "$SIGNAL" --preset roll --phase train --duration 5 --mode lockstep --lcm-url "$URL" \
-    --timeout-ms 20 --max-resends 50 "$@" >"$OUT/$name/signal.log" 2>&1 ||
+    --timeout-ms 20 --max-resends 50 --wait-for identifier --wait-for logger "$@" \
+    >"$OUT/$name/signal.log" 2>&1 ||
     fail "lockstep run ($name) failed: $(cat "$OUT/$name/signal.log")"
   eval "stop_clean \$PID_ident_$name identifier; stop_clean \$PID_plant_$name plant; stop_clean \$PID_logger_$name logger"
 }
