@@ -57,30 +57,40 @@ double Tolerated(double score, const SelectionOptions& options) {
   return std::max(score * (1.0 + options.relative_tolerance), score + options.absolute_tolerance);
 }
 
-// Trains `c`'s setting on `fit` (epochs as given, the hold-out choosing among them when there is
-// one) and returns the model.
-NarxModel TrainCandidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
-                         const TrainOptions& train_options, const SelectionOptions& options,
-                         const Candidate& c, const Series& fit, const Series* holdout, int horizon,
-                         int epochs, TrainReport* report, bool with_simulation) {
-  NarxModel model(spec, CandidateConfig(base, c));
-  TrainOptions t = train_options;
-  if (options.scaling) {
-    model.SetScaling(*options.scaling);
+NarxModel TrainCandidate(const SelectionContext& ctx, const Candidate& c, const Series& fit,
+                         const Series* holdout, int epochs, TrainReport* report,
+                         bool with_simulation) {
+  NarxModel model(ctx.spec, CandidateConfig(ctx.base, c));
+  TrainOptions t = ctx.train_options;
+  if (ctx.options.scaling) {
+    model.SetScaling(*ctx.options.scaling);
     t.fit_scaling = false;
   }
   t.progress = {};
   t.deviation_ridge = c.deviation_ridge;
   t.epochs = epochs;
   t.holdout = holdout;
-  t.holdout_free_run = horizon == 0;
-  t.holdout_horizon = horizon > 1 ? horizon : 0;
-  t.patience = holdout != nullptr ? options.patience : 0;
+  t.holdout_free_run = ctx.horizon == 0;
+  t.holdout_horizon = ctx.horizon > 1 ? ctx.horizon : 0;
+  t.patience = holdout != nullptr ? ctx.options.patience : 0;
   t.simulation.clear();
   if (with_simulation) t.simulation = c.simulation;
   const TrainReport r = model.Train(fit, t);
   if (report) *report = r;
   return model;
+}
+
+void ScoreCandidate(const SelectionContext& ctx, Candidate& c, const NarxModel& model) {
+  c.rules = model.total_rules();
+  c.holdout_one_step_ndei = model.Ndei(ctx.holdout, false);
+  c.holdout_free_run_ndei = ctx.spec.output_lags > 0 ? model.Ndei(ctx.holdout, true)
+                                                     : std::numeric_limits<double>::quiet_NaN();
+  c.holdout_ahead_ndei = ctx.horizon > 1 ? model.NdeiAhead(ctx.holdout, ctx.horizon)
+                                         : std::numeric_limits<double>::quiet_NaN();
+  c.score = ctx.horizon == 0   ? c.holdout_free_run_ndei
+            : ctx.horizon == 1 ? c.holdout_one_step_ndei
+                               : c.holdout_ahead_ndei;
+  if (!std::isfinite(c.score)) c.score = std::numeric_limits<double>::infinity();
 }
 
 // The criterion's NDEI: free run (horizon 0), one step (1) or `horizon` steps ahead.

@@ -96,10 +96,12 @@ double PairedStandardError(const std::vector<double>& a, const std::vector<doubl
 // `linear_folds`, when given, are the linear model's fold scores from an earlier check.
 // `second_look`: the fuzzy candidate is not the hold-out's choice, so the folds alone must show
 // that it beats the linear model (below).
-LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
-                          const TrainOptions& train_options, const SelectionOptions& options,
-                          const Candidate& fuzzy_c, const Candidate& linear_c, const Series& train,
-                          int horizon, const std::vector<double>* linear_folds, bool second_look) {
+LinearCheck CrossValidate(const SelectionContext& ctx, const Candidate& fuzzy_c,
+                          const Candidate& linear_c, const std::vector<double>* linear_folds,
+                          bool second_look) {
+  const Series& train = ctx.train;
+  const SelectionOptions& options = ctx.options;
+  const RegressorSpec& spec = ctx.spec;
   LinearCheck check;
   const Eigen::Index n = train.samples();
   const int k = options.linear_check_folds;
@@ -122,9 +124,9 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
     const std::size_t f = i / per_fold;
     const bool fuzzy = i % per_fold == 0;
     const Candidate& c = fuzzy ? fuzzy_c : linear_c;
-    const NarxModel m = TrainCandidate(spec, base, train_options, options, c, rests[f], nullptr,
-                                       horizon, fuzzy ? std::max(1, c.epochs) : 1, nullptr, true);
-    scores[i] = Score(m, folds[f], horizon);
+    const NarxModel m =
+        TrainCandidate(ctx, c, rests[f], nullptr, fuzzy ? std::max(1, c.epochs) : 1, nullptr, true);
+    scores[i] = Score(m, folds[f], ctx.horizon);
   });
   for (int f = 0; f < k; ++f) {
     check.fuzzy_folds.push_back(scores[per_fold * static_cast<std::size_t>(f)]);
@@ -150,6 +152,56 @@ LinearCheck CrossValidate(const RegressorSpec& spec, const fuzzy::FuzzyModelConf
         std::max(check.margin, PairedStandardError(check.fuzzy_folds, check.linear_folds));
   check.linear_chosen = !(check.fuzzy_score + check.margin < check.linear_score);
   return check;
+}
+
+void CheckAgainstLinear(const SelectionContext& ctx, SelectionState& st) {
+  SelectionResult& result = st.result;
+  const auto& cs = result.candidates;
+  const std::size_t linear = *st.linear_index;
+  // The chosen candidate first, then the others by hold-out score, until one beats ARX.
+  std::vector<std::size_t> order{result.chosen};
+  for (std::size_t k = 0; k < cs.size(); ++k)
+    if (k != result.chosen && k != linear && std::isfinite(cs[k].score)) order.push_back(k);
+  std::stable_sort(order.begin() + 1, order.end(),
+                   [&](std::size_t a, std::size_t b) { return cs[a].score < cs[b].score; });
+  order.resize(std::min(
+      order.size(), static_cast<std::size_t>(std::max(1, ctx.options.linear_check_candidates))));
+  std::optional<std::size_t> winner;
+  for (const std::size_t k : order) {
+    LinearCheck check =
+        CrossValidate(ctx, cs[k], cs[linear], st.linear_folds.empty() ? nullptr : &st.linear_folds,
+                      k != result.chosen);
+    if (check.done) st.linear_folds = check.linear_folds;
+    if (!check.done) break;  // too short to fold: the hold-out alone decides
+    check.candidate = k;
+    result.linear_checks.push_back(check);
+    if (!check.linear_chosen) {
+      winner = k;
+      break;
+    }
+  }
+  if (result.linear_checks.empty()) return;
+  const LinearCheck& first = result.linear_checks.front();
+  result.linear_check = winner ? result.linear_checks.back() : first;
+  std::ostringstream w;
+  if (!winner) {
+    w << "the fuzzy model (" << cs[first.candidate].rules << " rules)";
+    if (result.linear_checks.size() > 1)
+      w << " and the next " << result.linear_checks.size() - 1 << " by hold-out score";
+    w << " did not beat the linear one in " << ctx.options.linear_check_folds
+      << "-fold blocked cross-validation (NDEI " << first.fuzzy_score << " vs "
+      << first.linear_score << "): the linear model (" << LinearFitName(result) << ") is chosen";
+    result.warnings.push_back(w.str());
+    result.chosen = linear;
+  } else if (*winner != result.chosen) {
+    w << "the chosen fuzzy model (" << cs[result.chosen].rules << " rules) lost the "
+      << ctx.options.linear_check_folds << "-fold blocked cross-validation to the linear one (NDEI "
+      << first.fuzzy_score << " vs " << first.linear_score << "); the next by hold-out score, "
+      << cs[*winner].rules << " rules, won it (" << result.linear_check.fuzzy_score
+      << ") and is chosen";
+    result.warnings.push_back(w.str());
+    result.chosen = *winner;
+  }
 }
 
 }  // namespace odonata::sysid
