@@ -1,14 +1,16 @@
 #include "fit_report_text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 namespace odonata::fit {
+namespace {
 
-std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
-  std::ostringstream out;
-  char line[256];
+double Num(const nlohmann::json& v) { return v.is_null() ? NAN : v.get<double>(); }
+
+void FormatHeader(std::ostream& out, const nlohmann::json& r) {
   out << "odonata-fit: " << r["target"].get<std::string>() << " from";
   for (const auto& name : r["regressors"]) out << ' ' << name.get<std::string>();
   out << "\n  " << r["rules"].get<int>() << " rules (" << r["consequent"].get<std::string>()
@@ -24,139 +26,143 @@ std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
         << " steady-state models refused by their checks, " << f["linear_landed"].get<long>()
         << " landed the linear model, which won on the samples since they began)\n";
   }
-  if (r.contains("selection")) {
-    const auto& sel = r["selection"];
-    const std::string on = sel.value("scored_on", std::string("training hold-out"));
-    out << "\n  model selection on " << sel["holdout_samples"].get<long>() << " samples of "
-        << (on == "training hold-out" ? std::string("the training file's end") : on) << " ("
-        << sel["criterion"].get<std::string>() << " NDEI; fewest rules within "
-        << 100 * sel["relative_tolerance"].get<double>() << " % or "
-        << sel["absolute_tolerance"].get<double>()
-        << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
-           "free-run NDEI";
-    // Scored K steps ahead, the score itself is a column too.
-    const int ahead = sel["criterion"] == "k_step" ? sel["criterion_horizon"].get<int>() : 0;
-    if (ahead > 0) {
-      const std::string head = std::to_string(ahead) + "-step NDEI";
-      out << std::string(15 - std::min<std::size_t>(head.size(), 13), ' ') << head;
-    }
-    out << "  ridge\n";
-    if (sel.value("searched_rows", 0L) < sel.value("training_rows", 0L))
-      out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
-          << sel["training_rows"].get<long>()
-          << " training rows, in blocks spread over the file; --search-rows)\n";
-    std::size_t k = 0;
-    auto num = [](const nlohmann::json& v) { return v.is_null() ? NAN : v.get<double>(); };
-    for (const auto& c : sel["candidates"]) {
-      const bool chosen = k == sel["chosen_index"].get<std::size_t>();
-      const bool best = k == sel["best_index"].get<std::size_t>();
-      const bool linear = c.value("linear", false);
-      const bool from_linear =
-          !c["simulation"].empty() && c["simulation"].front().value("from_linear", false);
-      char ahead_cell[32] = "";
-      if (ahead > 0)
-        std::snprintf(ahead_cell, sizeof ahead_cell, "  %13.4g",
-                      num(c.value("holdout_ahead_ndei", nlohmann::json())));
-      std::snprintf(line, sizeof line,
-                    "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s  %5.2g%s\n",
-                    chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
-                    c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
-                    c["epochs"].get<int>(), c["rules"].get<int>(), num(c["holdout_one_step_ndei"]),
-                    num(c["holdout_free_run_ndei"]), ahead_cell, c.value("deviation_ridge", 0.0),
-                    c.value("restless", false)        ? "  (oscillates at rest)"
-                    : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
-                    : best && from_linear             ? "  (best; from ARX)"
-                    : best                            ? "  (best)"
-                    : from_linear                     ? "  (from ARX)"
-                                                      : "");
-      out << line;
-      ++k;
-    }
-    if (sel.contains("linear_fit_check")) {
-      const auto& oc = sel["linear_fit_check"];
-      std::snprintf(line, sizeof line,
-                    "    the linear model's fits, %d folds, mean NDEI: output error %.4g, one "
-                    "step %.4g: %s kept\n",
-                    oc["folds"].get<int>(), num(oc["output_error_ndei"]), num(oc["one_step_ndei"]),
-                    oc["output_error_kept"].get<bool>() ? "output error" : "one step");
-      out << line;
-    }
-    if (sel.contains("linear_check")) {
-      const nlohmann::json checks = sel.contains("linear_checks")
-                                        ? sel["linear_checks"]
-                                        : nlohmann::json::array({sel["linear_check"]});
-      for (const auto& lc : checks) {
-        const bool lost = lc["linear_chosen"].get<bool>();
-        const bool last = &lc == &checks.back();
-        std::snprintf(
-            line, sizeof line,
-            "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g (%d rules), ARX %.4g, "
-            "margin needed %.2g: %s\n",
-            lc["folds"].get<int>(), num(lc["fuzzy_ndei"]),
-            lc.contains("candidate_index")
-                ? sel["candidates"][lc["candidate_index"].get<std::size_t>()].value("rules", 0)
-                : 0,
-            num(lc["linear_ndei"]), lc.value("margin", 0.0),
-            !lost  ? "fuzzy kept"
-            : last ? "ARX kept"
-                   : "lost, the next by hold-out is tried");
-        out << line;
-      }
-    }
+}
+
+// One line per candidate; `ahead` > 0 adds the K-step score's column.
+void FormatCandidates(std::ostream& out, const nlohmann::json& sel, int ahead) {
+  char line[256];
+  std::size_t k = 0;
+  for (const auto& c : sel["candidates"]) {
+    const bool chosen = k == sel["chosen_index"].get<std::size_t>();
+    const bool best = k == sel["best_index"].get<std::size_t>();
+    const bool linear = c.value("linear", false);
+    const bool from_linear =
+        !c["simulation"].empty() && c["simulation"].front().value("from_linear", false);
+    char ahead_cell[32] = "";
+    if (ahead > 0)
+      std::snprintf(ahead_cell, sizeof ahead_cell, "  %13.4g",
+                    Num(c.value("holdout_ahead_ndei", nlohmann::json())));
+    std::snprintf(line, sizeof line,
+                  "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s  %5.2g%s\n",
+                  chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
+                  c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
+                  c["epochs"].get<int>(), c["rules"].get<int>(), Num(c["holdout_one_step_ndei"]),
+                  Num(c["holdout_free_run_ndei"]), ahead_cell, c.value("deviation_ridge", 0.0),
+                  c.value("restless", false)        ? "  (oscillates at rest)"
+                  : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
+                  : best && from_linear             ? "  (best; from ARX)"
+                  : best                            ? "  (best)"
+                  : from_linear                     ? "  (from ARX)"
+                                                    : "");
+    out << line;
+    ++k;
   }
-  auto row = [&](const char* data, const char* model, const nlohmann::json& block) {
+}
+
+// The linear model's two fits weighed, and the checks of fuzzy candidates against it.
+void FormatLinearChecks(std::ostream& out, const nlohmann::json& sel) {
+  char line[256];
+  if (sel.contains("linear_fit_check")) {
+    const auto& oc = sel["linear_fit_check"];
+    std::snprintf(line, sizeof line,
+                  "    the linear model's fits, %d folds, mean NDEI: output error %.4g, one "
+                  "step %.4g: %s kept\n",
+                  oc["folds"].get<int>(), Num(oc["output_error_ndei"]), Num(oc["one_step_ndei"]),
+                  oc["output_error_kept"].get<bool>() ? "output error" : "one step");
+    out << line;
+  }
+  if (!sel.contains("linear_check")) return;
+  const nlohmann::json checks = sel.contains("linear_checks")
+                                    ? sel["linear_checks"]
+                                    : nlohmann::json::array({sel["linear_check"]});
+  for (const auto& lc : checks) {
+    const bool lost = lc["linear_chosen"].get<bool>();
+    const bool last = &lc == &checks.back();
+    std::snprintf(
+        line, sizeof line,
+        "    blocked cross-validation, %d folds, mean NDEI: fuzzy %.4g (%d rules), ARX %.4g, "
+        "margin needed %.2g: %s\n",
+        lc["folds"].get<int>(), Num(lc["fuzzy_ndei"]),
+        lc.contains("candidate_index")
+            ? sel["candidates"][lc["candidate_index"].get<std::size_t>()].value("rules", 0)
+            : 0,
+        Num(lc["linear_ndei"]), lc.value("margin", 0.0),
+        !lost  ? "fuzzy kept"
+        : last ? "ARX kept"
+               : "lost, the next by hold-out is tried");
+    out << line;
+  }
+}
+
+void FormatSelection(std::ostream& out, const nlohmann::json& sel) {
+  const std::string on = sel.value("scored_on", std::string("training hold-out"));
+  out << "\n  model selection on " << sel["holdout_samples"].get<long>() << " samples of "
+      << (on == "training hold-out" ? std::string("the training file's end") : on) << " ("
+      << sel["criterion"].get<std::string>() << " NDEI; fewest rules within "
+      << 100 * sel["relative_tolerance"].get<double>() << " % or "
+      << sel["absolute_tolerance"].get<double>()
+      << " of the best):\n      consequent  H        kappa  epochs  rules  one-step NDEI  "
+         "free-run NDEI";
+  // Scored K steps ahead, the score itself is a column too.
+  const int ahead = sel["criterion"] == "k_step" ? sel["criterion_horizon"].get<int>() : 0;
+  if (ahead > 0) {
+    const std::string head = std::to_string(ahead) + "-step NDEI";
+    out << std::string(15 - std::min<std::size_t>(head.size(), 13), ' ') << head;
+  }
+  out << "  ridge\n";
+  if (sel.value("searched_rows", 0L) < sel.value("training_rows", 0L))
+    out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
+        << sel["training_rows"].get<long>()
+        << " training rows, in blocks spread over the file; --search-rows)\n";
+  FormatCandidates(out, sel, ahead);
+  FormatLinearChecks(out, sel);
+}
+
+// One output's scores: the model's, then each baseline's, per data set and mode.
+void FormatScores(std::ostream& out, const nlohmann::json& b) {
+  const auto row = [&out](const char* data, const char* model, const nlohmann::json& block) {
+    char line[256];
     for (const char* mode : {"one_step", "free_run", "k_step"}) {
       if (!block.contains(mode)) continue;
       const auto& a = block[mode];
-      auto get = [&](const char* k) { return a[k].is_null() ? NAN : a[k].get<double>(); };
       std::snprintf(line, sizeof line, "  %-10s %-10s %-11s %8.2f  %8.2f  %10.4g\n", data, mode,
-                    model, get("fit"), get("vaf"), get("rmse"));
+                    model, Num(a["fit"]), Num(a["vaf"]), Num(a["rmse"]));
       out << line;
     }
   };
-  // One table (and rule list) per output: the top level holds the first, per_output all.
-  const auto table = [&](const nlohmann::json& b) {
-    out << "\n  data       mode       model         FIT %     VAF %        RMSE\n";
-    for (const char* data : {"train", "validate"}) {
-      if (!b.contains(data)) continue;
-      row(data, "fuzzy", b[data]);
-      if (!b.contains("baselines")) continue;
-      const auto& base = b["baselines"];
-      if (base.contains("arx") && base["arx"].contains(data)) row(data, "ARX", base["arx"][data]);
-      if (base.contains("arx_squared_inputs") && base["arx_squared_inputs"].contains(data))
-        row(data, "ARX+u^2", base["arx_squared_inputs"][data]);
-      if (base.contains("persistence") && base["persistence"].contains(data))
-        row(data, "persistence", base["persistence"][data]);
-      if (base.contains("readable") && base["readable"].contains(data))
-        row(data, "readable", base["readable"][data]);
-    }
-  };
-  const auto rules = [&](const nlohmann::json& b) {
-    // The readable form by default (the full one when there is none), the full one on request.
-    const bool readable = rules_shown == RulesShown::kReadable && b.contains("readable");
-    if (rules_shown == RulesShown::kNone || (!readable && !b.contains("rule_text"))) return;
-    if (readable) {
-      const auto& rd = b["readable"];
-      out << "\n  rules, readable form (" << rd["rules"].get<int>() << " of "
-          << b["rules"].get<int>() << "; --full-rules for every rule):\n";
-      for (const auto& s : rd["text"]) out << "    " << s.get<std::string>() << "\n";
-      return;
-    }
-    out << "\n  rules:\n";
-    int k = 1;
-    for (const auto& s : b["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";
-  };
-  if (r.contains("per_output")) {
-    for (const auto& [name, b] : r["per_output"].items()) {
-      out << "\n  " << b["target"].get<std::string>() << ": " << b["rules"].get<int>()
-          << " rules\n";
-      table(b);
-      rules(b);
-    }
-  } else {
-    table(r);
-    rules(r);
+  out << "\n  data       mode       model         FIT %     VAF %        RMSE\n";
+  for (const char* data : {"train", "validate"}) {
+    if (!b.contains(data)) continue;
+    row(data, "fuzzy", b[data]);
+    if (!b.contains("baselines")) continue;
+    const auto& base = b["baselines"];
+    if (base.contains("arx") && base["arx"].contains(data)) row(data, "ARX", base["arx"][data]);
+    if (base.contains("arx_squared_inputs") && base["arx_squared_inputs"].contains(data))
+      row(data, "ARX+u^2", base["arx_squared_inputs"][data]);
+    if (base.contains("persistence") && base["persistence"].contains(data))
+      row(data, "persistence", base["persistence"][data]);
+    if (base.contains("readable") && base["readable"].contains(data))
+      row(data, "readable", base["readable"][data]);
   }
+}
+
+// The readable form by default (the full one when there is none), the full one on request.
+void FormatRules(std::ostream& out, const nlohmann::json& b, RulesShown rules_shown) {
+  const bool readable = rules_shown == RulesShown::kReadable && b.contains("readable");
+  if (rules_shown == RulesShown::kNone || (!readable && !b.contains("rule_text"))) return;
+  if (readable) {
+    const auto& rd = b["readable"];
+    out << "\n  rules, readable form (" << rd["rules"].get<int>() << " of " << b["rules"].get<int>()
+        << "; --full-rules for every rule):\n";
+    for (const auto& s : rd["text"]) out << "    " << s.get<std::string>() << "\n";
+    return;
+  }
+  out << "\n  rules:\n";
+  int k = 1;
+  for (const auto& s : b["rule_text"]) out << "  " << k++ << ". " << s.get<std::string>() << "\n";
+}
+
+void FormatFooter(std::ostream& out, const nlohmann::json& r) {
   if (r.contains("warnings")) {
     for (const auto& w : r["warnings"]) out << "\n  warning: " << w.get<std::string>();
     if (!r["warnings"].empty()) out << "\n";
@@ -170,6 +176,27 @@ std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
     for (const auto& p : r["plots"]) out << " " << p.get<std::string>();
     out << "\n";
   }
+}
+
+}  // namespace
+
+std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
+  std::ostringstream out;
+  FormatHeader(out, r);
+  if (r.contains("selection")) FormatSelection(out, r["selection"]);
+  // One table (and rule list) per output: the top level holds the first, per_output all.
+  if (r.contains("per_output")) {
+    for (const auto& [name, b] : r["per_output"].items()) {
+      out << "\n  " << b["target"].get<std::string>() << ": " << b["rules"].get<int>()
+          << " rules\n";
+      FormatScores(out, b);
+      FormatRules(out, b, rules_shown);
+    }
+  } else {
+    FormatScores(out, r);
+    FormatRules(out, r, rules_shown);
+  }
+  FormatFooter(out, r);
   return out.str();
 }
 

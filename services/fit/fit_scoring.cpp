@@ -130,39 +130,6 @@ std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec
   return out;
 }
 
-nlohmann::json StagesToJson(const std::vector<sysid::SimulationStage>& stages) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const auto& st : stages) {
-    nlohmann::json j = {{"horizon", st.horizon}, {"steps", st.steps}};
-    if (st.gauss_newton) j["levenberg_marquardt"] = true;
-    if (st.from_linear) j["from_linear"] = true;
-    a.push_back(j);
-  }
-  return a;
-}
-
-nlohmann::json CandidateToJson(const sysid::Candidate& c) {
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
-  return {{"consequent", fuzzy::ToString(c.consequent)},
-          {"linear", c.linear},
-          {"simulation", StagesToJson(c.simulation)},
-          {"entropy_threshold", c.threshold},
-          {"kappa", c.kappa},
-          {"deviation_ridge", c.deviation_ridge},
-          {"epochs", c.epochs},
-          {"rules", c.rules},
-          {"at_cap", c.at_cap},
-          {"holdout_one_step_ndei", num(c.holdout_one_step_ndei)},
-          {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
-          {"holdout_ahead_ndei", num(c.holdout_ahead_ndei)},
-          {"score", num(c.score)},
-          {"rest_deviation", num(c.rest_deviation)},
-          {"restless", c.restless},
-          {"one_step_lost", c.one_step_lost}};
-}
-
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
 /// One output keeps the plain column names; several get one set of columns per output (_NAME).
 /// With a horizon K (> 1), fuzzy_k_step and arx_k_step follow: each a free run of K samples from

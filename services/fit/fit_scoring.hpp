@@ -33,10 +33,6 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
 std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec,
                                                 const sysid::Series& s);
 
-nlohmann::json StagesToJson(const std::vector<sysid::SimulationStage>& stages);
-
-nlohmann::json CandidateToJson(const sysid::Candidate& c);
-
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
 /// One output keeps the plain column names; several get one set of columns per output (_NAME).
 /// With a horizon K (> 1), fuzzy_k_step and arx_k_step follow: each a free run of K samples from
