@@ -22,14 +22,14 @@
 // Seq rules: a state or beat state whose seq is negative or leaps too far ahead
 // (sequence_window.hpp), one older than the newest by more than kResendReach, and a second
 // command with a used seq from another source are bad input (std::invalid_argument, nothing
-// changes); an older state or beat state already held or used is a resend (ignored). A fresh
-// state 0 (command_seq < 0) after others is only a *candidate* plant restart — one stale or
-// forged packet must not cut a run in two — until the plant confirms it: with its state 1, or
-// with a second fresh state 0 (a restarted plant repeats it while nothing commands it). Then
-// every message of the old run is forgotten, and the commands that came since the candidate are
-// the new run's. A state newer than the old run's newest drops the candidate (the old run goes
-// on; the commands kept aside are its own). A fresh beat state 0 starts the beat states afresh,
-// and survives the state restart that follows it.
+// changes); an older state or beat state already held or used is a resend (ignored). Where the
+// states' run begins again is the run rule's (sequence/run_start.hpp, with confirmation): a fresh
+// state 0 (command_seq < 0) mid-run is only a *candidate* plant restart until the plant confirms
+// it with its state 1 or a second fresh state 0. Then every message of the old run is forgotten,
+// and the commands that came since the candidate are the new run's. A state newer than the old
+// run's newest drops the candidate (the old run goes on; the commands kept aside are its own). A
+// fresh beat state 0 starts the beat states afresh, and survives the state restart that follows
+// it.
 //
 // State, Command and Beat are the message types (or stand-ins in tests): State and Beat need
 // `seq` and `command_seq`, Command `seq` and `source`.
@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "sequence/lockstep_window.hpp"
+#include "sequence/run_start.hpp"
 #include "sequence/sequence_window.hpp"
 
 namespace odonata::pipeline {
@@ -100,54 +101,49 @@ class SamplePairer {
   std::vector<Event> OnState(const State& msg) {
     std::vector<Event> events;
     const int64_t newest = NewestState();
-    Guard(&state_leaps_, "state", msg.seq, newest);
     const bool fresh = msg.seq == 0 && msg.command_seq < 0;
-    if (fresh && newest > 1 && !candidate_) {
-      candidate_ = msg;  // only a suspicion so far
-      candidate_commands_.clear();
-      return events;
-    }
-    if (candidate_ && !fresh && msg.seq > newest) {
-      // The old run goes on: the state 0 was stale or forged, and the commands kept aside
-      // meanwhile belong to the old run.
-      for (const auto& [seq, c] : candidate_commands_) commands_.emplace(seq, c);
-      candidate_.reset();
-      candidate_commands_.clear();
-    }
-    if (candidate_ && (fresh || (msg.seq == 1 && newest > 1))) {  // the plant confirms it
-      const State zero = *candidate_;
-      candidate_.reset();
-      Restart(&events);
-      pending_.push_back(zero);
-      if (!fresh) pending_.push_back(msg);
-      Process(&events);
-      return events;
-    }
-    if (fresh && newest > 0) {
-      // Right after a run's start there is hardly an old run to protect, and its state 1 could
-      // not tell the new run from the old: restart at once.
-      Restart(&events);
-      pending_.push_back(msg);
-      Process(&events);
-      return events;
-    }
-    if (newest >= 0 && msg.seq <= newest) {
-      if (msg.seq < newest - kResendReach) {
-        throw std::invalid_argument("stale state seq " + std::to_string(msg.seq) + " (newest " +
-                                    std::to_string(newest) + ")");
-      } else {
-        // A resend (held or used already: ignored), or the state a hole waits for.
-        if (previous_ && msg.seq <= previous_->seq) return events;
-        const auto at =
-            std::lower_bound(pending_.begin(), pending_.end(), msg.seq,
-                             [](const State& held, int64_t seq) { return held.seq < seq; });
-        if (at != pending_.end() && at->seq == msg.seq) return events;
-        pending_.insert(at, msg);
+    const RunVerdict verdict = run_.Next(msg.seq, fresh, "state");
+    switch (verdict.kind) {
+      case RunVerdict::Kind::kRefused:
+        throw std::invalid_argument(verdict.why);
+      case RunVerdict::Kind::kCandidate:
+        candidate_ = msg;  // only a suspicion so far
+        candidate_commands_.clear();
+        return events;
+      case RunVerdict::Kind::kRestart:
+        Restart(&events);
+        if (verdict.from_candidate) {  // the plant confirms it
+          pending_.push_back(*candidate_);
+          if (!fresh) pending_.push_back(msg);
+        } else {
+          pending_.push_back(msg);
+        }
+        candidate_.reset();
         Process(&events);
         return events;
-      }
+      case RunVerdict::Kind::kNext:
+        if (verdict.dropped_candidate) {
+          // The old run goes on: the state 0 was stale or forged, and the commands kept aside
+          // meanwhile belong to the old run.
+          for (const auto& [seq, c] : candidate_commands_) commands_.emplace(seq, c);
+          candidate_.reset();
+          candidate_commands_.clear();
+        }
+        pending_.push_back(msg);
+        Process(&events);
+        return events;
+      case RunVerdict::Kind::kOlder:
+        break;
     }
-    pending_.push_back(msg);
+    if (msg.seq < newest - kResendReach)
+      throw std::invalid_argument("stale state seq " + std::to_string(msg.seq) + " (newest " +
+                                  std::to_string(newest) + ")");
+    // A resend (held or used already: ignored), or the state a hole waits for.
+    if (previous_ && msg.seq <= previous_->seq) return events;
+    const auto at = std::lower_bound(pending_.begin(), pending_.end(), msg.seq,
+                                     [](const State& held, int64_t seq) { return held.seq < seq; });
+    if (at != pending_.end() && at->seq == msg.seq) return events;
+    pending_.insert(at, msg);
     Process(&events);
     return events;
   }
@@ -338,7 +334,8 @@ class SamplePairer {
   }
 
   PairingNeeds needs_;
-  LeapGuard state_leaps_, command_leaps_, beat_leaps_;
+  RunStart run_{RunStartOptions{true, false}};  // where the states' run begins again
+  LeapGuard command_leaps_, beat_leaps_;
   std::map<int64_t, Command> commands_;  // by seq, bounded
   std::optional<State> candidate_;       // a fresh state 0 mid-run, until confirmed or dropped
   std::map<int64_t, Command> candidate_commands_;  // commands since the candidate

@@ -5,10 +5,9 @@
 // to CSV holds exactly the samples, runs and gaps the identifier saw.
 
 #include <cstdint>
-#include <optional>
 #include <string>
 
-#include "sequence/sequence_window.hpp"
+#include "sequence/run_start.hpp"
 
 namespace odonata::pipeline {
 
@@ -25,40 +24,35 @@ class SampleSequence {
     std::string why;
   };
 
-  /// Judges the arrival of `seq`. A restart is seq 0 after a higher one or, when that seq 0 was
-  /// lost, two consecutive seqs far below the newest with no accepted sample between them (one
-  /// stray old packet alone restarts nothing). A seq not after the newest is a duplicate or
-  /// stale; a far leap is held until the next seq confirms it (LeapGuard).
+  /// Judges the arrival of `seq` by the run rule (run_start.hpp) without confirmation: a seq 0
+  /// after a higher one restarts the run, as do two consecutive seqs far below the newest (that
+  /// seq 0 was lost; one stray old packet alone restarts nothing). A seq not after the newest is
+  /// a duplicate or stale; a far leap is held until the next seq confirms it.
   Verdict Next(int64_t seq) {
-    const bool far_below = seq >= 0 && seq + kConfirmLeap < newest_;
-    if ((seq == 0 && newest_ > 0) ||
-        (far_below && restart_candidate_ && seq == *restart_candidate_ + 1)) {
-      newest_ = seq;
-      restart_candidate_.reset();
-      return {Verdict::Kind::kRestart, 0, ""};
+    const int64_t before = run_.newest();
+    RunVerdict v = run_.Next(seq, seq == 0);
+    switch (v.kind) {
+      case RunVerdict::Kind::kNext:
+        return {Verdict::Kind::kAccept, before >= 0 ? seq - before - 1 : 0, ""};
+      case RunVerdict::Kind::kRestart:
+        return {Verdict::Kind::kRestart, 0, ""};
+      case RunVerdict::Kind::kRefused:
+        return Drop(std::move(v.why));
+      case RunVerdict::Kind::kCandidate:
+      case RunVerdict::Kind::kOlder:
+        break;
     }
-    if (seq >= 0 && seq <= newest_) {
-      if (far_below) restart_candidate_ = seq;
-      return Drop("seq " + std::to_string(seq) + " is not after the newest, " +
-                  std::to_string(newest_) +
-                  " (a duplicate or stale sample, or a restart that the next seq confirms)");
-    }
-    std::string leap = leaps_.Problem("seq", seq, newest_);
-    if (!leap.empty()) return Drop(std::move(leap));
-    const int64_t lost = newest_ >= 0 ? seq - newest_ - 1 : 0;
-    newest_ = seq;
-    restart_candidate_.reset();  // a genuine sample came in between: no restart to confirm
-    return {Verdict::Kind::kAccept, lost, ""};
+    return Drop("seq " + std::to_string(seq) + " is not after the newest, " +
+                std::to_string(before) +
+                " (a duplicate or stale sample, or a restart that the next seq confirms)");
   }
 
-  int64_t newest() const { return newest_; }
+  int64_t newest() const { return run_.newest(); }
 
  private:
   static Verdict Drop(std::string why) { return {Verdict::Kind::kDrop, 0, std::move(why)}; }
 
-  int64_t newest_ = -1;
-  std::optional<int64_t> restart_candidate_;  // a seq far below the newest, awaiting its next
-  LeapGuard leaps_;
+  RunStart run_{RunStartOptions{false, true}};
 };
 
 }  // namespace odonata::pipeline

@@ -3,49 +3,46 @@
 // the newest state s such that every state up to s, every command up to s - 1 (which state s
 // answers) and, once beat states are seen, every beat state up to s has arrived (docs/lcm.md §10).
 //
-// A plant run starts with a fresh state 0 (command_seq -1). Mid-run, one fresh state 0 is only a
-// candidate new run, tracked beside the current one: a stale or forged state 0 must not move the
-// receipts back, where the current run's states would then pile up behind a hole no resend
-// fills. The candidate becomes the run once it holds states 0 and 1 (the plant answered a
-// command of the new run), as a restarted run does; it is dropped once the current run has gone
-// on by kStaleCandidate states (a restarted plant's old run goes nowhere), before its own holes
-// could be given up.
+// A plant run starts with a fresh state 0 (command_seq -1); where the run begins again is the
+// run rule's (run_start.hpp, with confirmation, as the identifier pairs): mid-run, one fresh
+// state 0 is only a candidate new run, tracked beside the current one — a stale or forged state 0
+// must not move the receipts back, where the current run's states would then pile up behind a
+// hole no resend fills. The candidate becomes the run once the plant answers a command of it
+// (state 1), and is dropped once the current run goes on past its newest state.
 
 #include <algorithm>
 #include <cstdint>
 #include <optional>
 
 #include "sequence/contiguous_mark.hpp"
-#include "sequence/lockstep_window.hpp"
+#include "sequence/run_start.hpp"
 
 namespace odonata {
 
 class WrittenRunMarks {
  public:
-  static constexpr int64_t kStaleCandidate = 32;
-  static_assert(kStaleCandidate > pipeline::kMaxLockstepWindow,
-                "a restarted run's first answer comes within one window");
-
   void OnState(int64_t seq, bool fresh) {
-    if (fresh && seq == 0) {
-      if (!run_fresh_ || run_.states.mark() < 0) {
-        run_ = FreshRun();  // the first run seen from its start
-        run_fresh_ = true;
-      } else if (run_.states.mark() == 0) {
-        // The plant repeats its state 0 until commanded (and after a RESET): the same start.
-      } else {
+    using Kind = pipeline::RunVerdict::Kind;
+    const pipeline::RunVerdict v = run_start_.Next(seq, fresh && seq == 0);
+    switch (v.kind) {
+      case Kind::kNext:
+        if (v.dropped_candidate) candidate_.reset();
+        if (fresh && seq == 0) run_ = FreshRun();  // the first run seen from its start
+        break;
+      case Kind::kCandidate:
         candidate_ = FreshRun();
-        candidate_since_ = run_.states.mark();
-      }
+        break;
+      case Kind::kRestart:
+        run_ = v.from_candidate && candidate_ ? *candidate_ : FreshRun();
+        candidate_.reset();
+        break;
+      case Kind::kRefused:
+        return;  // a leap held or refused: written, but it moves no receipt
+      case Kind::kOlder:
+        break;
     }
     run_.states.Add(seq);
-    if (candidate_ && run_.states.mark() > candidate_since_ + kStaleCandidate) candidate_.reset();
-    if (!candidate_) return;
-    candidate_->states.Add(seq);
-    if (candidate_->states.mark() >= 1) {
-      run_ = *candidate_;
-      candidate_.reset();
-    }
+    if (candidate_) candidate_->states.Add(seq);
   }
 
   void OnCommand(int64_t seq) {
@@ -79,10 +76,9 @@ class WrittenRunMarks {
     return m;
   }
 
+  pipeline::RunStart run_start_{pipeline::RunStartOptions{true, false}};
   Marks run_;
-  bool run_fresh_ = false;  // run_ started at a fresh state 0 (not joined mid-run)
   std::optional<Marks> candidate_;
-  int64_t candidate_since_ = -1;  // the current run's state mark when the candidate came
   bool beats_seen_ = false;
 };
 

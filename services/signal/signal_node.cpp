@@ -146,7 +146,8 @@ void SignalNode::WatchRealtimeState(const odonata::plant_state_t& msg) {
   // A real-time plant that was killed and started again numbers its states from 0 and flies on
   // with the commands: the run goes on, but the log (and the identifier) hold it in two parts,
   // which a script must not take for one whole run.
-  if (!restart_watch_.Next(msg.seq)) return;
+  const bool start = msg.seq == 0 && msg.command_seq < 0;
+  if (plant_run_.Next(msg.seq, start).kind != pipeline::RunVerdict::Kind::kRestart) return;
   if (plant_restarts_++ == 0) first_restart_command_ = next_realtime_;
   std::fprintf(stderr,
                "[%s] WARNING: %s restarted at command %lld (its states began again at 0): the log "
@@ -331,7 +332,10 @@ void SignalNode::WaitForTimeout() {
 void SignalNode::StartRealtime() {
   realtime_started_ = true;
   // After a reset the plant's state 0 has been seen; without one its numbering is unknown.
-  restart_watch_ = pipeline::RestartWatch(options_.reset_plant ? 0 : -1);
+  // The run rule with confirmation, and far below: a real-time plant resends nothing, so two
+  // consecutive low seqs are its restart even when its state 0 was lost.
+  plant_run_ =
+      pipeline::RunStart(pipeline::RunStartOptions{true, true}, options_.reset_plant ? 0 : -1);
   bus_.SetState("running");
   ++timer_generation_;
   timer_.expires_at(std::chrono::steady_clock::now());

@@ -25,7 +25,7 @@
 #include "odonata/wing_command_t.hpp"
 #include "pipeline/command_schedule.hpp"
 #include "pipeline/lockstep_sequencer.hpp"
-#include "sequence/restart_watch.hpp"
+#include "sequence/run_start.hpp"
 
 namespace odonata::signal_service {
 
@@ -132,8 +132,8 @@ class SignalNode {
   int64_t receipts_received_ = 0;  // ack_t from the consumers waited for
   int64_t control_seq_ = 0;
   bool finished_ = false;
-  std::string consumer_left_;             // a consumer that stopped mid-run (the run failed it)
-  pipeline::RestartWatch restart_watch_;  // real time: the plant's states, for a restart
+  std::string consumer_left_;     // a consumer that stopped mid-run (the run failed it)
+  pipeline::RunStart plant_run_;  // real time: the plant's states, for a restart
   int64_t plant_restarts_ = 0;
   int64_t first_restart_command_ = -1;  // the command being sent when the first was seen
   std::optional<std::chrono::steady_clock::time_point> first_command_;  // lockstep rate

@@ -95,9 +95,23 @@ TEST(WrittenRunMarks, ALoggerThatJoinedMidRunStartsWhereTheRunIs) {
   WrittenRunMarks m;
   for (int64_t k = 40; k < 45; ++k) Step(m, k);
   EXPECT_EQ(m.held(), 44);
-  m.OnState(0, true);  // then the plant is reset
+  // Then the plant is reset: its state 0 is a candidate, as for a logger that saw the run from
+  // its start (the run rule has no exception for a late joiner) …
+  m.OnState(0, true);
   m.OnBeat(0);
-  EXPECT_EQ(m.held(), 0);
+  EXPECT_EQ(m.held(), 44);
+  m.OnCommand(0);
+  m.OnState(1, false);  // … until the plant answers the new run's command 0
+  m.OnBeat(1);
+  EXPECT_EQ(m.held(), 1);
+}
+
+TEST(WrittenRunMarks, ALeapTooFarAheadMovesNoReceipt) {
+  WrittenRunMarks m;
+  for (int64_t k = 0; k < 5; ++k) Step(m, k);
+  m.OnState(900000, false);  // forged or corrupt
+  Step(m, 5);
+  EXPECT_EQ(m.held(), 5);
 }
 
 TEST(WrittenRunMarks, ALoneFreshStateZeroMidRunMovesNothingBack) {
