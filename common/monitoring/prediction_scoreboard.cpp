@@ -7,6 +7,19 @@
 
 namespace odonata::monitoring {
 
+nlohmann::json PredictorScores::ToJson(int horizon) const {
+  nlohmann::json s = {{"one_step", metrics::AccuracyToJson(one_step.total.Get())},
+                      {"free_run", metrics::AccuracyToJson(free_run.total.Get())},
+                      {"window_one_step", metrics::AccuracyToJson(one_step.window.Get())},
+                      {"window_free_run", metrics::AccuracyToJson(free_run.window.Get())}};
+  if (ahead.scored()) {
+    s["ahead"] = metrics::AccuracyToJson(ahead.total.Get());
+    s["window_ahead"] = metrics::AccuracyToJson(ahead.window.Get());
+    s["horizon"] = horizon;
+  }
+  return s;
+}
+
 std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   const std::size_t n = p.names.size();
   if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
@@ -76,28 +89,28 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     }
     Output& out = it->second;
     const double y = p.measured[o];
-    out.one_step.Add(y, p.predicted[o]);
-    out.free_run.Add(y, p.free_run[o]);
+    out.fuzzy.one_step.Add(y, p.predicted[o]);
+    out.fuzzy.free_run.Add(y, p.free_run[o]);
     out.rules = p.rules[o];
     if (o < p.linear_share.size() && p.linear_share[o] > 0.0) ++out.outside;
     if (ahead) {
       // A horizon changed within a run (a reconfigured identifier): its K-step scores start again.
       if (out.horizon != p.horizon) {
-        out.ahead = ModeScore(options_.window_samples);
-        out.arx_ahead = ModeScore(options_.window_samples);
+        out.fuzzy.ahead = ModeScore(options_.window_samples);
+        out.arx.ahead = ModeScore(options_.window_samples);
         out.horizon = p.horizon;
       }
-      out.ahead.Add(y, p.ahead[o]);
-      if (arx) out.arx_ahead.Add(y, p.arx_ahead[o]);
+      out.fuzzy.ahead.Add(y, p.ahead[o]);
+      if (arx) out.arx.ahead.Add(y, p.arx_ahead[o]);
     }
     if (arx) {
-      out.arx_one_step.Add(y, p.arx_predicted[o]);
-      out.arx_free_run.Add(y, p.arx_free_run[o]);
+      out.arx.one_step.Add(y, p.arx_predicted[o]);
+      out.arx.free_run.Add(y, p.arx_free_run[o]);
       // Like with like: K steps ahead when the predictions carry a horizon (a loop that
       // integrates, where one step ahead says little), else one step ahead.
-      const bool k_step = out.horizon > 0 && out.arx_ahead.scored();
-      const ModeScore& mine = k_step ? out.ahead : out.one_step;
-      const ModeScore& linear = k_step ? out.arx_ahead : out.arx_one_step;
+      const bool k_step = out.horizon > 0 && out.arx.ahead.scored();
+      const ModeScore& mine = k_step ? out.fuzzy.ahead : out.fuzzy.one_step;
+      const ModeScore& linear = k_step ? out.arx.ahead : out.arx.one_step;
       if (mine.window.full() && linear.window.full()) {
         const double fit = mine.window.Get().fit_percent;
         const double reference = linear.window.Get().fit_percent;
@@ -123,8 +136,8 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
                                   {"tracking_fit", a->window_fit},
                                   {"reference_fit", a->reference_fit}});
     }
-    if (out.one_step.window.full()) {
-      const double fit = out.one_step.window.Get().fit_percent;
+    if (out.fuzzy.one_step.window.full()) {
+      const double fit = out.fuzzy.one_step.window.Get().fit_percent;
       if (fit < options_.warn_fit_percent && !out.warned) {
         events.push_back({ScoreEvent::Kind::kLowFit, name, p.sample, 0, fit, 0, 1});
         out.warned = true;
@@ -165,28 +178,14 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
   j["gaps"] = gaps_;
   for (const auto& name : order_) {
     const Output& o = outputs_.at(name);
-    // The same keys for the model and for the live ARX, so a reader compares like with like.
-    const auto scores = [&o](const ModeScore& one_step, const ModeScore& free_run,
-                             const ModeScore& ahead) {
-      nlohmann::json s = {{"one_step", metrics::AccuracyToJson(one_step.total.Get())},
-                          {"free_run", metrics::AccuracyToJson(free_run.total.Get())},
-                          {"window_one_step", metrics::AccuracyToJson(one_step.window.Get())},
-                          {"window_free_run", metrics::AccuracyToJson(free_run.window.Get())}};
-      if (ahead.scored()) {
-        s["ahead"] = metrics::AccuracyToJson(ahead.total.Get());
-        s["window_ahead"] = metrics::AccuracyToJson(ahead.window.Get());
-        s["horizon"] = o.horizon;
-      }
-      return s;
-    };
-    nlohmann::json out = scores(o.one_step, o.free_run, o.ahead);
+    nlohmann::json out = o.fuzzy.ToJson(o.horizon);
     out["rules"] = o.rules;
     // Outside the data the model was trained on (docs/identifier.md §7.3): how often it met it.
     out["samples_outside"] = o.outside;
     out["alarm_events"] = o.alarm_events;
     out["alarmed"] = o.alarm.alarmed();
     if (o.has_arx()) {
-      out["arx"] = scores(o.arx_one_step, o.arx_free_run, o.arx_ahead);
+      out["arx"] = o.arx.ToJson(o.horizon);
       out["behind_arx"] = o.behind_arx;
     }
     j["outputs"][name] = out;

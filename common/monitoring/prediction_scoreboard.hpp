@@ -81,6 +81,17 @@ struct ModeScore {
   bool scored() const { return total.samples() > 0; }
 };
 
+/// One predictor's scores (the fuzzy model's, or the live ARX's over the same samples) in each
+/// mode: the one set of accumulators the scoreboard keeps per predictor.
+struct PredictorScores {
+  ModeScore one_step, free_run, ahead;
+  explicit PredictorScores(std::size_t window_samples)
+      : one_step(window_samples), free_run(window_samples), ahead(window_samples) {}
+  /// The same keys for every predictor, so a reader compares like with like; `horizon`: K of
+  /// the K-step scores, reported when there are any.
+  nlohmann::json ToJson(int horizon) const;
+};
+
 class PredictionScoreboard {
  public:
   static constexpr std::size_t kMaxFinishedRuns = 16;  ///< earlier runs kept in the summary
@@ -90,10 +101,9 @@ class PredictionScoreboard {
   static constexpr std::size_t kMaxOutputs = 256;
 
   /// One output's scores in the current run: the fuzzy model's and, over the same samples, the
-  /// live ARX's (none counted when predictions carry none), in each mode.
+  /// live ARX's (none counted when predictions carry none).
   struct Output {
-    ModeScore one_step, free_run, ahead;
-    ModeScore arx_one_step, arx_free_run, arx_ahead;
+    PredictorScores fuzzy, arx;
     int horizon = 0;      ///< K of `ahead` (0: predictions carry none)
     int64_t outside = 0;  ///< samples whose regressor lay outside the model's data
     bool behind_arx = false;
@@ -101,16 +111,9 @@ class PredictionScoreboard {
     std::vector<nlohmann::json> alarm_events;  // the latest kMaxAlarmEvents
     int rules = 0;
     bool warned = false;
-    Output(std::size_t w, const metrics::AccuracyAlarmOptions& a)
-        : one_step(w),
-          free_run(w),
-          ahead(w),
-          arx_one_step(w),
-          arx_free_run(w),
-          arx_ahead(w),
-          alarm(a) {}
-    bool has_arx() const { return arx_one_step.scored(); }
-    bool has_ahead() const { return ahead.scored(); }
+    Output(std::size_t w, const metrics::AccuracyAlarmOptions& a) : fuzzy(w), arx(w), alarm(a) {}
+    bool has_arx() const { return arx.one_step.scored(); }
+    bool has_ahead() const { return fuzzy.ahead.scored(); }
   };
 
   explicit PredictionScoreboard(ScoreboardOptions options) : options_(options) {}

@@ -219,15 +219,15 @@ void MonitorNode::PublishAccuracy() {
   a.horizon = 0;
   for (const auto& name : order) {
     const auto& o = scores_.output(name);
-    a.window_samples = static_cast<int32_t>(o.one_step.window.size());
-    a.total_samples = o.one_step.total.samples();
-    append(o.one_step.window.Get(), &a.window_fit_one_step, &a.window_vaf_one_step,
+    a.window_samples = static_cast<int32_t>(o.fuzzy.one_step.window.size());
+    a.total_samples = o.fuzzy.one_step.total.samples();
+    append(o.fuzzy.one_step.window.Get(), &a.window_fit_one_step, &a.window_vaf_one_step,
            &a.window_rmse_one_step);
-    append(o.one_step.total.Get(), &a.total_fit_one_step, &a.total_vaf_one_step,
+    append(o.fuzzy.one_step.total.Get(), &a.total_fit_one_step, &a.total_vaf_one_step,
            &a.total_rmse_one_step);
-    append(o.free_run.window.Get(), &a.window_fit_free_run, &a.window_vaf_free_run,
+    append(o.fuzzy.free_run.window.Get(), &a.window_fit_free_run, &a.window_vaf_free_run,
            &a.window_rmse_free_run);
-    append(o.free_run.total.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
+    append(o.fuzzy.free_run.total.Get(), &a.total_fit_free_run, &a.total_vaf_free_run,
            &a.total_rmse_free_run);
     a.rules.push_back(o.rules);
     // NaN where the predictions carry no such score (no baseline, no horizon).
@@ -235,15 +235,15 @@ void MonitorNode::PublishAccuracy() {
       if (!score.scored()) return std::nan("");
       return (window ? score.window.Get() : score.total.Get()).fit_percent;
     };
-    a.window_fit_one_step_arx.push_back(fit(o.arx_one_step, true));
-    a.total_fit_one_step_arx.push_back(fit(o.arx_one_step, false));
-    a.window_fit_free_run_arx.push_back(fit(o.arx_free_run, true));
-    a.total_fit_free_run_arx.push_back(fit(o.arx_free_run, false));
+    a.window_fit_one_step_arx.push_back(fit(o.arx.one_step, true));
+    a.total_fit_one_step_arx.push_back(fit(o.arx.one_step, false));
+    a.window_fit_free_run_arx.push_back(fit(o.arx.free_run, true));
+    a.total_fit_free_run_arx.push_back(fit(o.arx.free_run, false));
     if (o.has_ahead()) a.horizon = o.horizon;
-    a.window_fit_ahead.push_back(fit(o.ahead, true));
-    a.total_fit_ahead.push_back(fit(o.ahead, false));
-    a.window_fit_ahead_arx.push_back(fit(o.arx_ahead, true));
-    a.total_fit_ahead_arx.push_back(fit(o.arx_ahead, false));
+    a.window_fit_ahead.push_back(fit(o.fuzzy.ahead, true));
+    a.total_fit_ahead.push_back(fit(o.fuzzy.ahead, false));
+    a.window_fit_ahead_arx.push_back(fit(o.arx.ahead, true));
+    a.total_fit_ahead_arx.push_back(fit(o.arx.ahead, false));
   }
   bus_.Publish(bus_.channels().accuracy, a);
 }
@@ -297,16 +297,17 @@ void MonitorNode::Print() {
     };
     const bool behind = scores_.BehindArx(name);
     // How often the samples lay outside the model's data (it predicted them partly linearly).
-    const long scored = o.one_step.total.samples();
+    const long scored = o.fuzzy.one_step.total.samples();
     const std::string outside =
         o.outside > 0 && scored > 0
             ? "  " + std::to_string((100 * o.outside + scored / 2) / scored) + "% outside"
             : "";
-    row(name, "1 step", o.one_step, o.arx_one_step, behind && !k_step, outside);
-    if (k_step) row("", std::to_string(o.horizon) + " steps", o.ahead, o.arx_ahead, behind);
-    const double free = o.free_run.window.Get().fit_percent;
-    const double arx_free = o.arx_free_run.window.Get().fit_percent;
-    row("", "free run", o.free_run, o.arx_free_run, arx && arx_free >= -100.0 && free <= arx_free);
+    row(name, "1 step", o.fuzzy.one_step, o.arx.one_step, behind && !k_step, outside);
+    if (k_step) row("", std::to_string(o.horizon) + " steps", o.fuzzy.ahead, o.arx.ahead, behind);
+    const double free = o.fuzzy.free_run.window.Get().fit_percent;
+    const double arx_free = o.arx.free_run.window.Get().fit_percent;
+    row("", "free run", o.fuzzy.free_run, o.arx.free_run,
+        arx && arx_free >= -100.0 && free <= arx_free);
   }
   for (const auto& [instance, peer] : peers_.peers()) {
     const monitoring::Heartbeat& p = peer.last;

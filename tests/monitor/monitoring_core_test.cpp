@@ -114,7 +114,7 @@ TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBac
   PredictionScoreboard board(ScoreboardOptions{});
   for (int64_t k = 0; k < 50; ++k) board.Add(At(k, std::sin(0.1 * k), std::sin(0.1 * k) + 0.01));
   EXPECT_EQ(board.last_sample(), 49);
-  EXPECT_EQ(board.output("y").one_step.total.samples(), 50);
+  EXPECT_EQ(board.output("y").fuzzy.one_step.total.samples(), 50);
   board.Add(At(52, 0.0, 0.0));
   EXPECT_EQ(board.gaps(), 2);
   const auto events = board.Add(At(0, 0.5, 0.5));
@@ -122,7 +122,7 @@ TEST(PredictionScoreboard, ScoresTheRunAndStartsAfreshWhenTheSampleNumberGoesBac
   EXPECT_EQ(events[0].kind, ScoreEvent::Kind::kNewRun);
   EXPECT_EQ(events[0].previous, 52);
   EXPECT_EQ(board.gaps(), 0);
-  EXPECT_EQ(board.output("y").one_step.total.samples(), 1);
+  EXPECT_EQ(board.output("y").fuzzy.one_step.total.samples(), 1);
   const auto s = board.Summary();
   ASSERT_EQ(s["previous_runs"].size(), 1u);
   EXPECT_EQ(s["previous_runs"][0]["last_sample"], 52);
@@ -140,7 +140,7 @@ TEST(PredictionScoreboard, ABadPredictionChangesNothing) {
   EXPECT_THROW(board.Add(ragged), std::invalid_argument);
   EXPECT_EQ(board.last_sample(), 0);
   EXPECT_NO_THROW(board.Add(At(1, 1.0, 1.0)));  // the genuine sample 1 still counts
-  EXPECT_EQ(board.output("y").one_step.total.samples(), 2);
+  EXPECT_EQ(board.output("y").fuzzy.one_step.total.samples(), 2);
 }
 
 // Forged predictions with ever new output names cannot grow the board: at most kMaxOutputs per
