@@ -1,36 +1,52 @@
 #include "bus/channel_config.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
 namespace odonata::bus {
 
+const std::vector<std::pair<const char*, std::string ChannelConfig::*>>& ChannelConfig::Keys() {
+  static const std::vector<std::pair<const char*, std::string ChannelConfig::*>> keys = {
+      {"command", &ChannelConfig::command},
+      {"state", &ChannelConfig::state},
+      {"beat_state", &ChannelConfig::beat_state},
+      {"prediction", &ChannelConfig::prediction},
+      {"model", &ChannelConfig::model},
+      {"accuracy", &ChannelConfig::accuracy},
+      {"heartbeat", &ChannelConfig::heartbeat},
+      {"control", &ChannelConfig::control},
+      {"control_reply", &ChannelConfig::control_reply},
+      {"ack", &ChannelConfig::ack},
+      {"signals", &ChannelConfig::signals},
+      {"signals_ack", &ChannelConfig::signals_ack}};
+  return keys;
+}
+
 void ChannelConfig::ApplySuffix(const std::string& suffix) {
   if (suffix.empty()) return;
-  for (std::string* s : {&command, &state, &beat_state, &prediction, &model, &accuracy, &heartbeat,
-                         &control, &control_reply, &ack, &signals, &signals_ack})
-    *s += "_" + suffix;
+  for (const auto& [key, member] : Keys()) this->*member += "_" + suffix;
 }
 
 void ChannelConfig::Override(const nlohmann::json& j) {
   for (const auto& [key, value] : j.items()) {
-    std::string* target = key == "command"         ? &command
-                          : key == "state"         ? &state
-                          : key == "beat_state"    ? &beat_state
-                          : key == "prediction"    ? &prediction
-                          : key == "model"         ? &model
-                          : key == "accuracy"      ? &accuracy
-                          : key == "heartbeat"     ? &heartbeat
-                          : key == "control"       ? &control
-                          : key == "control_reply" ? &control_reply
-                          : key == "ack"           ? &ack
-                          : key == "signals"       ? &signals
-                          : key == "signals_ack"   ? &signals_ack
-                                                   : nullptr;
-    if (!target) throw std::runtime_error("channels: unknown channel '" + key + "'");
-    *target = value.get<std::string>();
+    const auto& keys = Keys();
+    const auto it = std::find_if(keys.begin(), keys.end(),
+                                 [&key = key](const auto& k) { return key == k.first; });
+    if (it == keys.end()) throw std::runtime_error("channels: unknown channel '" + key + "'");
+    this->*(it->second) = value.get<std::string>();
   }
+}
+
+nlohmann::json ChannelConfig::ToJson(const ChannelConfig& defaults,
+                                     const std::vector<std::string>& always) const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, member] : Keys())
+    if (this->*member != defaults.*member ||
+        std::find(always.begin(), always.end(), key) != always.end())
+      j[key] = this->*member;
+  return j;
 }
 
 void ChannelConfig::Set(const std::string& assignment) {

@@ -3,6 +3,7 @@
 // systems can share one bus (e.g. DIMAV_STATE_B).
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -35,6 +36,14 @@ struct ChannelConfig {
   void Set(const std::string& assignment);
   /// Renames from several assignments, after the suffix: an explicit name is taken as given.
   void Configure(const std::string& suffix, const std::vector<std::string>& assignments);
+  /// The channels whose names differ from `defaults`, and those named in `always`, as the JSON
+  /// Override reads.
+  nlohmann::json ToJson(const ChannelConfig& defaults,
+                        const std::vector<std::string>& always = {}) const;
+
+ private:
+  /// Every channel by its key: the one table of names that Override, Set and ToJson read.
+  static const std::vector<std::pair<const char*, std::string ChannelConfig::*>>& Keys();
 };
 
 }  // namespace odonata::bus

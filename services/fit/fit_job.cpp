@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "identifier_config/identifier_config.hpp"
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "metrics/accuracy.hpp"
@@ -26,7 +27,6 @@
 #include "sysid/model/readable_model.hpp"
 #include "sysid/model/rule_listing.hpp"
 #include "sysid/model/signal_ranges.hpp"
-#include "sysid/online/learner_settings.hpp"
 #include "sysid/online/online_identifier.hpp"
 #include "sysid/selection/offline_fit.hpp"
 
@@ -232,34 +232,26 @@ void ScoreBaselines(const FitJobOptions& o, const sysid::NarxModel& model, JobDa
 }
 
 // The choices carried over to the online identifier: odonata-identifier --config takes this
-// as it is (identifier_config.cpp's keys).
+// as it is (written by the configuration's one writer, identifier_config.hpp).
 void WriteIdentifierConfig(const FitJobOptions& o, const sysid::NarxModel& model,
                            const sysid::Series& train) {
-  const sysid::RegressorSpec& spec = model.spec();
-  nlohmann::json c;
-  c["instance"] = "identifier";
-  c["outputs"] = spec.outputs;
-  c["inputs"] = spec.inputs;
-  c["ny"] = spec.output_lags;
-  c["nu"] = spec.input_lags;
-  c["delay"] = spec.delay;
+  identifier::IdentifierConfig c;
+  c.spec = model.spec();
   // The learner's settings as chosen here, its refits choosing as this fit did: K steps ahead
-  // with --horizon K (learner_settings.hpp: the one writer of these keys).
-  sysid::RefitSchedule refit = sysid::RefitSchedule::IdentifierDefault();
-  refit.horizon = o.horizon;
-  const nlohmann::ordered_json learner = sysid::LearnerSettingsJson(model.model(0).config(), refit);
-  for (const auto& [key, value] : learner.items()) c[key] = value;
-  nlohmann::json ranges;
+  // with --horizon K.
+  c.model = model.model(0).config();
+  c.refit.horizon = o.horizon;
   if (!o.ranges.empty()) {
     std::ifstream in(o.ranges);
+    nlohmann::json ranges;
     in >> ranges;
+    c.ranges = sysid::RangesFromJson(ranges);
   } else {
-    ranges = sysid::RangesToJson(sysid::RangesFromSeries(spec, train));
+    c.ranges = sysid::RangesFromSeries(c.spec, train);
   }
-  c["ranges"] = ranges;
-  c["source"] = "signals";
+  c.source = identifier::SampleSource::kSignals;
   std::ofstream out(o.save_config);
-  out << c.dump(2) << "\n";
+  out << identifier::IdentifierConfigToJson(c).dump(2) << "\n";
   if (!out) throw std::runtime_error(o.save_config + ": cannot write");
 }
 

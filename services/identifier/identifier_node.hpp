@@ -16,7 +16,7 @@
 
 #include "bus/ack_publisher.hpp"
 #include "bus/bus_node.hpp"
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 #include "odonata/beat_state_t.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/model_snapshot_t.hpp"

@@ -38,7 +38,9 @@ int main(int argc, char** argv) {
   odonata::cli::BusCliOptions bus_options;
   odonata::cli::AddBusOptions(&app, &bus_options, {"instance name (overrides the configuration)"});
   app.add_option("--resume-wait", resume_wait_s, "seconds to wait for a snapshot to resume from");
-  app.add_flag("--print-config", print_config, "print an example configuration and exit");
+  app.add_flag("--print-config", print_config,
+               "print an example configuration and exit; with --config, the whole configuration "
+               "that file gives (every key, the defaults filled in), checked");
   app.add_flag("--check-config", check_config,
                "read --config (and --model), say what it identifies, and exit: 0 when it can be "
                "used as it is");
@@ -46,7 +48,7 @@ int main(int argc, char** argv) {
   // itself stays in the JSON of --config.
   app.set_config("--settings", "", "read options from this TOML/INI file");
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
-  if (print_config) {
+  if (print_config && config_path.empty()) {
     std::cout << odonata::identifier::ExampleIdentifierConfig();
     return 0;
   }
@@ -59,6 +61,10 @@ int main(int argc, char** argv) {
     if (!bus_options.instance.empty()) config.instance = bus_options.instance;
     if (resume_wait_s >= 0) config.resume_wait_s = resume_wait_s;
     bus_options.channels.ApplyTo(&config.channels);
+    if (print_config) {  // with --config: what this identifier would run with, every key
+      std::cout << odonata::identifier::IdentifierConfigToJson(config).dump(2) << "\n";
+      return 0;
+    }
     std::optional<odonata::sysid::NarxModel> initial;
     if (!model_path.empty()) {
       if (model_path.size() > 4 && model_path.compare(model_path.size() - 4, 4, ".fis") == 0) {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 #include "odonata/model_snapshot_t.hpp"
 
 namespace odonata::identifier {

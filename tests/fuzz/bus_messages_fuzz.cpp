@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bus/bus_node.hpp"
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 #include "identifier_node.hpp"
 #include "logger_node.hpp"
 #include "monitor_node.hpp"

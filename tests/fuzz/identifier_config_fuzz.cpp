@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

@@ -1,6 +1,6 @@
 // odonata-identifier's configuration file: every problem reported at once, by name, and no value
 // silently converted or ignored.
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -34,6 +34,62 @@ std::string LoadEdited(const std::function<void(nlohmann::json&)>& edit) {
   }
   std::remove(path);
   return error;
+}
+
+TEST(IdentifierConfig, TheWriterWritesEveryKeyTheReaderReads) {
+  // Every field away from its default: what is written reads back the same, key by key.
+  IdentifierConfig c = DefaultIdentifierConfig();
+  c.instance = "id-2";
+  c.source = SampleSource::kSignals;
+  c.spec.outputs = {"vz", "roll"};
+  c.spec.inputs = {"thrust"};
+  c.spec.output_lags = 3;
+  c.spec.input_lags = 2;
+  c.spec.delay = 0;
+  c.model.consequent = fuzzy::ConsequentKind::kSingleton;
+  c.model.entropy.threshold = 0.123;
+  c.model.entropy.max_rules = 7;
+  c.model.entropy.kappa = 1.7;
+  c.model.entropy.sigma_init = 0.4;
+  c.model.entropy.sigma_min = 0.05;
+  c.model.entropy.sigma_max = 1.5;
+  c.model.entropy.prune_utility = 0.01;
+  c.model.entropy.prune_min_age = 77;
+  c.model.forgetting = 0.995;
+  c.ranges = {{"vz", {-1.5, 2.5}}, {"roll", {-0.4, 0.4}}, {"thrust", {0.0, 1.0}}};
+  c.snapshot_period_s = 0.25;
+  c.snapshot_every_samples = 9;
+  c.resume_wait_s = 4.5;
+  c.decimate = 5;
+  c.max_gap = 2;
+  c.refit.first = 300;
+  c.refit.every = 900;
+  c.refit.buffer = 5000;
+  c.refit.history = 0.25;
+  c.refit.at_freeze = false;
+  c.refit.threads = 2;
+  c.refit.horizon = 20;
+  c.channels.signals = "MY_SIGNALS";
+  c.channels.prediction = "MY_PREDICTIONS";
+  const nlohmann::ordered_json written = IdentifierConfigToJson(c);
+  const IdentifierConfig r = ParseIdentifierConfig(written.dump(), "written");
+  EXPECT_EQ(IdentifierConfigToJson(r), written);
+  EXPECT_EQ(r.instance, "id-2");
+  EXPECT_EQ(r.source, SampleSource::kSignals);
+  EXPECT_EQ(r.spec.outputs, c.spec.outputs);
+  EXPECT_EQ(r.spec.delay, 0);
+  EXPECT_EQ(r.model.consequent, fuzzy::ConsequentKind::kSingleton);
+  EXPECT_EQ(r.model.entropy.prune_min_age, 77);
+  EXPECT_EQ(r.model.forgetting, 0.995);
+  EXPECT_EQ(r.ranges, c.ranges);
+  EXPECT_EQ(r.snapshot_every_samples, 9);
+  EXPECT_EQ(r.decimate, 5);
+  EXPECT_EQ(r.refit.history, 0.25);
+  EXPECT_FALSE(r.refit.at_freeze);
+  EXPECT_EQ(r.refit.horizon, 20);
+  EXPECT_EQ(r.channels.signals, "MY_SIGNALS");
+  EXPECT_EQ(r.channels.prediction, "MY_PREDICTIONS");
+  EXPECT_EQ(r.channels.command, bus::ChannelConfig{}.command);
 }
 
 TEST(IdentifierConfig, TheExampleLoads) {

@@ -1,4 +1,4 @@
-#include "identifier_config.hpp"
+#include "identifier_config/identifier_config.hpp"
 
 #include "sysid/online/learner_settings.hpp"
 
@@ -219,34 +219,50 @@ IdentifierConfig FromJson(const nlohmann::json& j, const std::string& path) {
 
 }  // namespace
 
-std::string ExampleIdentifierConfig() {
-  // The shared defaults (fuzzy::FuzzyModelConfig), so --print-config, odonata-fit and the main
-  // job start from the same values; only the signals and their ranges are an example.
-  const fuzzy::FuzzyModelConfig d;
+nlohmann::ordered_json IdentifierConfigToJson(const IdentifierConfig& c) {
   nlohmann::ordered_json j;
-  j["instance"] = "identifier";
-  j["outputs"] = {"roll_rad"};
-  // The open-loop roll loop of the roll preset: the command the wings applied (the excitation
-  // plus the onboard hold's correction), from DIMAV_BEAT_STATE.
-  j["inputs"] = {"u_roll_applied_rad"};
-  j["ny"] = 1;
-  j["nu"] = 1;
-  j["delay"] = 1;
-  const nlohmann::ordered_json learner =
-      sysid::LearnerSettingsJson(d, sysid::RefitSchedule::IdentifierDefault());
+  j["instance"] = c.instance;
+  j["outputs"] = c.spec.outputs;
+  j["inputs"] = c.spec.inputs;
+  j["ny"] = c.spec.output_lags;
+  j["nu"] = c.spec.input_lags;
+  j["delay"] = c.spec.delay;
+  const nlohmann::ordered_json learner = sysid::LearnerSettingsJson(c.model, c.refit);
   for (const auto& [key, value] : learner.items()) j[key] = value;
-  j["ranges"] = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_applied_rad", {-0.27, 0.27}}};
-  j["snapshot_period_s"] = 1.0;
-  j["snapshot_every_samples"] = 100;
-  j["resume_wait_s"] = 1.0;
-  j["decimate"] = 1;
+  j["ranges"] = sysid::RangesToJson(c.ranges);
+  j["snapshot_period_s"] = c.snapshot_period_s;
+  j["snapshot_every_samples"] = c.snapshot_every_samples;
+  j["resume_wait_s"] = c.resume_wait_s;
+  // One sample per block of this many (5 learns at 20 Hz from a 100 Hz plant).
+  j["decimate"] = c.decimate;
   // Up to this many samples lost in a row are bridged by interpolation (odonata-fit --max-gap).
-  j["max_gap"] = 3;
-  // "signals" learns from any vehicle's signals_t on the "signals" channel instead.
-  j["source"] = "dimav";
-  j["channels"] = {
-      {"command", "DIMAV_COMMAND"}, {"state", "DIMAV_STATE"}, {"beat_state", "DIMAV_BEAT_STATE"}};
-  return j.dump(2) + "\n";
+  j["max_gap"] = c.max_gap;
+  // "dimav": the DI-MAV's commands, states and beat states; "signals": any vehicle's signals_t.
+  const bool signals = c.source == SampleSource::kSignals;
+  j["source"] = signals ? "signals" : "dimav";
+  // The channels it reads, and any other renamed.
+  const std::vector<std::string> reads =
+      signals ? std::vector<std::string>{"signals"}
+              : std::vector<std::string>{"command", "state", "beat_state"};
+  j["channels"] = c.channels.ToJson(bus::ChannelConfig{}, reads);
+  return j;
+}
+
+std::string ExampleIdentifierConfig() {
+  // The shared defaults (fuzzy::FuzzyModelConfig, RefitSchedule::IdentifierDefault), so
+  // --print-config, odonata-fit and the main job start from the same values; only the signals
+  // and their ranges are an example: the open-loop roll loop of the roll preset, from the
+  // command the wings applied (the excitation plus the onboard hold's correction, on
+  // DIMAV_BEAT_STATE).
+  IdentifierConfig c;
+  c.spec.outputs = {"roll_rad"};
+  c.spec.inputs = {"u_roll_applied_rad"};
+  c.spec.output_lags = 1;
+  c.spec.input_lags = 1;
+  c.spec.delay = 1;
+  c.ranges = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_applied_rad", {-0.27, 0.27}}};
+  c.snapshot_every_samples = 100;
+  return IdentifierConfigToJson(c).dump(2) + "\n";
 }
 
 }  // namespace odonata::identifier

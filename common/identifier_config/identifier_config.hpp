@@ -1,7 +1,9 @@
 #pragma once
-// odonata-identifier's configuration file (JSON).
+// odonata-identifier's configuration file (JSON): its one reader and its one writer.
 
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "bus/channel_config.hpp"
 #include "fuzzy/fuzzy_model.hpp"
@@ -44,6 +46,9 @@ IdentifierConfig LoadIdentifierConfig(const std::string& path);
 /// The same from JSON text; `origin` names it in errors.
 /// @throws std::runtime_error naming `origin` and each problem.
 IdentifierConfig ParseIdentifierConfig(const std::string& text, const std::string& origin);
+
+/// Every key of `config`, as LoadIdentifierConfig reads them: the one writer of the file.
+nlohmann::ordered_json IdentifierConfigToJson(const IdentifierConfig& config);
 
 /// The configuration used without --config: ExampleIdentifierConfig(), the roll loop.
 IdentifierConfig DefaultIdentifierConfig();
