@@ -56,6 +56,7 @@ ReplayNode::ReplayNode(bus::BusNode& bus, FlightRows flight, ReplayOptions optio
 void ReplayNode::Begin() {
   started_ = true;
   start_ = last_progress_ = Clock::now();
+  pacer_ = pipeline::RealtimePacer(start_, options_.speed);
   bus_.SetState("replaying");
   if (options_.lockstep) {
     std::string who;
@@ -103,9 +104,10 @@ void ReplayNode::SendPaced(std::size_t row) {
   if (next >= flight_.rows.size()) return Finish(0);
   // Each sample at its own time from the start, so the pace does not drift with the loop's
   // latency.
-  const auto due = start_ + Micros(flight_.times_s[next] / options_.speed);
-  const auto wait = std::chrono::duration_cast<std::chrono::microseconds>(due - Clock::now());
-  bus_.After(std::max(wait, std::chrono::microseconds(0)), [this, next] { SendPaced(next); });
+  const auto wait =
+      pipeline::RealtimePacer::Wait(pacer_.DueAt(flight_.times_s[next]), Clock::now());
+  bus_.After(std::chrono::duration_cast<std::chrono::microseconds>(wait),
+             [this, next] { SendPaced(next); });
 }
 
 void ReplayNode::SendLockstep(std::size_t row) {

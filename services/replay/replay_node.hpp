@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/bus_node.hpp"
+#include "pipeline/realtime_pacer.hpp"
 #include "replay/flight_rows.hpp"
 #include "replay/lockstep_receipts.hpp"
 #include "sequence/lockstep_window.hpp"
@@ -67,6 +68,7 @@ class ReplayNode {
   LockstepReceipts receipts_;
   bool started_ = false, finished_ = false;
   std::chrono::steady_clock::time_point start_, last_progress_;
+  pipeline::RealtimePacer pacer_;  // paced: when each row is due
   std::chrono::steady_clock::time_point end_;
   int64_t sent_ = 0;  // samples published (resends not counted)
   int64_t resends_ = 0;

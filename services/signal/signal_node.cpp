@@ -338,7 +338,8 @@ void SignalNode::StartRealtime() {
       pipeline::RunStart(pipeline::RunStartOptions{true, true}, options_.reset_plant ? 0 : -1);
   bus_.SetState("running");
   ++timer_generation_;
-  timer_.expires_at(std::chrono::steady_clock::now());
+  pacer_ = pipeline::RealtimePacer(std::chrono::steady_clock::now());
+  timer_.expires_at(pacer_.start());
   RealtimeTick();
 }
 
@@ -360,10 +361,8 @@ void SignalNode::RealtimeTick() {
     Finish(0, "");
     return;
   }
-  // Scheduled from the previous deadline, not from now: the rate does not drift with latency.
-  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / options_.rate_hz));
-  timer_.expires_at(timer_.expiry() + period);
+  // Each command at its own time from the start: the rate does not drift with latency.
+  timer_.expires_at(pacer_.DueAtSample(next_realtime_, options_.rate_hz));
   const uint64_t generation = timer_generation_;
   timer_.async_wait([this, generation](const boost::system::error_code& ec) {
     if (!ec && generation == timer_generation_) RealtimeTick();

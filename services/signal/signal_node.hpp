@@ -25,6 +25,7 @@
 #include "odonata/wing_command_t.hpp"
 #include "pipeline/command_schedule.hpp"
 #include "pipeline/lockstep_sequencer.hpp"
+#include "pipeline/realtime_pacer.hpp"
 #include "sequence/run_start.hpp"
 
 namespace odonata::signal_service {
@@ -126,6 +127,7 @@ class SignalNode {
   std::chrono::steady_clock::time_point timeout_deadline_{};  // lockstep: resend after this
   bool timeout_armed_ = false;
   bool realtime_started_ = false;
+  pipeline::RealtimePacer pacer_;  // real time: when each command is due
   int64_t next_realtime_ = 0;
   int64_t commands_sent_ = 0;
   int64_t states_received_ = 0;    // answers from the plant, resent ones included
