@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Draws what `odonata-fit --plot DIR` wrote into DIR (services/fit/fit_plot_data.hpp):
+"""Draws what `odonata-fit --plot DIR` wrote into DIR (common/fit/fit_plot_data.hpp):
 
   membership.png     each signal's shared, named terms of the readable form (the premises an
                      operator reads), or the full model's rules when there is no readable form

@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/csv_format_options.hpp"
-#include "fit_job.hpp"
+#include "fit/fit_job.hpp"
 
 namespace odonata::fit {
 

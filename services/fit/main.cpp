@@ -5,9 +5,9 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/parse_command_line.hpp"
+#include "fit/fit_job.hpp"
+#include "fit/fit_report_text.hpp"
 #include "fit_cli.hpp"
-#include "fit_job.hpp"
-#include "fit_report_text.hpp"
 
 int main(int argc, char** argv) {
   odonata::fit::FitJobOptions o;

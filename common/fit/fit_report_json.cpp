@@ -1,4 +1,4 @@
-#include "fit_report_json.hpp"
+#include "fit/fit_report_json.hpp"
 
 #include <cmath>
 

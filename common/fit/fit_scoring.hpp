@@ -1,7 +1,7 @@
 #pragma once
 // odonata-fit's scoring and data helpers, apart from the job's orchestration (fit_job.cpp) and
-// its text report (fit_report_text.cpp): loading a record, scoring a predictor in every mode,
-// the predictions file and the tracking replay.
+// its text report (fit_report_text.cpp): loading a record, scoring a predictor in every mode
+// and the predictions file.
 
 #include <string>
 #include <utility>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit_job.hpp"
+#include "fit/fit_job.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"
@@ -40,11 +40,5 @@ std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec
 void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
                       const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon);
-
-/// The tracking run of FitJobOptions::track_csv: one-step predictions of the model learning on
-/// (online), of a frozen copy and of ARX, each with its accuracy alarm.
-nlohmann::json Track(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                     const sysid::NarxModel& trained, const sysid::ArxModel& arx,
-                     const std::string& output, int window, double forgetting);
 
 }  // namespace odonata::fit

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit_job.hpp"
+#include "fit/fit_job.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/online/online_identifier.hpp"

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fit/progress_bar.hpp"
 #include "fuzzy/fuzzy_model.hpp"
 #include "io/csv_table.hpp"
-#include "progress_bar.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/model/series_from_table.hpp"

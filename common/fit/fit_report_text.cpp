@@ -1,4 +1,4 @@
-#include "fit_report_text.hpp"
+#include "fit/fit_report_text.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,9 @@
-#include "fit_job.hpp"
+#include "fit/fit_job.hpp"
 
-#include "fit_plot_data.hpp"
-#include "fit_report_json.hpp"
-#include "fit_scoring.hpp"
+#include "fit/fit_plot_data.hpp"
+#include "fit/fit_report_json.hpp"
+#include "fit/fit_scoring.hpp"
+#include "fit/fit_tracking.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fit/progress_bar.hpp"
 #include "identifier_config/identifier_config.hpp"
 #include "io/csv_table.hpp"
 #include "io/csv_writer.hpp"
@@ -18,7 +20,6 @@
 #include "metrics/accuracy_alarm.hpp"
 #include "metrics/accuracy_json.hpp"
 #include "metrics/running_accuracy.hpp"
-#include "progress_bar.hpp"
 #include "records/record_file.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"

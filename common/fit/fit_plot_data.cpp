@@ -1,4 +1,4 @@
-#include "fit_plot_data.hpp"
+#include "fit/fit_plot_data.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
