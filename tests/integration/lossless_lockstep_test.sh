@@ -31,7 +31,7 @@ start plant "$PLANT" --mode lockstep --preset roll --lcm-url "$URL"
 start ident "$IDENT" --config "$OUT/id.json" --lcm-url "$URL" --resume-wait 0 --save-model "$OUT/model.json"
 wait_up "$URL" logger odonata-plant identifier -- --state running --state waiting
 start signal "$SIGNAL" --preset roll --phase train --duration 10 --mode lockstep --lcm-url "$URL" \
-  --hold-at 500 --max-resends 300
+  --hold-at 500 --max-resends 300 --wait-for identifier --wait-for logger
 # Pause the identifier at sample 500 of 1000, then let the run go on: the window must wait for it.
 wait_hold "$PID_signal" "$OUT/signal.log" 500
 grep -q "waits for receipts from: identifier logger" "$OUT/signal.log" ||

@@ -29,7 +29,7 @@ run_case() {
   start "${name}_ident1" "$IDENT" --config "$OUT/id.json" --resume-wait 0 "${K[@]}"
   wait_up "$url" logger monitor odonata-plant identifier -- --state running --state waiting
   start "${name}_signal" "$SIGNAL" --preset roll --phase train --duration 20 --mode lockstep \
-    "${K[@]}" --timeout-ms 200 --max-resends 40 --hold-at $HOLD
+    "${K[@]}" --timeout-ms 200 --max-resends 40 --hold-at $HOLD --wait-for identifier --wait-for logger
   local signal_pid_var="PID_${name}_signal" ident1_var="PID_${name}_ident1"
   wait_hold "${!signal_pid_var}" "$OUT/${name}_signal.log" $HOLD
   kill -KILL "${!ident1_var}"

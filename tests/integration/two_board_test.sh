@@ -36,6 +36,7 @@ start ident ip netns exec "$B" "$IDENT" --config "$OUT/id.json" --lcm-url "$URL"
 wait_up_on() { local ns=$1; shift; ODONATA_NETNS=$ns wait_up "$@"; }
 wait_up_on "$A" "$URL" logger odonata-plant identifier monitor
 timeout 60 ip netns exec "$A" "$SIGNAL" --preset yaw --phase train --duration 3 --mode lockstep --lcm-url "$URL" \
+  --wait-for identifier --wait-for logger \
   >"$OUT/signal.log" 2>&1 || { cat "$OUT/signal.log"; fail "the run across the bridge did not complete"; }
 stop_clean "$PID_ident" "identifier on board B"
 stop_clean "$PID_monitor" "monitor on board B"
