@@ -1,5 +1,7 @@
 #include "sysid/estimation/consequent_tracker.hpp"
 
+#include "sysid/estimation/recursive_least_squares.hpp"
+
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -54,18 +56,11 @@ void ConsequentTracker::Step(NarxModel& model, const Eigen::VectorXd& x, const E
     if (m.rules() != rules_[static_cast<std::size_t>(o)]) return;
     Eigen::MatrixXd& p = covariance_[static_cast<std::size_t>(o)];
     const Eigen::VectorXd row = GlobalRow(m, xs);
-    Eigen::VectorXd theta = m.consequent().Parameters();
-    const double lambda = m.config().forgetting;
-    const Eigen::VectorXd pr = p * row;
-    const double gain_denominator = lambda + row.dot(pr);
-    if (!(gain_denominator > 0.0)) continue;
-    const double error = model.scaling().ScaleOutput(o, y(o)) - row.dot(theta);
-    theta += pr * (error / gain_denominator);
-    p.noalias() -= (pr / gain_denominator) * pr.transpose();
-    p /= lambda;
-    // Rounding makes P drift from symmetric over a long stretch; keep it symmetric.
-    p = 0.5 * (p + p.transpose()).eval();
-    m.mutable_consequent().SetParameters(theta);
+    Eigen::MatrixXd theta = m.consequent().Parameters();
+    const Eigen::VectorXd target =
+        Eigen::VectorXd::Constant(1, model.scaling().ScaleOutput(o, y(o)));
+    if (!RecursiveLeastSquaresStep(theta, p, row, target, m.config().forgetting)) continue;
+    m.mutable_consequent().SetParameters(theta.col(0));
   }
   ++steps_;
 }

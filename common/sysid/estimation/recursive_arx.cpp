@@ -1,6 +1,7 @@
 #include "sysid/estimation/recursive_arx.hpp"
 
 #include "contract/precondition.hpp"
+#include "sysid/estimation/recursive_least_squares.hpp"
 
 namespace odonata::sysid {
 
@@ -31,14 +32,7 @@ void RecursiveArx::Update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   Eigen::VectorXd ys(y.size());
   for (Eigen::Index o = 0; o < y.size(); ++o)
     ys(o) = scaling_.ScaleOutput(static_cast<int>(o), y(o));
-  const Eigen::VectorXd pz = p_ * z;
-  const double denominator = 1.0 + z.dot(pz);
-  const Eigen::VectorXd gain = pz / denominator;
-  const Eigen::VectorXd error = ys - theta_.transpose() * z;
-  theta_.noalias() += gain * error.transpose();
-  p_.noalias() -= gain * pz.transpose();
-  // Rounding makes P drift from symmetric over a long record; keep it symmetric.
-  p_ = 0.5 * (p_ + p_.transpose()).eval();
+  RecursiveLeastSquaresStep(theta_, p_, z, ys);
   ++samples_;
 }
 
