@@ -334,7 +334,7 @@ class SamplePairer {
   }
 
   PairingNeeds needs_;
-  RunStart run_{RunStartOptions{true, false}};  // where the states' run begins again
+  RunStart run_{kPairedStates};  // where the states' run begins again
   LeapGuard command_leaps_, beat_leaps_;
   std::map<int64_t, Command> commands_;  // by seq, bounded
   std::optional<State> candidate_;       // a fresh state 0 mid-run, until confirmed or dropped

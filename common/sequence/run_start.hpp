@@ -5,19 +5,25 @@
 // pairs and sequences as the identifier does) and the generator's watch on a real-time plant.
 //
 // A run's first message is seq 0 flagged as a start by its sender (a plant's fresh state 0, whose
-// command_seq is −1; a vehicle's signals_t seq 0). Mid-run, a start is
-//   - with `confirm`, only a candidate until its successor (seq 1) or the start again (a
-//     restarted plant repeats its state 0 while nothing commands it) arrives: one stale or forged
-//     packet must not cut a run in two. Right after a run's start (newest ≤ 1) there is hardly a
-//     run to protect, and a resent seq 1 of it could not tell the new run from the old: a start
-//     then restarts at once;
-//   - without, taken at once (signals_t: nothing repeats a vehicle's seq 0, and a lost seq 1
-//     would leave the new run unheard).
+// command_seq is −1; a vehicle's signals_t seq 0). Mid-run, a start is, by option:
+//   - with `confirm`, only a candidate until its successor (seq 1) arrives — or, with
+//     `repeat_confirms`, the start again (a restarted lockstep plant repeats its state 0 while
+//     nothing commands it): one stale or forged packet must not cut a run in two. With
+//     `at_once_after_start`, a start right after a run's start (newest ≤ 1) restarts at once:
+//     there is hardly a run to protect, and a resent seq 1 of the old run could not tell the new
+//     run from it (the identifier's pairing; a recorder keeps the candidate instead, so a late
+//     copy of the idle state 0 cannot move its receipts back);
+//   - without `confirm`, taken at once (signals_t: nothing repeats a vehicle's seq 0, and a lost
+//     seq 1 would leave the new run unheard).
 // With `far_below`, a seq more than kConfirmLeap below the newest followed by its successor is a
 // restart whose start was lost — not where resends reach back further than that (lockstep
 // states, kLockstepResendReach). A seq beyond the newest drops any candidate (the old run goes
 // on), and one that leaps more than kConfirmLeap ahead is held until the next confirms it
 // (LeapGuard). Not thread-safe.
+//
+// The receivers' settings, each named below: DI-MAV states paired by the identifier and the
+// export (kPairedStates), recorded by the logger (kRecordedStates), watched in real time by the
+// generator (kRealtimeStates), and signals_t samples (kSignalSamples).
 
 #include <cstdint>
 #include <optional>
@@ -28,9 +34,16 @@
 namespace odonata::pipeline {
 
 struct RunStartOptions {
-  bool confirm = true;     ///< a start mid-run waits for its successor (or itself again)
-  bool far_below = false;  ///< two consecutive seqs far below the newest restart the run
+  bool confirm = true;               ///< a start mid-run waits for its successor
+  bool repeat_confirms = true;       ///< … or for itself again
+  bool at_once_after_start = false;  ///< with newest ≤ 1 a start restarts at once
+  bool far_below = false;            ///< two consecutive seqs far below the newest restart
 };
+
+inline constexpr RunStartOptions kPairedStates{true, true, true, false};
+inline constexpr RunStartOptions kRecordedStates{true, true, false, false};
+inline constexpr RunStartOptions kRealtimeStates{true, false, false, true};
+inline constexpr RunStartOptions kSignalSamples{false, false, false, true};
 
 /// What an arrival means for the run.
 struct RunVerdict {
@@ -68,7 +81,8 @@ class RunStart {
       candidate_.reset();
       return v;  // kNext
     }
-    if (candidate_ && (seq == *candidate_ + 1 || (start && seq == *candidate_))) {
+    if (candidate_ &&
+        (seq == *candidate_ + 1 || (options_.repeat_confirms && start && seq == *candidate_))) {
       newest_ = seq;
       candidate_.reset();
       v.kind = RunVerdict::Kind::kRestart;
@@ -76,7 +90,7 @@ class RunStart {
       return v;
     }
     if (start && seq == 0 && newest_ > 0) {
-      if (!options_.confirm || newest_ <= 1) {
+      if (!options_.confirm || (options_.at_once_after_start && newest_ <= 1)) {
         newest_ = 0;
         candidate_.reset();
         v.kind = RunVerdict::Kind::kRestart;

@@ -52,7 +52,7 @@ class SampleSequence {
  private:
   static Verdict Drop(std::string why) { return {Verdict::Kind::kDrop, 0, std::move(why)}; }
 
-  RunStart run_{RunStartOptions{false, true}};
+  RunStart run_{kSignalSamples};
 };
 
 }  // namespace odonata::pipeline

@@ -4,7 +4,9 @@
 // answers) and, once beat states are seen, every beat state up to s has arrived (docs/lcm.md §10).
 //
 // A plant run starts with a fresh state 0 (command_seq -1); where the run begins again is the
-// run rule's (run_start.hpp, with confirmation, as the identifier pairs): mid-run, one fresh
+// run rule's (run_start.hpp, kRecordedStates: with confirmation, as the identifier pairs, and no
+// restart at once right after the run's start, so a late copy of the idle state 0 cannot move
+// the receipts back): mid-run, one fresh
 // state 0 is only a candidate new run, tracked beside the current one — a stale or forged state 0
 // must not move the receipts back, where the current run's states would then pile up behind a
 // hole no resend fills. The candidate becomes the run once the plant answers a command of it
@@ -76,7 +78,7 @@ class WrittenRunMarks {
     return m;
   }
 
-  pipeline::RunStart run_start_{pipeline::RunStartOptions{true, false}};
+  pipeline::RunStart run_start_{pipeline::kRecordedStates};
   Marks run_;
   std::optional<Marks> candidate_;
   bool beats_seen_ = false;

@@ -334,8 +334,7 @@ void SignalNode::StartRealtime() {
   // After a reset the plant's state 0 has been seen; without one its numbering is unknown.
   // The run rule with confirmation, and far below: a real-time plant resends nothing, so two
   // consecutive low seqs are its restart even when its state 0 was lost.
-  plant_run_ =
-      pipeline::RunStart(pipeline::RunStartOptions{true, true}, options_.reset_plant ? 0 : -1);
+  plant_run_ = pipeline::RunStart(pipeline::kRealtimeStates, options_.reset_plant ? 0 : -1);
   bus_.SetState("running");
   ++timer_generation_;
   pacer_ = pipeline::RealtimePacer(std::chrono::steady_clock::now());

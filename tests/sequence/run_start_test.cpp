@@ -9,9 +9,9 @@ namespace odonata::pipeline {
 namespace {
 
 using Kind = RunVerdict::Kind;
-constexpr RunStartOptions kWatch{true, true};
-constexpr RunStartOptions kLockstepStates{true, false};
-constexpr RunStartOptions kSignals{false, true};
+constexpr RunStartOptions kWatch = kRealtimeStates;
+constexpr RunStartOptions kLockstepStates = kPairedStates;
+constexpr RunStartOptions kSignals = kSignalSamples;
 
 bool Restarts(RunStart& r, int64_t seq) { return r.Next(seq, seq == 0).kind == Kind::kRestart; }
 
@@ -87,6 +87,31 @@ TEST(RunStart, RightAfterARunsStartAStartRestartsAtOnceEvenWithConfirmation) {
   EXPECT_EQ(states.Next(0, true).kind, Kind::kRestart);
   EXPECT_EQ(states.Next(0, true).kind, Kind::kOlder);  // the idle plant's repeat: a duplicate
   EXPECT_EQ(states.Next(1, false).kind, Kind::kNext);
+}
+
+TEST(RunStart, ARecorderKeepsALateIdleStateZeroAsACandidateOnly) {
+  // State 0, the answer to command 0, then a late copy of the idle plant's state 0: the
+  // identifier's pairing restarts at once (above), a recorder holds it until the run goes on.
+  RunStart recorded(kRecordedStates);
+  recorded.Next(0, true);
+  recorded.Next(1, false);
+  EXPECT_EQ(recorded.Next(0, true).kind, Kind::kCandidate);
+  const RunVerdict next = recorded.Next(2, false);
+  EXPECT_EQ(next.kind, Kind::kNext);
+  EXPECT_TRUE(next.dropped_candidate);
+}
+
+TEST(RunStart, InRealTimeOnlyTheSuccessorConfirmsAStart) {
+  // A real-time plant sends its state 0 once: a second copy is a duplicate, not a confirmation.
+  RunStart w(kWatch, 500);
+  EXPECT_EQ(w.Next(0, true).kind, Kind::kCandidate);
+  EXPECT_NE(w.Next(0, true).kind, Kind::kRestart);
+  EXPECT_EQ(w.Next(1, false).kind, Kind::kRestart);
+  // Nor does a start right after the run's start restart it at once.
+  RunStart fresh(kWatch, 0);
+  fresh.Next(1, false);
+  EXPECT_EQ(fresh.Next(0, true).kind, Kind::kCandidate);
+  EXPECT_EQ(fresh.Next(2, false).kind, Kind::kNext);
 }
 
 }  // namespace
