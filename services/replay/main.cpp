@@ -59,6 +59,11 @@ int main(int argc, char** argv) {
                  "one heard is waited for too (0: only --wait-for)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--refit-wait", o.refit_wait_s,
+                 "lockstep: seconds to wait for consumers landing a scheduled refit (heartbeat "
+                 "\"refitting\"), whose timeouts resend nothing and count no resend (default: 600 "
+                 "with --key, 45 without, where a forged \"refitting\" looks the same)")
+      ->check(CLI::Range(0.0, 86400.0));
   app.add_option("--timeout-ms", o.timeout_ms, "lockstep: resend a sample after this long")
       ->capture_default_str()
       ->check(CLI::Range(1, 600000));

@@ -1,5 +1,6 @@
 #include "replay_node.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <utility>
 
@@ -30,12 +31,13 @@ ReplayNode::ReplayNode(bus::BusNode& bus, FlightRows flight, ReplayOptions optio
       SendLockstep(static_cast<std::size_t>(newest_seq_) + 1);
     });
     // Consumers announce themselves by heartbeat: each identifier and logger heard before the
-    // first sample is waited for, so none of them misses one.
+    // first sample is waited for, so none of them misses one; an awaited one that says it is
+    // landing a scheduled refit is waited for with patience, not resends (as odonata-signal).
     bus_.Subscribe<odonata::heartbeat_t>(
         bus_.channels().heartbeat, [this](const odonata::heartbeat_t& h) {
-          if (started_ || options_.discover_s <= 0) return;
-          if (h.service == "odonata-identifier" || h.service == "odonata-logger")
-            receipts_.Await(h.instance);
+          if (h.service != "odonata-identifier" && h.service != "odonata-logger") return;
+          if (!started_ && options_.discover_s > 0) receipts_.Await(h.instance);
+          receipts_.SetBusy(h.instance, h.state == "refitting");
         });
   }
   bus_.OnShutdown([this] {
@@ -118,6 +120,7 @@ void ReplayNode::SendLockstep(std::size_t row) {
   Progress(row);
   awaited_ = static_cast<int64_t>(row);
   resends_of_awaited_ = 0;
+  refit_timeouts_in_a_row_ = 0;
   if (receipts_.Confirmed(awaited_)) {  // nobody to wait for
     awaited_ = -1;
     bus_.After(std::chrono::microseconds(0), [this, row] { SendLockstep(row + 1); });
@@ -129,6 +132,11 @@ void ReplayNode::SendLockstep(std::size_t row) {
 void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
   bus_.After(std::chrono::milliseconds(options_.timeout_ms), [this, row, generation] {
     if (generation != generation_ || finished_) return;  // held meanwhile
+    if (receipts_.OnlyBusyMissing(static_cast<int64_t>(row))) {
+      if (WaitForRefit(row)) return ArmResend(row, generation);
+      return Finish(kExitConsumerLost);
+    }
+    refit_timeouts_in_a_row_ = 0;
     if (resends_of_awaited_ >= options_.max_resends) {
       std::string who;
       for (const auto& c : receipts_.Missing(static_cast<int64_t>(row)))
@@ -145,6 +153,37 @@ void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
     Publish(row);  // the same sample again: a consumer that holds it answers again
     ArmResend(row, generation);
   });
+}
+
+bool ReplayNode::WaitForRefit(std::size_t row) {
+  const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
+                        : bus_.options().key_path.empty() ? pipeline::kKeylessRefitWaitSeconds
+                                                          : pipeline::kSignedRefitWaitSeconds;
+  const double waited_s = (refit_timeouts_in_a_row_ + 1) * options_.timeout_ms / 1000.0;
+  std::string who;
+  for (const auto& c : receipts_.Missing(static_cast<int64_t>(row)))
+    who += (who.empty() ? "" : ", ") + c;
+  if (waited_s > wait_s) {
+    std::fprintf(stderr,
+                 "odonata-replay: error: %s has been landing a scheduled refit for %.0f s at "
+                 "sample %zu, longer than --refit-wait (%.0f s)\n",
+                 who.c_str(), waited_s, row, wait_s);
+    return false;
+  }
+  ++refit_timeouts_in_a_row_;
+  ++refit_timeouts_;
+  // A refit may take long; a forged or stuck "refitting" must not look like a hang.
+  const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
+  if (refit_timeouts_in_a_row_ % every == 0)
+    std::fprintf(stderr,
+                 "odonata-replay: waiting %.0f s for %s, landing a scheduled refit (gives up "
+                 "after %.0f s%s)\n",
+                 waited_s, who.c_str(), wait_s,
+                 bus_.options().key_path.empty()
+                     ? "; without a key a forged \"refitting\" looks the same: --refit-wait "
+                       "for longer"
+                     : "");
+  return true;
 }
 
 void ReplayNode::Progress(std::size_t row) {
@@ -180,6 +219,7 @@ nlohmann::json ReplayNode::Summary() const {
   if (options_.lockstep) {
     j["consumers"] = receipts_.consumers();
     j["resends"] = resends_;
+    j["refit_timeouts"] = refit_timeouts_;
   } else {
     j["speed"] = options_.speed;
   }

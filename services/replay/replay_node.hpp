@@ -38,6 +38,10 @@ struct ReplayOptions {
   double discover_s = pipeline::kLockstepDiscoverySeconds;
   int timeout_ms = 200;   ///< lockstep: resend a sample after this long without every receipt
   int max_resends = 100;  ///< lockstep: resends of one sample before giving up on a consumer
+  /// Lockstep: how long to wait for consumers landing a scheduled refit (heartbeat "refitting"),
+  /// whose timeouts resend nothing and cost none of max_resends; < 0: 600 s on a signed bus, 45 s
+  /// on a keyless one (pipeline::kSignedRefitWaitSeconds, kKeylessRefitWaitSeconds).
+  double refit_wait_s = -1;
   double progress_s = 5;  ///< seconds between progress lines on stderr (0: none)
 };
 
@@ -57,6 +61,9 @@ class ReplayNode {
   void SendLockstep(std::size_t row);
   void Publish(std::size_t row);
   void ArmResend(std::size_t row, int64_t generation);
+  // A timeout while only consumers landing a refit lack `row`: wait on without resending; false
+  // once the refit wait is spent.
+  bool WaitForRefit(std::size_t row);
   void Finish(int exit_code);
   void Progress(std::size_t row);
   // The next row holding every value (a row with a gap is not sent), or rows() when none.
@@ -77,6 +84,8 @@ class ReplayNode {
   int64_t awaited_ = -1;     // lockstep: the seq whose receipts are awaited
   int64_t generation_ = 0;   // lockstep: invalidates a resend timer once its sample is held
   int resends_of_awaited_ = 0;
+  int refit_timeouts_in_a_row_ = 0;  // lockstep: timeouts spent on consumers landing a refit
+  int64_t refit_timeouts_ = 0;
 };
 
 }  // namespace odonata::replay

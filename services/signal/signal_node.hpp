@@ -53,8 +53,8 @@ inline constexpr int kExitConsumerRefused = 7;
 
 /// How long a lockstep run waits for consumers landing a refit, by default: with a key, and
 /// without one (where anyone can claim to be refitting).
-inline constexpr double kSignedRefitWaitS = 600;
-inline constexpr double kKeylessRefitWaitS = 45;
+inline constexpr double kSignedRefitWaitS = pipeline::kSignedRefitWaitSeconds;
+inline constexpr double kKeylessRefitWaitS = pipeline::kKeylessRefitWaitSeconds;
 
 /// How the generator runs.
 struct SignalOptions {
