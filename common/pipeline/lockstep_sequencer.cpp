@@ -51,20 +51,14 @@ int64_t LockstepSequencer::LowestAck() const {
 
 void LockstepSequencer::SetBusy(const std::string& instance, bool busy) {
   if (consumers_.count(instance) == 0) return;
-  if (busy)
-    busy_.insert(instance);
-  else
-    busy_.erase(instance);
+  patience_.SetBusy(instance, busy);
 }
 
-bool LockstepSequencer::AllLaggardsBusy(int64_t state_seq) const {
-  bool any = false;
-  for (const auto& [instance, acked] : consumers_) {
-    if (acked >= state_seq) continue;
-    if (busy_.count(instance) == 0) return false;
-    any = true;
-  }
-  return any;
+std::vector<std::string> LockstepSequencer::LaggardNames(int64_t state_seq) const {
+  std::vector<std::string> names;
+  for (const auto& [instance, acked] : consumers_)
+    if (acked < state_seq) names.push_back(instance);
+  return names;
 }
 
 std::string LockstepSequencer::Laggards(int64_t state_seq) const {
@@ -84,7 +78,7 @@ SequencerAction LockstepSequencer::TryAdvance() {
     phase_ = Phase::kAwaitingAnswer;
     current_ = 0;
     resends_ = 0;
-    busy_in_a_row_ = 0;
+    patience_.Reset();
     a.progressed = true;
   } else if (phase_ == Phase::kAwaitingAnswer) {
     // The newest state the plant answered and every consumer holds; the plant answers in seq
@@ -93,7 +87,7 @@ SequencerAction LockstepSequencer::TryAdvance() {
     if (confirmed <= current_) return a;
     current_ = confirmed;
     resends_ = 0;
-    busy_in_a_row_ = 0;
+    patience_.Reset();
     a.progressed = true;
     if (current_ == command_count_) {
       phase_ = Phase::kFinished;
@@ -125,7 +119,7 @@ SequencerAction LockstepSequencer::AddConsumer(const std::string& instance) {
 
 SequencerAction LockstepSequencer::RemoveConsumer(const std::string& instance) {
   consumers_.erase(instance);
-  busy_.erase(instance);
+  patience_.Forget(instance);
   return TryAdvance();
 }
 
@@ -218,20 +212,24 @@ SequencerAction LockstepSequencer::OnTimeout() {
   const bool acks_missing = phase_ == Phase::kAwaitingInitial
                                 ? received_ && !Acknowledged(0)
                                 : answered_ >= Awaited() && !Acknowledged(Awaited());
-  if (acks_missing && AllLaggardsBusy(Awaited())) {
-    // They have the messages or will get them from the next resend once they are back: nothing
-    // is lost by waiting, and resending into a process that is not reading helps nobody.
-    if (busy_in_a_row_ < max_busy_timeouts_) {
-      ++busy_in_a_row_;
-      ++busy_timeouts_;
-      return a;
+  // While only consumers landing a refit lack it, they have the messages or will get them from
+  // the next resend once they are back: nothing is lost by waiting, and resending into a process
+  // that is not reading helps nobody.
+  if (!acks_missing) {
+    patience_.Reset();
+  } else {
+    switch (patience_.OnTimeout(LaggardNames(Awaited()))) {
+      case RefitPatience::Verdict::kWait:
+        return a;
+      case RefitPatience::Verdict::kSpent:
+        return Fail(SequencerAction::Failure::kConsumerLost,
+                    "no acknowledgement of state " + std::to_string(Awaited()) + " from " +
+                        Laggards(Awaited()) + ", busy for " + std::to_string(patience_.in_a_row()) +
+                        " timeouts in a row: it would miss samples");
+      case RefitPatience::Verdict::kNotBusy:
+        break;
     }
-    return Fail(SequencerAction::Failure::kConsumerLost,
-                "no acknowledgement of state " + std::to_string(Awaited()) + " from " +
-                    Laggards(Awaited()) + ", busy for " + std::to_string(busy_in_a_row_) +
-                    " timeouts in a row: it would miss samples");
   }
-  busy_in_a_row_ = 0;
   if (resends_ >= max_resends_) {
     if (acks_missing) {
       return Fail(SequencerAction::Failure::kConsumerLost,

@@ -23,6 +23,7 @@
 #include <string>
 
 #include "sequence/lockstep_window.hpp"
+#include "sequence/refit_patience.hpp"
 
 namespace odonata::pipeline {
 
@@ -89,8 +90,8 @@ class LockstepSequencer {
   /// The default bound: 10 min at the default 200 ms timeout.
   static constexpr int kMaxBusyTimeouts = 3000;
   /// Timeouts in a row a busy consumer may cost before the run fails (≥ 0).
-  void set_max_busy_timeouts(int n) { max_busy_timeouts_ = n; }
-  int max_busy_timeouts() const { return max_busy_timeouts_; }
+  void set_max_busy_timeouts(int n) { patience_.set_max_timeouts(n); }
+  int max_busy_timeouts() const { return patience_.max_timeouts(); }
   /// `instance` holds state `state_seq` and all it needs (ack_t). Unknown instances are ignored,
   /// and so is a receipt for a state beyond the answer to the newest command sent.
   SequencerAction OnAck(const std::string& instance, int64_t state_seq);
@@ -119,9 +120,9 @@ class LockstepSequencer {
   /// Of those, resends because a consumer had not acknowledged a state the plant had answered.
   int64_t ack_resends() const { return ack_resends_; }
   /// Timeouts spent waiting for busy consumers (SetBusy), nothing resent.
-  int64_t busy_timeouts() const { return busy_timeouts_; }
+  int64_t busy_timeouts() const { return patience_.total(); }
   /// Of those, the ones in a row now, and who is waited for: what a stalled run should say.
-  int busy_in_a_row() const { return busy_in_a_row_; }
+  int busy_in_a_row() const { return patience_.in_a_row(); }
   std::string Waited() const { return Laggards(Awaited()); }
   /// Receipts ignored because they acknowledged a state no command sent could have produced.
   int64_t impossible_acks() const { return impossible_acks_; }
@@ -137,7 +138,7 @@ class LockstepSequencer {
   bool Acknowledged(int64_t state_seq) const { return LowestAck() >= state_seq; }
   std::string Laggards(int64_t state_seq) const;
   // Every consumer that lacks `state_seq` is busy (and there is one).
-  bool AllLaggardsBusy(int64_t state_seq) const;
+  std::vector<std::string> LaggardNames(int64_t state_seq) const;
   // Confirms what the plant answered and every consumer acknowledged, then fills the window.
   SequencerAction TryAdvance();
   // Sends what the window (and the hold) allow beyond what was sent: `a` with the commands.
@@ -161,10 +162,7 @@ class LockstepSequencer {
   bool start_held_ = false;
   int64_t hold_at_ = -1;  // no command from here on until ReleaseHold() (-1: no hold)
   std::map<std::string, int64_t> consumers_;  // instance -> newest acknowledged state
-  std::set<std::string> busy_;                // consumers landing a refit
-  int busy_in_a_row_ = 0;
-  int max_busy_timeouts_ = kMaxBusyTimeouts;
-  int64_t busy_timeouts_ = 0;
+  RefitPatience patience_{kMaxBusyTimeouts};  // consumers landing a refit
 };
 
 }  // namespace odonata::pipeline

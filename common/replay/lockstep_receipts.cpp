@@ -32,20 +32,6 @@ std::vector<std::string> LockstepReceipts::Missing(int64_t seq) const {
   return missing;
 }
 
-void LockstepReceipts::SetBusy(const std::string& instance, bool busy) {
-  if (held_.count(instance) == 0) return;
-  if (busy)
-    busy_.insert(instance);
-  else
-    busy_.erase(instance);
-}
-
-bool LockstepReceipts::OnlyBusyMissing(int64_t seq) const {
-  const std::vector<std::string> missing = Missing(seq);
-  return !missing.empty() && std::all_of(missing.begin(), missing.end(),
-                                         [this](const auto& c) { return busy_.count(c) > 0; });
-}
-
 void LockstepReceipts::Restart() {
   for (auto& h : held_) h.second = -1;
 }

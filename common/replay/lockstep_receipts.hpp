@@ -5,7 +5,6 @@
 
 #include <cstdint>
 #include <map>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -27,17 +26,10 @@ class LockstepReceipts {
   std::vector<std::string> Missing(int64_t seq) const;
   /// A new replay run starts at seq 0: the receipts of the last one say nothing about it.
   void Restart();
-  /// `instance` says it is landing a scheduled refit (heartbeat "refitting"): it acknowledges
-  /// nothing until it has, so waiting for it is patience, not a lost consumer. Unknown
-  /// instances are ignored.
-  void SetBusy(const std::string& instance, bool busy);
-  /// Some consumer lacks `seq`, and every one that does is busy.
-  bool OnlyBusyMissing(int64_t seq) const;
 
  private:
   std::vector<std::string> consumers_;
   std::map<std::string, int64_t> held_;  // by instance: newest sample held, −1 none
-  std::set<std::string> busy_;           // consumers landing a refit
 };
 
 }  // namespace odonata::replay

@@ -1,6 +1,7 @@
 #include "replay_node.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -12,6 +13,13 @@ namespace odonata::replay {
 namespace {
 using Clock = std::chrono::steady_clock;
 
+// "a, b" for the instances.
+std::string Names(const std::vector<std::string>& instances) {
+  std::string names;
+  for (const auto& c : instances) names += (names.empty() ? "" : ", ") + c;
+  return names;
+}
+
 std::chrono::microseconds Micros(double seconds) {
   return std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6));
 }
@@ -22,6 +30,15 @@ ReplayNode::ReplayNode(bus::BusNode& bus, FlightRows flight, ReplayOptions optio
       flight_(std::move(flight)),
       options_(std::move(options)),
       receipts_(options_.wait_for) {
+  {
+    // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
+    // stall the replay for under a minute, not ten (docs/lcm.md §10).
+    const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
+                          : bus_.options().key_path.empty() ? pipeline::kKeylessRefitWaitSeconds
+                                                            : pipeline::kSignedRefitWaitSeconds;
+    patience_.set_max_timeouts(static_cast<int>(
+        std::min(1e9, std::ceil(wait_s * 1000.0 / std::max(1, options_.timeout_ms)))));
+  }
   if (options_.lockstep) {
     bus_.Subscribe<odonata::ack_t>(bus_.channels().signals_ack, [this](const odonata::ack_t& a) {
       receipts_.OnReceipt(a.instance, a.state_seq, newest_seq_);
@@ -37,7 +54,9 @@ ReplayNode::ReplayNode(bus::BusNode& bus, FlightRows flight, ReplayOptions optio
         bus_.channels().heartbeat, [this](const odonata::heartbeat_t& h) {
           if (h.service != "odonata-identifier" && h.service != "odonata-logger") return;
           if (!started_ && options_.discover_s > 0) receipts_.Await(h.instance);
-          receipts_.SetBusy(h.instance, h.state == "refitting");
+          const auto& awaited = receipts_.consumers();
+          if (std::find(awaited.begin(), awaited.end(), h.instance) != awaited.end())
+            patience_.SetBusy(h.instance, h.state == "refitting");
         });
   }
   bus_.OnShutdown([this] {
@@ -120,7 +139,7 @@ void ReplayNode::SendLockstep(std::size_t row) {
   Progress(row);
   awaited_ = static_cast<int64_t>(row);
   resends_of_awaited_ = 0;
-  refit_timeouts_in_a_row_ = 0;
+  patience_.Reset();
   if (receipts_.Confirmed(awaited_)) {  // nobody to wait for
     awaited_ = -1;
     bus_.After(std::chrono::microseconds(0), [this, row] { SendLockstep(row + 1); });
@@ -132,20 +151,27 @@ void ReplayNode::SendLockstep(std::size_t row) {
 void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
   bus_.After(std::chrono::milliseconds(options_.timeout_ms), [this, row, generation] {
     if (generation != generation_ || finished_) return;  // held meanwhile
-    if (receipts_.OnlyBusyMissing(static_cast<int64_t>(row))) {
-      if (WaitForRefit(row)) return ArmResend(row, generation);
-      return Finish(kExitConsumerLost);
+    switch (patience_.OnTimeout(receipts_.Missing(static_cast<int64_t>(row)))) {
+      case pipeline::RefitPatience::Verdict::kWait:
+        SayRefitWait(row);
+        return ArmResend(row, generation);
+      case pipeline::RefitPatience::Verdict::kSpent:
+        std::fprintf(stderr,
+                     "odonata-replay: error: %s has been landing a scheduled refit for %.0f s at "
+                     "sample %zu, longer than --refit-wait\n",
+                     Names(receipts_.Missing(static_cast<int64_t>(row))).c_str(),
+                     patience_.in_a_row() * options_.timeout_ms / 1000.0, row);
+        return Finish(kExitConsumerLost);
+      case pipeline::RefitPatience::Verdict::kNotBusy:
+        break;
     }
-    refit_timeouts_in_a_row_ = 0;
     if (resends_of_awaited_ >= options_.max_resends) {
-      std::string who;
-      for (const auto& c : receipts_.Missing(static_cast<int64_t>(row)))
-        who += (who.empty() ? "" : ", ") + c;
       std::fprintf(stderr,
                    "odonata-replay: error: %s did not acknowledge sample %zu after %d resends "
                    "(%d ms apart): is it running, with source \"signals\", on this bus, channel "
                    "and key? (--wait-for names the consumers to wait for)\n",
-                   who.c_str(), row, resends_of_awaited_, options_.timeout_ms);
+                   Names(receipts_.Missing(static_cast<int64_t>(row))).c_str(), row,
+                   resends_of_awaited_, options_.timeout_ms);
       return Finish(kExitConsumerLost);
     }
     ++resends_of_awaited_;
@@ -155,35 +181,20 @@ void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
   });
 }
 
-bool ReplayNode::WaitForRefit(std::size_t row) {
-  const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
-                        : bus_.options().key_path.empty() ? pipeline::kKeylessRefitWaitSeconds
-                                                          : pipeline::kSignedRefitWaitSeconds;
-  const double waited_s = (refit_timeouts_in_a_row_ + 1) * options_.timeout_ms / 1000.0;
-  std::string who;
-  for (const auto& c : receipts_.Missing(static_cast<int64_t>(row)))
-    who += (who.empty() ? "" : ", ") + c;
-  if (waited_s > wait_s) {
-    std::fprintf(stderr,
-                 "odonata-replay: error: %s has been landing a scheduled refit for %.0f s at "
-                 "sample %zu, longer than --refit-wait (%.0f s)\n",
-                 who.c_str(), waited_s, row, wait_s);
-    return false;
-  }
-  ++refit_timeouts_in_a_row_;
-  ++refit_timeouts_;
+void ReplayNode::SayRefitWait(std::size_t row) const {
   // A refit may take long; a forged or stuck "refitting" must not look like a hang.
   const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
-  if (refit_timeouts_in_a_row_ % every == 0)
-    std::fprintf(stderr,
-                 "odonata-replay: waiting %.0f s for %s, landing a scheduled refit (gives up "
-                 "after %.0f s%s)\n",
-                 waited_s, who.c_str(), wait_s,
-                 bus_.options().key_path.empty()
-                     ? "; without a key a forged \"refitting\" looks the same: --refit-wait "
-                       "for longer"
-                     : "");
-  return true;
+  if (patience_.in_a_row() % every != 0) return;
+  std::fprintf(stderr,
+               "odonata-replay: waiting %.0f s for %s, landing a scheduled refit (gives up after "
+               "%.0f s%s)\n",
+               patience_.in_a_row() * options_.timeout_ms / 1000.0,
+               Names(receipts_.Missing(static_cast<int64_t>(row))).c_str(),
+               patience_.max_timeouts() * options_.timeout_ms / 1000.0,
+               bus_.options().key_path.empty()
+                   ? "; without a key a forged \"refitting\" looks the same: --refit-wait for "
+                     "longer"
+                   : "");
 }
 
 void ReplayNode::Progress(std::size_t row) {
@@ -219,7 +230,7 @@ nlohmann::json ReplayNode::Summary() const {
   if (options_.lockstep) {
     j["consumers"] = receipts_.consumers();
     j["resends"] = resends_;
-    j["refit_timeouts"] = refit_timeouts_;
+    j["refit_timeouts"] = patience_.total();
   } else {
     j["speed"] = options_.speed;
   }

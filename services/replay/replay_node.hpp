@@ -19,6 +19,7 @@
 #include "replay/flight_rows.hpp"
 #include "replay/lockstep_receipts.hpp"
 #include "sequence/lockstep_window.hpp"
+#include "sequence/refit_patience.hpp"
 
 namespace odonata::replay {
 
@@ -61,9 +62,8 @@ class ReplayNode {
   void SendLockstep(std::size_t row);
   void Publish(std::size_t row);
   void ArmResend(std::size_t row, int64_t generation);
-  // A timeout while only consumers landing a refit lack `row`: wait on without resending; false
-  // once the refit wait is spent.
-  bool WaitForRefit(std::size_t row);
+  // Says every 5 s what a timeout spent on consumers landing a refit waits for.
+  void SayRefitWait(std::size_t row) const;
   void Finish(int exit_code);
   void Progress(std::size_t row);
   // The next row holding every value (a row with a gap is not sent), or rows() when none.
@@ -84,8 +84,7 @@ class ReplayNode {
   int64_t awaited_ = -1;     // lockstep: the seq whose receipts are awaited
   int64_t generation_ = 0;   // lockstep: invalidates a resend timer once its sample is held
   int resends_of_awaited_ = 0;
-  int refit_timeouts_in_a_row_ = 0;  // lockstep: timeouts spent on consumers landing a refit
-  int64_t refit_timeouts_ = 0;
+  pipeline::RefitPatience patience_{0};  // lockstep: consumers landing a refit
 };
 
 }  // namespace odonata::replay

@@ -35,21 +35,5 @@ TEST(LockstepReceipts, AReceiptBeyondWhatWasSentOrLateAndOlderChangesNothing) {
   EXPECT_TRUE(LockstepReceipts().Confirmed(7)) << "nobody to wait for";
 }
 
-TEST(LockstepReceipts, OnlyConsumersLandingARefitMissingIsPatienceNotLoss) {
-  LockstepReceipts r({"id", "logger"});
-  r.OnReceipt("logger", 4, 4);
-  EXPECT_FALSE(r.OnlyBusyMissing(4)) << "the identifier lacks it and says nothing";
-  r.SetBusy("id", true);  // heartbeat "refitting"
-  EXPECT_TRUE(r.OnlyBusyMissing(4));
-  r.SetBusy("stranger", true);  // not awaited: ignored
-  r.SetBusy("id", false);       // landed
-  EXPECT_FALSE(r.OnlyBusyMissing(4));
-  r.SetBusy("id", true);
-  r.OnReceipt("id", 4, 4);
-  EXPECT_FALSE(r.OnlyBusyMissing(4)) << "nobody lacks it";
-  r.OnReceipt("logger", 5, 5);
-  EXPECT_TRUE(r.OnlyBusyMissing(5));
-}
-
 }  // namespace
 }  // namespace odonata::replay
