@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "io/json_number.hpp"
 #include "sysid/model/local_dynamics.hpp"
 #include "sysid/model/readable_model.hpp"
 #include "sysid/model/rule_listing.hpp"
@@ -10,19 +11,17 @@
 namespace odonata::fit {
 namespace {
 
-nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
-
 nlohmann::json Numbers(const std::vector<double>& v) {
   nlohmann::json a = nlohmann::json::array();
-  for (const double x : v) a.push_back(Finite(x));
+  for (const double x : v) a.push_back(io::FiniteOrNull(x));
   return a;
 }
 
 nlohmann::json LinearCheckToJson(const sysid::LinearCheck& lc) {
   return nlohmann::json{{"candidate_index", lc.candidate},
                         {"folds", lc.fuzzy_folds.size()},
-                        {"fuzzy_ndei", Finite(lc.fuzzy_score)},
-                        {"linear_ndei", Finite(lc.linear_score)},
+                        {"fuzzy_ndei", io::FiniteOrNull(lc.fuzzy_score)},
+                        {"linear_ndei", io::FiniteOrNull(lc.linear_score)},
                         {"fuzzy_folds", Numbers(lc.fuzzy_folds)},
                         {"linear_folds", Numbers(lc.linear_folds)},
                         {"margin", lc.margin},
@@ -43,9 +42,6 @@ nlohmann::json StagesToJson(const std::vector<sysid::SimulationStage>& stages) {
 }
 
 nlohmann::json CandidateToJson(const sysid::Candidate& c) {
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
   return {{"consequent", fuzzy::ToString(c.consequent)},
           {"linear", c.linear},
           {"simulation", StagesToJson(c.simulation)},
@@ -55,11 +51,11 @@ nlohmann::json CandidateToJson(const sysid::Candidate& c) {
           {"epochs", c.epochs},
           {"rules", c.rules},
           {"at_cap", c.at_cap},
-          {"holdout_one_step_ndei", num(c.holdout_one_step_ndei)},
-          {"holdout_free_run_ndei", num(c.holdout_free_run_ndei)},
-          {"holdout_ahead_ndei", num(c.holdout_ahead_ndei)},
-          {"score", num(c.score)},
-          {"rest_deviation", num(c.rest_deviation)},
+          {"holdout_one_step_ndei", io::FiniteOrNull(c.holdout_one_step_ndei)},
+          {"holdout_free_run_ndei", io::FiniteOrNull(c.holdout_free_run_ndei)},
+          {"holdout_ahead_ndei", io::FiniteOrNull(c.holdout_ahead_ndei)},
+          {"score", io::FiniteOrNull(c.score)},
+          {"rest_deviation", io::FiniteOrNull(c.rest_deviation)},
           {"restless", c.restless},
           {"one_step_lost", c.one_step_lost}};
 }
@@ -73,7 +69,7 @@ nlohmann::json SelectionToJson(const sysid::OfflineFit& fit, const sysid::Select
                                     : sel.criterion_horizon == 1 ? "one_step"
                                                                  : "k_step"},
                       {"criterion_horizon", sel.criterion_horizon},
-                      {"one_step_bound", Finite(sel.one_step_bound)},
+                      {"one_step_bound", io::FiniteOrNull(sel.one_step_bound)},
                       {"scored_on", scored_on.empty() ? "training hold-out" : scored_on},
                       {"relative_tolerance", so.relative_tolerance},
                       {"absolute_tolerance", so.absolute_tolerance},
@@ -95,8 +91,8 @@ nlohmann::json SelectionToJson(const sysid::OfflineFit& fit, const sysid::Select
     const auto& oc = sel.output_error_check;
     j["linear_fit_check"] = {
         {"folds", oc.fuzzy_folds.size()},
-        {"output_error_ndei", Finite(oc.fuzzy_score)},
-        {"one_step_ndei", Finite(oc.linear_score)},
+        {"output_error_ndei", io::FiniteOrNull(oc.fuzzy_score)},
+        {"one_step_ndei", io::FiniteOrNull(oc.linear_score)},
         {"output_error_folds", Numbers(oc.fuzzy_folds)},
         {"one_step_folds", Numbers(oc.linear_folds)},
         {"standard_error", sysid::PairedStandardError(oc.fuzzy_folds, oc.linear_folds)},

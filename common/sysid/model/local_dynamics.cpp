@@ -11,6 +11,7 @@
 
 #include "fuzzy/linear_consequent.hpp"
 #include "fuzzy/singleton_consequent.hpp"
+#include "io/json_number.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -214,7 +215,7 @@ std::vector<LocalDynamics> LocalModels(const NarxModel& model, int output, doubl
 
 nlohmann::json ToJson(const LocalDynamics& d, double sample_time_s) {
   // JSON has no NaN or infinity: a gain with a pole at 1, or a pole on the unit circle, is null.
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  const auto num = io::FiniteOrNull;
   nlohmann::json poles = nlohmann::json::array(), tau = nlohmann::json::array(),
                  zeta = nlohmann::json::array(), gains = nlohmann::json::object();
   for (std::size_t i = 0; i < d.poles.size(); ++i) {

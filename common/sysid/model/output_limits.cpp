@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_number.hpp"
+
 namespace odonata::sysid {
 namespace {
 
@@ -71,8 +73,8 @@ std::string OutputLimits::Problems(int outputs) const {
 nlohmann::json OutputLimits::ToJson() const {
   nlohmann::json lo = nlohmann::json::array(), hi = nlohmann::json::array();
   for (Eigen::Index o = 0; o < lower.size(); ++o) {
-    lo.push_back(std::isfinite(lower(o)) ? nlohmann::json(lower(o)) : nlohmann::json(nullptr));
-    hi.push_back(std::isfinite(upper(o)) ? nlohmann::json(upper(o)) : nlohmann::json(nullptr));
+    lo.push_back(io::FiniteOrNull(lower(o)));
+    hi.push_back(io::FiniteOrNull(upper(o)));
   }
   return {{"lower", lo}, {"upper", hi}};
 }
