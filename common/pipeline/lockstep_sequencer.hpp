@@ -123,6 +123,8 @@ class LockstepSequencer {
   int64_t busy_timeouts() const { return patience_.total(); }
   /// Of those, the ones in a row now, and who is waited for: what a stalled run should say.
   int busy_in_a_row() const { return patience_.in_a_row(); }
+  /// The patience with consumers landing a refit (its notice, its counts).
+  const RefitPatience& patience() const { return patience_; }
   std::string Waited() const { return Laggards(Awaited()); }
   /// Receipts ignored because they acknowledged a state no command sent could have produced.
   int64_t impossible_acks() const { return impossible_acks_; }

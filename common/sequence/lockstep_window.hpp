@@ -23,11 +23,4 @@ inline constexpr int64_t kLockstepResendReach = 64;
 /// run. With one period, a run under 5 % loss and four CPU hogs once heard neither consumer.
 inline constexpr double kLockstepDiscoverySeconds = 2.1;
 
-/// How long a lockstep sender (odonata-signal --refit-wait, odonata-replay --refit-wait) waits, by
-/// default, for consumers that say they are landing a scheduled refit (heartbeat "refitting")
-/// before it gives up: ten minutes on a signed bus, under one on a keyless one, where a forged
-/// "refitting" cannot be told from a real one (docs/lcm.md §10).
-inline constexpr double kSignedRefitWaitSeconds = 600;
-inline constexpr double kKeylessRefitWaitSeconds = 45;
-
 }  // namespace odonata::pipeline

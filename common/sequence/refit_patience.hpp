@@ -6,12 +6,31 @@
 // reading is helped by none) and costs no resend, for at most `max_timeouts` in a row, so a forged
 // or stuck "refitting" cannot hold the run for ever (docs/lcm.md §10). Not thread-safe.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace odonata::pipeline {
+
+/// How long a lockstep sender (odonata-signal --refit-wait, odonata-replay --refit-wait) waits, by
+/// default, for consumers that say they are landing a scheduled refit before it gives up: ten
+/// minutes on a signed bus, under one on a keyless one, where a forged "refitting" cannot be told
+/// from a real one (docs/lcm.md §10).
+inline constexpr double kSignedRefitWaitSeconds = 600;
+inline constexpr double kKeylessRefitWaitSeconds = 45;
+
+/// The patience of `refit_wait_s` seconds (< 0: the default for a bus with or without a key) in
+/// timeouts of `timeout_ms` each.
+inline int RefitWaitTimeouts(double refit_wait_s, bool keyed, int timeout_ms) {
+  const double wait_s = refit_wait_s >= 0 ? refit_wait_s
+                        : keyed           ? kSignedRefitWaitSeconds
+                                          : kKeylessRefitWaitSeconds;
+  return static_cast<int>(std::min(1e9, std::ceil(wait_s * 1000.0 / std::max(1, timeout_ms))));
+}
 
 class RefitPatience {
  public:
@@ -49,6 +68,22 @@ class RefitPatience {
   }
   /// The awaited message came, or a timeout was not theirs: the next wait starts a new row.
   void Reset() { in_a_row_ = 0; }
+
+  /// What a sender says every 5 s of a wait (a refit may take long; a forged or stuck
+  /// "refitting" must not look like a hang), "" between: "waiting 10 s for id, landing …".
+  std::string Notice(int timeout_ms, const std::string& waited_for, bool keyed) const {
+    const int every = std::max(1, 5000 / std::max(1, timeout_ms));
+    if (in_a_row_ == 0 || in_a_row_ % every != 0) return "";
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "waiting %.0f s for %s, landing a scheduled refit (gives up after %.0f s%s)",
+                  in_a_row_ * timeout_ms / 1000.0, waited_for.c_str(),
+                  max_timeouts_ * timeout_ms / 1000.0,
+                  keyed ? ""
+                        : "; without a key a forged \"refitting\" looks the same: --refit-wait "
+                          "for longer");
+    return line;
+  }
 
   int in_a_row() const { return in_a_row_; }
   int64_t total() const { return total_; }

@@ -30,15 +30,10 @@ ReplayNode::ReplayNode(bus::BusNode& bus, FlightRows flight, ReplayOptions optio
       flight_(std::move(flight)),
       options_(std::move(options)),
       receipts_(options_.wait_for) {
-  {
-    // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
-    // stall the replay for under a minute, not ten (docs/lcm.md §10).
-    const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
-                          : bus_.options().key_path.empty() ? pipeline::kKeylessRefitWaitSeconds
-                                                            : pipeline::kSignedRefitWaitSeconds;
-    patience_.set_max_timeouts(static_cast<int>(
-        std::min(1e9, std::ceil(wait_s * 1000.0 / std::max(1, options_.timeout_ms)))));
-  }
+  // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
+  // stall the replay for under a minute, not ten (docs/lcm.md §10).
+  patience_.set_max_timeouts(pipeline::RefitWaitTimeouts(
+      options_.refit_wait_s, !bus_.options().key_path.empty(), options_.timeout_ms));
   if (options_.lockstep) {
     bus_.Subscribe<odonata::ack_t>(bus_.channels().signals_ack, [this](const odonata::ack_t& a) {
       receipts_.OnReceipt(a.instance, a.state_seq, newest_seq_);
@@ -80,8 +75,7 @@ void ReplayNode::Begin() {
   pacer_ = pipeline::RealtimePacer(start_, options_.speed);
   bus_.SetState("replaying");
   if (options_.lockstep) {
-    std::string who;
-    for (const auto& c : receipts_.consumers()) who += (who.empty() ? "" : ", ") + c;
+    const std::string who = Names(receipts_.consumers());
     std::fprintf(
         stderr, "odonata-replay: %zu samples of %s in lockstep with %s\n", flight_.rows.size(),
         flight_.source.c_str(),
@@ -153,7 +147,11 @@ void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
     if (generation != generation_ || finished_) return;  // held meanwhile
     switch (patience_.OnTimeout(receipts_.Missing(static_cast<int64_t>(row)))) {
       case pipeline::RefitPatience::Verdict::kWait:
-        SayRefitWait(row);
+        if (const std::string notice = patience_.Notice(
+                options_.timeout_ms, Names(receipts_.Missing(static_cast<int64_t>(row))),
+                !bus_.options().key_path.empty());
+            !notice.empty())
+          std::fprintf(stderr, "odonata-replay: %s\n", notice.c_str());
         return ArmResend(row, generation);
       case pipeline::RefitPatience::Verdict::kSpent:
         std::fprintf(stderr,
@@ -179,22 +177,6 @@ void ReplayNode::ArmResend(std::size_t row, int64_t generation) {
     Publish(row);  // the same sample again: a consumer that holds it answers again
     ArmResend(row, generation);
   });
-}
-
-void ReplayNode::SayRefitWait(std::size_t row) const {
-  // A refit may take long; a forged or stuck "refitting" must not look like a hang.
-  const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
-  if (patience_.in_a_row() % every != 0) return;
-  std::fprintf(stderr,
-               "odonata-replay: waiting %.0f s for %s, landing a scheduled refit (gives up after "
-               "%.0f s%s)\n",
-               patience_.in_a_row() * options_.timeout_ms / 1000.0,
-               Names(receipts_.Missing(static_cast<int64_t>(row))).c_str(),
-               patience_.max_timeouts() * options_.timeout_ms / 1000.0,
-               bus_.options().key_path.empty()
-                   ? "; without a key a forged \"refitting\" looks the same: --refit-wait for "
-                     "longer"
-                   : "");
 }
 
 void ReplayNode::Progress(std::size_t row) {

@@ -41,7 +41,7 @@ struct ReplayOptions {
   int max_resends = 100;  ///< lockstep: resends of one sample before giving up on a consumer
   /// Lockstep: how long to wait for consumers landing a scheduled refit (heartbeat "refitting"),
   /// whose timeouts resend nothing and cost none of max_resends; < 0: 600 s on a signed bus, 45 s
-  /// on a keyless one (pipeline::kSignedRefitWaitSeconds, kKeylessRefitWaitSeconds).
+  /// on a keyless one (sequence/refit_patience.hpp).
   double refit_wait_s = -1;
   double progress_s = 5;  ///< seconds between progress lines on stderr (0: none)
 };
@@ -62,8 +62,6 @@ class ReplayNode {
   void SendLockstep(std::size_t row);
   void Publish(std::size_t row);
   void ArmResend(std::size_t row, int64_t generation);
-  // Says every 5 s what a timeout spent on consumers landing a refit waits for.
-  void SayRefitWait(std::size_t row) const;
   void Finish(int exit_code);
   void Progress(std::size_t row);
   // The next row holding every value (a row with a gap is not sent), or rows() when none.

@@ -30,15 +30,10 @@ SignalNode::SignalNode(bus::BusNode& bus, pipeline::CommandSchedule schedule, Si
   if (!(options_.rate_hz > 0) || options_.timeout_ms <= 0) {
     throw std::invalid_argument("rate_hz and timeout_ms must be positive");
   }
-  {
-    // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
-    // stall the run for under a minute, not ten (docs/lcm.md §10).
-    const double wait_s = options_.refit_wait_s >= 0        ? options_.refit_wait_s
-                          : bus_.options().key_path.empty() ? kKeylessRefitWaitS
-                                                            : kSignedRefitWaitS;
-    sequencer_.set_max_busy_timeouts(
-        static_cast<int>(std::min(1e9, std::ceil(wait_s * 1000.0 / options_.timeout_ms))));
-  }
+  // On a keyless bus a forged "refitting" heartbeat cannot be told from a real one: it may
+  // stall the run for under a minute, not ten (docs/lcm.md §10).
+  sequencer_.set_max_busy_timeouts(pipeline::RefitWaitTimeouts(
+      options_.refit_wait_s, !bus_.options().key_path.empty(), options_.timeout_ms));
   if (options_.hold_at >= 0) {
     if (!options_.lockstep) throw std::invalid_argument("--hold-at needs lockstep mode");
     sequencer_.HoldAt(options_.hold_at);
@@ -309,20 +304,10 @@ void SignalNode::WaitForTimeout() {
       return;
     }
     const pipeline::SequencerAction action = sequencer_.OnTimeout();
-    // A run waiting on consumers that say they are landing a refit says so every 5 s: a refit
-    // may take long, a forged or stuck "refitting" must not look like a hang.
-    const int busy = sequencer_.busy_in_a_row();
-    const int every = std::max(1, 5000 / std::max(1, options_.timeout_ms));
-    if (busy > 0 && busy % every == 0)
-      std::fprintf(
-          stderr,
-          "[%s] waiting %.0f s for %s, landing a scheduled refit (gives up after %.0f s%s)\n",
-          bus_.options().instance.c_str(), busy * options_.timeout_ms / 1000.0,
-          sequencer_.Waited().c_str(),
-          sequencer_.max_busy_timeouts() * options_.timeout_ms / 1000.0,
-          bus_.options().key_path.empty()
-              ? "; without a key a forged \"refitting\" looks the same: --refit-wait for longer"
-              : "");
+    const std::string notice = sequencer_.patience().Notice(
+        options_.timeout_ms, sequencer_.Waited(), !bus_.options().key_path.empty());
+    if (!notice.empty())
+      std::fprintf(stderr, "[%s] %s\n", bus_.options().instance.c_str(), notice.c_str());
     Apply(action);
     // Waiting again for a plant that was not reset: nothing was sent, but the clock restarts.
     if (action.kind == pipeline::SequencerAction::Kind::kNone && !finished_) ArmTimeout();
