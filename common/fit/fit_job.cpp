@@ -60,15 +60,24 @@ sysid::RegressorSpec SpecFor(const FitJobOptions& o, std::optional<sysid::NarxMo
   return spec;
 }
 
-// The scaling fixed by --ranges, if any.
-std::optional<sysid::Scaling> DeclaredScaling(const FitJobOptions& o,
-                                              const sysid::RegressorSpec& spec) {
-  std::ifstream in(o.ranges);
-  if (!in) throw std::runtime_error(o.ranges + ": cannot open ranges file");
+// The signal ranges in the file `path` (--ranges). @throws std::runtime_error naming the file.
+sysid::SignalRanges ReadRanges(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open ranges file");
   nlohmann::json j;
   try {
     in >> j;
-    return sysid::ScalingFromRanges(spec, sysid::RangesFromJson(j));
+    return sysid::RangesFromJson(j);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+// The scaling fixed by --ranges.
+sysid::Scaling DeclaredScaling(const FitJobOptions& o, const sysid::RegressorSpec& spec) {
+  const sysid::SignalRanges ranges = ReadRanges(o.ranges);
+  try {
+    return sysid::ScalingFromRanges(spec, ranges);
   } catch (const std::exception& e) {
     throw std::runtime_error(o.ranges + ": " + e.what());
   }
@@ -242,14 +251,7 @@ void WriteIdentifierConfig(const FitJobOptions& o, const sysid::NarxModel& model
   // with --horizon K.
   c.model = model.model(0).config();
   c.refit.horizon = o.horizon;
-  if (!o.ranges.empty()) {
-    std::ifstream in(o.ranges);
-    nlohmann::json ranges;
-    in >> ranges;
-    c.ranges = sysid::RangesFromJson(ranges);
-  } else {
-    c.ranges = sysid::RangesFromSeries(c.spec, train);
-  }
+  c.ranges = o.ranges.empty() ? sysid::RangesFromSeries(c.spec, train) : ReadRanges(o.ranges);
   c.source = identifier::SampleSource::kSignals;
   std::ofstream out(o.save_config);
   out << identifier::IdentifierConfigToJson(c).dump(2) << "\n";
