@@ -40,9 +40,12 @@ install(PROGRAMS deploy/make-identifier-config DESTINATION ${CMAKE_INSTALL_BINDI
 install(PROGRAMS deploy/lcm-spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME odonata-lcm-spy)
 # The one rule both scripts use to find the programs (imported from the scripts' own folder).
 # The scripts' helper modules: not programs, so not in bin/.
-install(PROGRAMS deploy/fit_plots.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
+install(PROGRAMS deploy/fit_plots.py deploy/fit_report.py DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
 install(FILES deploy/odonata_programs.py deploy/odonata_compare.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python)
+# fit_report.py's page and verdict (odonata-fit --report) are in the report's package.
+install(DIRECTORY deploy/odonata_report DESTINATION ${CMAKE_INSTALL_DATADIR}/odonata/python
+        FILES_MATCHING PATTERN "*.py")
 install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})
 # bash-completion loads a command's completion from a file of its name.
 foreach(_p odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger

@@ -10,6 +10,9 @@
                      over most (the rules' local models blended by their firing at each point)
   gain_schedule.png  a dynamic model's steady-state gain and slowest time constant, rule by rule,
                      along the signal its rules are spread over (how they vary across the range)
+  plot_notes.json    {picture: what it states instead of curves}: "linear: one rule" for a model
+                     of one rule, a constant gain where the rules' local models coincide (no
+                     surface or schedule drawn from round-off); fit_report.py shows them
 
     python3 fit_plots.py DIR
 
@@ -21,10 +24,16 @@ import math
 import os
 import re
 import sys
+import textwrap
 
 TERM_NAMES = {1: ["medium"], 2: ["low", "high"], 3: ["low", "medium", "high"],
               4: ["very low", "low", "high", "very high"],
               5: ["very low", "low", "medium", "high", "very high"]}
+# A quantity whose range over a surface or across the rules is below this share of its magnitude
+# is one value: what varies is round-off (and the CSVs' ten digits), which a colour bar would
+# blow up into a picture with "1e-11" over its title.
+CONSTANT_RELATIVE = 1e-9
+ONE_RULE = "linear: one rule"
 
 
 def fit_percent(y, yhat):
@@ -65,9 +74,57 @@ def terms(model, regressors):
     return out
 
 
-def plot_membership(plt, d, report):
+def constant(values):
+    """(True, value) when the finite `values` are one number up to CONSTANT_RELATIVE."""
+    finite = [v for v in values if math.isfinite(v)]
+    if not finite:
+        return False, float("nan")
+    lo, hi = min(finite), max(finite)
+    return hi - lo <= CONSTANT_RELATIVE * max(abs(lo), abs(hi)), 0.5 * (lo + hi)
+
+
+def reads_linear(report):
+    """The model, or its readable form, is one rule: the rules' local models coincide."""
+    return report.get("rules") == 1 or (report.get("readable") or {}).get("rules") == 1
+
+
+def one_rule_statement(report):
+    return ONE_RULE if report.get("consequent", "linear") == "linear" else "one rule: a constant output"
+
+
+def plot_statement(plt, d, kind, title, statement, detail=""):
+    """A picture that says what there is to see in words: nothing varies, so no curves."""
+    fig, ax = plt.subplots(figsize=(7.5, 2.0))
+    ax.axis("off")
+    ax.text(0.5, 0.68, statement, ha="center", va="center", fontsize=18, weight="bold",
+            transform=ax.transAxes)
+    if detail:
+        ax.text(0.5, 0.22, textwrap.fill(detail, 95), ha="center", va="center", fontsize=8,
+                transform=ax.transAxes)
+    ax.set_title(title, fontsize=10)
+    return save(plt, fig, d, kind)
+
+
+def remove_stale(d, kind):
+    """A picture this run decided not to draw must not survive from an earlier run into DIR."""
+    path = os.path.join(d, f"{kind}.png")
+    if os.path.exists(path):
+        os.remove(path)
+
+
+def plot_membership(plt, d, report, notes):
     readable = os.path.exists(os.path.join(d, "readable_model.json"))
     model = json.load(open(os.path.join(d, "readable_model.json" if readable else "model.json")))
+    if len(model["models"][0]["rules"]) == 1:
+        # One rule fires everywhere: its terms are flat lines at 1 with widths of 10⁴, which say
+        # less than the words.
+        statement = one_rule_statement(report)
+        text = (report.get("readable") or {}).get("text") or report.get("rule_text") or [""]
+        rule = text[0][len(ONE_RULE) + 2:] if text[0].startswith(ONE_RULE + ": ") else text[0]
+        detail = "one rule fires everywhere: no membership functions to draw. " + rule
+        notes["membership.png"] = statement
+        return plot_statement(plt, d, "membership", f"{report['output']}: the rules' premises",
+                              statement, detail)
     per = terms(model, report["regressors"])
     sc = model["scaling"]
     fig, axes = plt.subplots(len(per), 1, figsize=(7.5, 1.7 * len(per) + 0.8), squeeze=False)
@@ -144,9 +201,10 @@ def plot_surface(plt, d, report):
     return save(plt, fig, d, "surface")
 
 
-def plot_gain_surface(plt, d, report):
+def plot_gain_surface(plt, d, report, notes):
     """A dynamic model's steady-state gain from its first input over the two signals its rules
-    spread over most: at each point the rules' local models blended as the model blends them."""
+    spread over most: at each point the rules' local models blended as the model blends them.
+    A gain that is one value over the surface is stated in `notes`, not painted."""
     path = os.path.join(d, "gain_surface.csv")
     if not os.path.exists(path):
         return None
@@ -156,11 +214,21 @@ def plot_gain_surface(plt, d, report):
     n = int(round(math.sqrt(len(pts))))
     grid_a = [pts[i * n][0] for i in range(n)]
     grid_b = [pts[j][1] for j in range(n)]
-    gains = head[2:]
-    fig, axes = plt.subplots(1, len(gains[:2]), figsize=(6.2 * len(gains[:2]), 4.8), squeeze=False)
-    for k, name in enumerate(gains[:2]):
+    gains, flat = [], []
+    for k, name in enumerate(head[2:4]):
+        same, value = constant([p[2 + k] for p in pts])
+        (flat if same else gains).append((k, name, value))
+    if flat:
+        why = f": {ONE_RULE}" if reads_linear(report) else " over the surface"
+        said = [f"gain {v:.4g} from {name[10:]}" if name.startswith("gain from ") else f"{name} {v:.4g}"
+                for _, name, v in flat]
+        notes["gain_surface.png"] = "constant " + "; ".join(said) + why
+    if not gains:
+        remove_stale(d, "gain_surface")
+        return None
+    fig, axes = plt.subplots(1, len(gains), figsize=(6.2 * len(gains), 4.8), squeeze=False)
+    for ax, (k, name, _) in zip(axes[0], gains):
         z = [[pts[i * n + j][2 + k] for i in range(n)] for j in range(n)]
-        ax = axes[0][k]
         mesh = ax.contourf(grid_a, grid_b, z, levels=20, cmap="viridis")
         fig.colorbar(mesh, ax=ax, label=name)
         ax.set_xlabel(head[0])
@@ -169,7 +237,7 @@ def plot_gain_surface(plt, d, report):
     return save(plt, fig, d, "gain_surface")
 
 
-def plot_gain_schedule(plt, d, report):
+def plot_gain_schedule(plt, d, report, notes):
     local = report.get("local_models") or []
     model = json.load(open(os.path.join(d, "model.json")))
     rules = model["models"][0]["rules"]
@@ -182,40 +250,69 @@ def plot_gain_schedule(plt, d, report):
     i = max(range(len(regs)), key=lambda k: spread[k])
     x = [sc["regressor_mid"][i] + sc["regressor_half"][i] * r["centre"][i] for r in rules]
     order = sorted(range(len(rules)), key=lambda j: x[j])
+    xs = [x[j] for j in order]
     inputs = sorted({k for m in local for k in m.get("dc_gain", {})})
     seconds = "time_constants_s" in local[0]
     tau_key = "time_constants_s" if seconds else "time_constants_samples"
+    unit = "s" if seconds else "samples"
+    # (label, values, what a constant row is called); constant consequents have no dynamics of
+    # their own: each rule's output level instead.
     if report.get("consequent") == "singleton":
-        # Constant consequents have no dynamics of their own: each rule's output level instead.
+        series = [(f"rule output ({report['output']})",
+                   [local[j].get("equilibrium", float("nan")) for j in order], "output {v:.4g}")]
+    else:
+        series = [(f"gain from {u}", [local[j]["dc_gain"].get(u, float("nan")) for j in order],
+                   f"gain {{v:.4g}} from {u}") for u in inputs]
+        series.append((f"slowest τ ({unit})", [max(local[j].get(tau_key) or [float("nan")]) for j in order],
+                       f"slowest τ {{v:.3g}} {unit}"))
+    flat = [constant(values) for _, values, _ in series]
+    if all(same for same, _ in flat):
+        # The rules' local models coincide: a schedule of one value, drawn, is round-off.
+        why = ONE_RULE if reads_linear(report) else "the rules' local models coincide"
+        notes["gain_schedule.png"] = ("constant " + " and ".join(
+            what.format(v=v) for (_, _, what), (_, v) in zip(series, flat)) + f" in every rule: {why}")
+        remove_stale(d, "gain_schedule")
+        return None
+    if report.get("consequent") == "singleton":
         fig, ax = plt.subplots(figsize=(7, 3.2))
-        ax.plot([x[j] for j in order], [local[j].get("equilibrium", float("nan")) for j in order], "o-", lw=1)
+        draw_row(ax, xs, series[0][1])
         ax.set_xlabel(f"each rule's operating point in {regs[i]}")
-        ax.set_ylabel(f"rule output ({report['output']})", fontsize=8)
+        ax.set_ylabel(series[0][0], fontsize=8)
         ax.set_title(f"{report['output']}: each rule's constant output along its operating point")
         return save(plt, fig, d, "gain_schedule")
     fig, axes = plt.subplots(len(inputs) + 1, 1, figsize=(7, 2.2 * (len(inputs) + 1) + 0.6), sharex=True,
                              squeeze=False)
-    xs = [x[j] for j in order]
     for row, u in enumerate(inputs):
         ax = axes[row][0]
-        gains = [local[j]["dc_gain"].get(u, float("nan")) for j in order]
-        ax.plot(xs, gains, "o-", lw=1)
-        ax.set_ylabel(f"gain from {u}", fontsize=8)
+        draw_row(ax, xs, series[row][1])
+        ax.set_ylabel(series[row][0], fontsize=8)
         glob = (report.get("global_linear") or {}).get("dc_gain", {}).get(u)
         if glob is not None:
             ax.axhline(glob, color="0.5", ls="--", lw=0.8, label="global linear model")
             ax.legend(fontsize=7)
     ax = axes[-1][0]
-    taus = [max(local[j].get(tau_key) or [float("nan")]) for j in order]
+    taus = series[-1][1]
     stable = [local[j].get("stable", True) for j in order]
-    ax.plot(xs, taus, "o-", lw=1)
+    draw_row(ax, xs, taus)
     for xv, tv, ok in zip(xs, taus, stable):
         if not ok:
             ax.plot([xv], [tv], "rx", ms=9)
-    ax.set_ylabel("slowest τ (s)" if seconds else "slowest τ (samples)", fontsize=8)
+    ax.set_ylabel(series[-1][0], fontsize=8)
     ax.set_xlabel(f"each rule's operating point in {regs[i]}")
     axes[0][0].set_title(f"{report['output']}: gain schedule, one point per rule (x: unstable)")
     return save(plt, fig, d, "gain_schedule")
+
+
+def draw_row(ax, xs, values):
+    """One row of the schedule; a row of one value is drawn at that value, on an axis without the
+    offset ("1e-12 + 4.99") that round-off would put over it."""
+    same, v = constant(values)
+    if same:
+        values = [v] * len(values)
+        pad = 0.05 * abs(v) or 1.0
+        ax.set_ylim(v - pad, v + pad)
+        ax.ticklabel_format(axis="y", useOffset=False)
+    ax.plot(xs, values, "o-", lw=1)
 
 
 def save(plt, fig, d, kind):
@@ -239,12 +336,15 @@ def main(argv):
         print("fit_plots.py: matplotlib is missing (apt-get install python3-matplotlib)", file=sys.stderr)
         return 1
     report = json.load(open(os.path.join(d, "report.json")))
-    written = [plot_membership(plt, d, report), plot_activation(plt, d, report)]
+    notes = {}
+    written = [plot_membership(plt, d, report, notes), plot_activation(plt, d, report)]
     if os.path.exists(os.path.join(d, "surface.csv")):
         written.append(plot_surface(plt, d, report))
     else:
-        written.append(plot_gain_schedule(plt, d, report))
-        written.append(plot_gain_surface(plt, d, report))
+        written.append(plot_gain_schedule(plt, d, report, notes))
+        written.append(plot_gain_surface(plt, d, report, notes))
+    with open(os.path.join(d, "plot_notes.json"), "w") as f:
+        json.dump(notes, f, indent=1, ensure_ascii=False)
     for w in written:
         if w:
             print(w)

@@ -13,7 +13,7 @@ FUZZY, ARX = "tab:blue", "tab:orange"
 # Below −100 % FIT (errors over twice the spread of the data: worse than predicting the mean,
 # twice over) a simulation has left the data; its digits (−3e24 %) say nothing more. One cut for
 # every place that prints "diverges": this plot, the report, odonata-run and odonata-monitor.
-DIVERGED_FIT = -100.0
+DIVERGED_FIT = -100.0  # the C++ tools' metrics::kDivergedFitPercent: one cut everywhere
 
 
 def fit_label(fit):
@@ -71,14 +71,18 @@ def scores(report, output):
     return out
 
 
-def draw(plt, pred, report, output, several, horizon, path):
+def draw(plt, pred, report, output, several, horizon, path, only_modes=None, only_sets=None, labels=None):
     """One figure: a row per mode; columns the training file, its fastest stretch, the validation
-    file and its fastest stretch. Returns the legend of every panel, as text (what the user reads without the PNG)."""
+    file and its fastest stretch. Returns the legend of every panel, as text (what the user reads without the PNG).
+    `only_modes` (mode keys) and `only_sets` (0 train, 1 validate) keep some of them (fit_report.py
+    draws the scored mode on one file); `labels` {(set, model, mode): text} replaces fit_label's."""
     sfx = f"_{output}" if several else ""
     sets = sorted(set(int(v) for v in pred["set"]))
+    sets = [s for s in sets if only_sets is None or s in only_sets]
     names = {0: "training file", 1: "validation file"}
     modes = [(m, w.format(k=horizon)) for m, w in MODES
-             if f"fuzzy_{m}{sfx}" in pred and (m != "free_run" or report.get("ny", 1) > 0)]
+             if f"fuzzy_{m}{sfx}" in pred and (m != "free_run" or report.get("ny", 1) > 0)
+             and (only_modes is None or m in only_modes)]
     cols = [(s, zoom) for s in sets for zoom in (False, True)]
     fig, axes = plt.subplots(len(modes), len(cols), figsize=(4.6 * len(cols), 2.9 * len(modes)),
                              squeeze=False)
@@ -100,7 +104,8 @@ def draw(plt, pred, report, output, several, horizon, path):
             panel = [f"{names.get(s, s)}{' (fastest stretch)' if zoom else ''}, {what}:"]
             for model, colour, label in (("fuzzy", FUZZY, "fuzzy"), ("arx", ARX, "ARX")):
                 v = [pred[f"{model}_{mode}{sfx}"][i] for i in idx]
-                text = fit_label(fits.get((set_name, model, mode)))
+                key = (set_name, model, mode)
+                text = labels[key] if labels and key in labels else fit_label(fits.get(key))
                 if text != "diverges" and leaves(v, window):
                     text += ", diverges"
                 lo, hi, span = window

@@ -4,6 +4,7 @@
 #include "fit/fit_report_json.hpp"
 #include "fit/fit_scoring.hpp"
 #include "fit/fit_tracking.hpp"
+#include "fit/fit_verdict.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "metrics/running_accuracy.hpp"
 #include "records/record_file.hpp"
 #include "sysid/model/arx_model.hpp"
+#include "sysid/model/excitation.hpp"
 #include "sysid/model/free_run.hpp"
 #include "sysid/model/local_dynamics.hpp"
 #include "sysid/model/quadratic_arx_model.hpp"
@@ -53,6 +55,13 @@ sysid::RegressorSpec SpecFor(const FitJobOptions& o, std::optional<sysid::NarxMo
   sysid::RegressorSpec spec = o.spec;
   spec.outputs = o.outputs;
   spec.inputs = o.inputs;
+  // The output's own past is in the regressor already (--ny); as an input too, the model would
+  // read y(k) to predict y(k) with --delay 0, or count it twice.
+  for (const auto& out : spec.outputs)
+    if (std::find(spec.inputs.begin(), spec.inputs.end(), out) != spec.inputs.end())
+      throw std::runtime_error("'" + out +
+                               "' is named as the output and as an input: its past "
+                               "values are already regressors (--ny); leave it out of --input");
   const std::string problems = spec.Problems();
   if (!problems.empty()) throw std::runtime_error("invalid model structure: " + problems);
   const std::string config_problems = o.model.Problems();
@@ -206,7 +215,7 @@ void ScoreBaselines(const FitJobOptions& o, const sysid::NarxModel& model, JobDa
   const auto arx = sysid::ArxModel::Fit(spec, *d.train);
   const sysid::Predictor arx_predict = [&arx](const Eigen::VectorXd& x) { return arx.Predict(x); };
   Put(per, Evaluate(spec, *d.train, arx_predict, o.horizon), "arx", "train");
-  Put(per, EvaluatePersistence(spec, *d.train), "persistence", "train");
+  Put(per, EvaluatePersistence(spec, *d.train, o.horizon), "persistence", "train");
   // ARX with squared inputs: whether a static input nonlinearity explains the fuzzy model's
   // gain (only with inputs: without them it is ARX).
   std::optional<sysid::QuadraticArxModel> quadratic;
@@ -222,7 +231,7 @@ void ScoreBaselines(const FitJobOptions& o, const sysid::NarxModel& model, JobDa
     if (quadratic)
       Put(per, Evaluate(spec, *d.validate, quadratic_predict, o.horizon), "arx_squared_inputs",
           "validate");
-    Put(per, EvaluatePersistence(spec, *d.validate), "persistence", "validate");
+    Put(per, EvaluatePersistence(spec, *d.validate, o.horizon), "persistence", "validate");
     WarnWhereBaselinesWin(spec, per, d.warnings);
   }
   if (!o.track_csv.empty()) {
@@ -258,6 +267,34 @@ void WriteIdentifierConfig(const FitJobOptions& o, const sysid::NarxModel& model
   if (!out) throw std::runtime_error(o.save_config + ": cannot write");
 }
 
+// Whether the training data holds anything to identify (sysid/model/excitation.hpp), for what
+// this job will do with it: its warnings join the job's.
+sysid::ExcitationReport CheckData(const FitJobOptions& o, const sysid::RegressorSpec& spec,
+                                  const sysid::Series& train, JobData& d) {
+  sysid::ExcitationNeeds needs;
+  needs.horizon = o.horizon;
+  const bool choosing =
+      !o.refit.enabled() && o.select &&
+      !(o.consequent_given && o.threshold_given && o.kappa_given && o.epochs_given);
+  if (choosing && o.select_csv.empty()) needs.holdout_fraction = o.selection.holdout_fraction;
+  sysid::ExcitationReport r = sysid::CheckExcitation(spec, train, needs, o.train_csv);
+  for (const auto& w : r.warnings) d.warnings.push_back(w);
+  return r;
+}
+
+nlohmann::json ExcitationToJson(const sysid::ExcitationReport& r) {
+  nlohmann::json j;
+  j["targets"] = r.targets;
+  if (r.holdout_targets > 0) j["holdout_targets"] = r.holdout_targets;
+  for (const auto& s : r.signals)
+    j["signals"][s.name] = {{"role", s.output ? "output" : "input"},
+                            {"min", s.min},
+                            {"max", s.max},
+                            {"std", s.std},
+                            {"levels", s.levels}};
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json RunFitJob(const FitJobOptions& o) {
@@ -272,6 +309,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   if (!d.train && !model) throw std::runtime_error("nothing to do: give --train or --load-model");
   if (!o.track_csv.empty() && n_outputs > 1)
     throw std::runtime_error("--track follows one output; give one --output");
+  if (d.train && !model) report["excitation"] = ExcitationToJson(CheckData(o, spec, *d.train, d));
   ProgressBar bar(o.progress);
   fuzzy::FuzzyModelConfig cfg = o.model;
   sysid::TrainOptions topt = o.train;
@@ -329,6 +367,10 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   report["outputs"] = spec.outputs;
   if (n_outputs > 1) {
     for (std::size_t k = 0; k < n_outputs; ++k) report["per_output"][spec.outputs[k]] = per[k];
+  }
+  if (d.validate || d.train) {
+    report["verdict"] = Verdict(report, *model, d.validate ? *d.validate : *d.train);
+    report["verdict"]["rules"] = report["rules"];
   }
   report["warnings"] = d.warnings;
   report["data"] = d.files;

@@ -1,6 +1,8 @@
 #pragma once
 // odonata-fit's work, separate from argument parsing so tests can run it in-process.
 
+#include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "sysid/online/scheduled_refitter.hpp"
 #include "sysid/selection/model_selection.hpp"
 #include "sysid/selection/search_subsample.hpp"
+#include "timeseries/keep_condition.hpp"
 
 namespace odonata::fit {
 
@@ -66,9 +69,17 @@ struct FitJobOptions {
   /// Real logs (docs/identifier.md §7.1): a time column resampled to `rate_hz` (0: the file's
   /// median rate), and gaps of at most `max_gap` samples bridged, longer ones cut into segments.
   std::string time_column;
+  double time_unit_s = 0;    ///< seconds per unit of time_column (0: from its name, else 1)
   io::CsvFormat csv_format;  ///< the CSV files' delimiter and decimal mark
   double rate_hz = 0;
   int max_gap = 3;
+  /// Every file is read only inside this window, seconds on its own time axis (a ULog's: since
+  /// its start), and only where `keep` holds (PX4's airborne part: timeseries::Px4Airborne()).
+  double from_s = -std::numeric_limits<double>::infinity();
+  double to_s = std::numeric_limits<double>::infinity();
+  std::optional<timeseries::KeepCondition> keep;
+  /// Told what the user should know while the job runs (the grid a log is put on); may be empty.
+  std::function<void(const std::string&)> note;
   /// Simulation-error training (simulation_error_training.hpp) after one-step training, with
   /// output lags: while settings are chosen, the short list's candidates take it with the
   /// hold-out keeping the best step; with every setting given, only when simulation_given.
@@ -85,7 +96,9 @@ struct FitJobOptions {
 };
 
 /// Runs the job and returns the report (the --json document).
-/// @throws std::runtime_error (or io::CsvError) with a message naming file, line and column.
+/// @throws sysid::NothingToIdentify when the data holds nothing a model can be identified from
+///   (saying what to do), std::runtime_error (or io::CsvError) with a message naming file, line
+///   and column.
 nlohmann::json RunFitJob(const FitJobOptions& options);
 
 }  // namespace odonata::fit

@@ -161,17 +161,18 @@ void WriteGainSurface(const fs::path& path, const sysid::NarxModel& model,
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-// fit_plots.py: ODONATA_PYTHON_DIR, then the installed share/odonata/python, then the source tree.
-std::string PlotScript() {
+// A script of odonata's (fit_plots.py, fit_report.py): ODONATA_PYTHON_DIR, then the installed
+// share/odonata/python, then the source tree.
+std::string PythonScript(const std::string& name) {
   std::vector<std::string> dirs;
   if (const char* env = std::getenv("ODONATA_PYTHON_DIR")) dirs.emplace_back(env);
   dirs.emplace_back(ODONATA_INSTALLED_PYTHON_DIR);
   dirs.emplace_back(ODONATA_SOURCE_PYTHON_DIR);
   for (const auto& d : dirs) {
-    const fs::path p = fs::path(d) / "fit_plots.py";
+    const fs::path p = fs::path(d) / name;
     if (fs::exists(p)) return p.string();
   }
-  throw std::runtime_error("fit_plots.py not found (looked in ODONATA_PYTHON_DIR, " +
+  throw std::runtime_error(name + " not found (looked in ODONATA_PYTHON_DIR, " +
                            std::string(ODONATA_INSTALLED_PYTHON_DIR) + " and " +
                            ODONATA_SOURCE_PYTHON_DIR + ")");
 }
@@ -195,14 +196,17 @@ void WritePlotData(const std::string& dir, const sysid::NarxModel& model,
     WriteGainSurface(d / "gain_surface.csv", model, run);
 }
 
-std::vector<std::string> DrawPlots(const std::string& dir) {
-  const std::string script = PlotScript();
+namespace {
+
+// Runs `script DIR` by its own #! line (Debian's /usr/bin/python3, where python3-matplotlib
+// installs), not whatever python3 comes first on the PATH; its stdout goes to stderr, since
+// stdout may be odonata-fit's JSON.
+void RunScript(const std::string& name, const std::string& dir) {
+  const std::string script = PythonScript(name);
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("cannot start python3 for the plots");
+  if (pid < 0) throw std::runtime_error("cannot start python3 for " + name);
   if (pid == 0) {
-    dup2(STDERR_FILENO, STDOUT_FILENO);  // stdout may be odonata-fit's JSON
-    // By its own #! line (Debian's /usr/bin/python3, where python3-matplotlib installs), not
-    // whatever python3 comes first on the PATH.
+    dup2(STDERR_FILENO, STDOUT_FILENO);
     execl(script.c_str(), script.c_str(), dir.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -210,15 +214,28 @@ std::vector<std::string> DrawPlots(const std::string& dir) {
   waitpid(pid, &status, 0);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error(
-        "fit_plots.py failed" +
+        name + " failed" +
         std::string(WIFEXITED(status) && WEXITSTATUS(status) == 127 ? " (it could not be run)"
                                                                     : "") +
-        "; the data are in " + dir + " (" + script + " " + dir + " draws them again)");
+        "; the data are in " + dir + " (" + script + " " + dir + " runs it again)");
+}
+
+}  // namespace
+
+std::vector<std::string> DrawPlots(const std::string& dir) {
+  RunScript("fit_plots.py", dir);
   std::vector<std::string> files;
   for (const char* name :
        {"membership.png", "activation.png", "surface.png", "gain_schedule.png", "gain_surface.png"})
     if (fs::exists(fs::path(dir) / name)) files.push_back((fs::path(dir) / name).string());
   return files;
+}
+
+std::string WriteReportPage(const std::string& dir) {
+  RunScript("fit_report.py", dir);
+  const fs::path page = fs::path(dir) / "index.html";
+  if (!fs::exists(page)) throw std::runtime_error("fit_report.py wrote no " + page.string());
+  return page.string();
 }
 
 }  // namespace odonata::fit

@@ -31,4 +31,9 @@ void WritePlotData(const std::string& dir, const sysid::NarxModel& model,
 /// @throws std::runtime_error when the script cannot be found or fails (the data stay).
 std::vector<std::string> DrawPlots(const std::string& dir);
 
+/// Writes `dir`/index.html with fit_report.py from what the fit wrote there (report.json, the
+/// pictures, predictions.csv, command.txt): the page of odonata-fit --report. Returns its path.
+/// @throws std::runtime_error when the script cannot be found or fails (the data stay).
+std::string WriteReportPage(const std::string& dir);
+
 }  // namespace odonata::fit

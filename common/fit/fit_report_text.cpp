@@ -125,8 +125,12 @@ void FormatScores(std::ostream& out, const nlohmann::json& b) {
     for (const char* mode : {"one_step", "free_run", "k_step"}) {
       if (!block.contains(mode)) continue;
       const auto& a = block[mode];
-      std::snprintf(line, sizeof line, "  %-10s %-10s %-11s %8.2f  %8.2f  %10.4g\n", data, mode,
-                    model, Num(a["fit"]), Num(a["vaf"]), Num(a["rmse"]));
+      if (a.value("diverged", false))
+        std::snprintf(line, sizeof line, "  %-10s %-10s %-11s %8s  %8s  %10s\n", data, mode, model,
+                      "diverges", "–", "–");
+      else
+        std::snprintf(line, sizeof line, "  %-10s %-10s %-11s %8.2f  %8.2f  %10.4g\n", data, mode,
+                      model, Num(a["fit"]), Num(a["vaf"]), Num(a["rmse"]));
       out << line;
     }
   };
@@ -183,6 +187,8 @@ void FormatFooter(std::ostream& out, const nlohmann::json& r) {
 std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
   std::ostringstream out;
   FormatHeader(out, r);
+  if (r.contains("verdict"))
+    out << "  verdict: " << r["verdict"]["text"].get<std::string>() << "\n";
   if (r.contains("selection")) FormatSelection(out, r["selection"]);
   // One table (and rule list) per output: the top level holds the first, per_output all.
   if (r.contains("per_output")) {

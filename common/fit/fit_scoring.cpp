@@ -41,14 +41,23 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
   ro.signals.insert(ro.signals.end(), spec.inputs.begin(), spec.inputs.end());
   ro.rate_hz = o.rate_hz;
   ro.max_gap = o.max_gap;
+  ro.from_s = o.from_s;
+  ro.to_s = o.to_s;
+  ro.keep = o.keep;
   records::Record record = records::ReadRecord(path, ro);
+  if (o.note)
+    for (const auto& n : record.notes) o.note(n);
   const io::CsvTable& table = record.table;
   sysid::SeriesOptions so;
   so.outputs = spec.outputs;
   so.inputs = spec.inputs;
   so.time_column = o.time_column.empty() ? record.time_column : o.time_column;
+  so.time_unit_s = o.time_unit_s > 0 ? o.time_unit_s : sysid::TimeUnitFromName(so.time_column);
   so.rate_hz = o.rate_hz > 0 ? o.rate_hz : record.rate_hz;
   so.max_gap = o.max_gap;
+  so.from_s = o.from_s;
+  so.to_s = o.to_s;
+  so.keep = o.keep;
   // Every segment kept has at least two targets, so a file that passes can be scored.
   so.min_segment = spec.first_target() + 2;
   sysid::SeriesReport r;
@@ -60,10 +69,34 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                       {"bridged", r.bridged},
                       {"missing", r.missing},
                       {"dropped_segments", r.dropped_segments}};
-  if (!so.time_column.empty()) d["rate_hz"] = r.rate_hz;
+  if (r.rate_hz > 0) d["rate_hz"] = r.rate_hz;
+  if (!so.time_column.empty()) {
+    d["time_column"] = so.time_column;
+    d["time_unit_s"] = so.time_unit_s;
+    d["first_s"] = r.first_s;
+    d["last_s"] = r.last_s;
+    for (const auto& c : r.columns) d["signal_rates_hz"][c.name] = c.median_rate_hz;
+    if (r.rate_chosen) d["rate_from"] = r.slowest;
+  }
+  if (std::isfinite(o.from_s) || std::isfinite(o.to_s))
+    d["window_s"] = {std::isfinite(o.from_s) ? nlohmann::json(o.from_s) : nlohmann::json(),
+                     std::isfinite(o.to_s) ? nlohmann::json(o.to_s) : nlohmann::json()};
+  if (r.outside_window > 0) d["outside_window"] = r.outside_window;
+  if (o.keep) {
+    d["keep_when"] = o.keep->ToString();
+    d["cut_by_condition"] = r.cut_by_condition;
+  }
+  if (!record.notes.empty()) d["grid"] = record.notes.front();
   if (data) (*data)[path] = d;
   if (warnings)
     for (const auto& w : record.warnings) warnings->push_back(w);
+  // A time column counted in milliseconds but read as seconds makes a rate below 1 Hz.
+  if (warnings && !so.time_column.empty() && so.time_unit_s == 1.0 && r.rate_hz > 0 &&
+      r.rate_hz < 1.0 && record.time_column.empty())
+    warnings->push_back(path + ": time '" + so.time_column + "' steps by " +
+                        std::to_string(1.0 / r.rate_hz) +
+                        " at the median, read as seconds: if it counts milliseconds, give "
+                        "--time-unit ms (or name the column *_ms)");
   if (warnings && (r.bridged > 0 || r.missing > 0 || r.segments > 1)) {
     warnings->push_back(path + ": " + std::to_string(r.bridged) + " missing values bridged, " +
                         std::to_string(r.missing) + " samples dropped in longer gaps, " +
@@ -87,13 +120,13 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
   std::vector<nlohmann::json> out;
   for (Eigen::Index o = 0; o < y.cols(); ++o) {
     nlohmann::json j;
-    j["one_step"] = metrics::AccuracyToJson(metrics::Score(y.col(o), one.col(o)));
+    j["one_step"] = metrics::ScoreToJson(metrics::Score(y.col(o), one.col(o)));
     if (spec.output_lags > 0) {
-      j["free_run"] = metrics::AccuracyToJson(metrics::Score(y.col(o), sim.col(o)));
+      j["free_run"] = metrics::ScoreToJson(metrics::Score(y.col(o), sim.col(o)));
       if (diverged) j["free_run"]["diverged"] = true;
     }
     if (ahead) {
-      j["k_step"] = metrics::AccuracyToJson(metrics::Score(y.col(o), k_step.col(o)));
+      j["k_step"] = metrics::ScoreToJson(metrics::Score(y.col(o), k_step.col(o)));
       j["k_step"]["horizon"] = horizon;
       if (ahead_diverged) j["k_step"]["diverged"] = true;
     }
@@ -102,29 +135,41 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
   return out;
 }
 
-/// Persistence ŷ(t) = y(t−1) one step ahead; free run holds the last measured value before each
-/// segment's first target. One block per output.
+/// Persistence ŷ(t) = y(t−1) one step ahead, y(t−K) K steps ahead (held from the last measured
+/// value before the segment's first target when t−K is before it); free run holds the last
+/// measured value before each segment's first target. One block per output.
 std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec,
-                                                const sysid::Series& s) {
+                                                const sysid::Series& s, int horizon) {
   const auto targets = sysid::TargetRows(spec, s);
   const auto rows = static_cast<Eigen::Index>(targets.size());
   const Eigen::MatrixXd y = sysid::Targets(spec, s);
-  Eigen::MatrixXd one(rows, y.cols()), held(rows, y.cols());
+  const bool ahead = horizon > 1 && spec.output_lags > 0;
+  Eigen::MatrixXd one(rows, y.cols()), held(rows, y.cols()), k_step(rows, y.cols());
+  Eigen::Index segment_start = 0;  // the row of the segment's first target
   for (Eigen::Index r = 0; r < rows; ++r) {
     const Eigen::Index t = targets[static_cast<std::size_t>(r)];
     const bool first = r == 0 || targets[static_cast<std::size_t>(r) - 1] != t - 1;
+    if (first) segment_start = r;
     one.row(r) = s.outputs.row(std::max<Eigen::Index>(t - 1, 0));
     if (first)
       held.row(r) = s.outputs.row(std::max<Eigen::Index>(t - 1, 0));
     else
       held.row(r) = held.row(r - 1);
+    if (ahead) {
+      const Eigen::Index back = std::min<Eigen::Index>(horizon, r - segment_start + 1);
+      k_step.row(r) = s.outputs.row(std::max<Eigen::Index>(t - back, 0));
+    }
   }
   std::vector<nlohmann::json> out;
   for (Eigen::Index o = 0; o < y.cols(); ++o) {
     nlohmann::json j;
-    j["one_step"] = metrics::AccuracyToJson(metrics::Score(y.col(o), one.col(o)));
+    j["one_step"] = metrics::ScoreToJson(metrics::Score(y.col(o), one.col(o)));
     if (spec.output_lags > 0)
       j["free_run"] = metrics::AccuracyToJson(metrics::Score(y.col(o), held.col(o)));
+    if (ahead) {
+      j["k_step"] = metrics::ScoreToJson(metrics::Score(y.col(o), k_step.col(o)));
+      j["k_step"]["horizon"] = horizon;
+    }
     out.push_back(j);
   }
   return out;

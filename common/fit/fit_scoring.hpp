@@ -28,10 +28,10 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
 std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
                                      const sysid::Predictor& predict, int horizon);
 
-/// Persistence ŷ(t) = y(t−1) one step ahead; free run holds the last measured value before each
-/// segment's first target. One block per output.
+/// Persistence ŷ(t) = y(t−1) one step ahead, y(t−K) K steps ahead (horizon K > 1); free run
+/// holds the last measured value before each segment's first target. One block per output.
 std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec,
-                                                const sysid::Series& s);
+                                                const sysid::Series& s, int horizon);
 
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
 /// One output keeps the plain column names; several get one set of columns per output (_NAME).

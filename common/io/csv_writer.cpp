@@ -7,11 +7,9 @@
 
 namespace odonata::io {
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header,
-                     const std::vector<std::string>& comments)
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& header)
     : path_(path), columns_(header.size()), out_(path, std::ios::binary | std::ios::trunc) {
   if (!out_) throw std::runtime_error(path + ": cannot create file (" + std::strerror(errno) + ")");
-  for (const std::string& c : comments) out_ << "# " << c << '\n';
   for (std::size_t i = 0; i < header.size(); ++i) out_ << (i ? "," : "") << header[i];
   out_ << '\n';
 }

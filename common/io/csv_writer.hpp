@@ -11,11 +11,10 @@ namespace odonata::io {
 /// through text is lossless (determinism across tools depends on it).
 class CsvWriter {
  public:
-  /// `comments` are written first, one "# …" line each (CsvTable skips them): what a reader of
-  /// the file should know about its columns. @throws std::runtime_error if the file cannot be
-  /// created.
-  CsvWriter(const std::string& path, const std::vector<std::string>& header,
-            const std::vector<std::string>& comments = {});
+  /// The header row first. No comment lines: every CSV reader (Python's csv.DictReader, pandas,
+  /// Octave's csvread) reads the file as it is; what a reader should know goes to stderr.
+  /// @throws std::runtime_error if the file cannot be created.
+  CsvWriter(const std::string& path, const std::vector<std::string>& header);
   /// @pre row.size() == header size.
   void WriteRow(const std::vector<double>& row);
   /// Flushes and reports write errors (disk full) as std::runtime_error.

@@ -264,7 +264,6 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
   summary.lost = chosen.lost;
   const auto& first = chosen.samples.front();
   std::vector<std::string> header{"seq", "t_s"};
-  std::vector<std::string> comments;
   for (const std::string& name : first.names) {
     // A vehicle that publishes its own t_s (or seq) must still export a file odonata-fit reads.
     std::string column = name;
@@ -272,12 +271,10 @@ SignalsExportSummary ExportSignalsToCsv(const std::vector<std::string>& log_path
       column = name + "_vehicle" + (k > 1 ? std::to_string(k) : "");
     if (column != name) {
       summary.renamed.emplace_back(name, column);
-      comments.push_back("the vehicle's signal '" + name + "' is column '" + column +
-                         "': its name is taken by an earlier column");
     }
     header.push_back(column);
   }
-  io::CsvWriter out(csv_path, header, comments);
+  io::CsvWriter out(csv_path, header);
   for (const auto& m : chosen.samples) {
     if (m.names != first.names) {
       ++summary.foreign;

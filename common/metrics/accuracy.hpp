@@ -1,6 +1,8 @@
 #pragma once
 // Accuracy measures of a model output against the measured output (docs/identifier.md §8).
 
+#include <limits>
+
 #include <Eigen/Core>
 
 namespace odonata::metrics {
@@ -13,6 +15,17 @@ struct Accuracy {
   double ndei = 0.0;         ///< RMSE / std(y) = 1 − FIT/100.
   long samples = 0;
 };
+
+/// A FIT below this (an error over twice the output's spread) is a prediction that ran
+/// away: every tool prints it as "diverges", never as a number of 28 digits.
+inline constexpr double kDivergedFitPercent = -100.0;
+
+/// Whether a FIT means "diverges": finite and below kDivergedFitPercent (an infinite one comes
+/// from a measured signal that never moves, which is no divergence).
+inline bool FitDiverges(double fit_percent) {
+  return fit_percent < kDivergedFitPercent &&
+         fit_percent > -std::numeric_limits<double>::infinity();
+}
 
 /// Scores `predicted` against `measured`.
 /// @pre equal sizes, at least one sample. A constant measured signal gives FIT = VAF = −inf

@@ -15,4 +15,10 @@ nlohmann::json AccuracyToJson(const Accuracy& a) {
           {"samples", a.samples}};
 }
 
+nlohmann::json ScoreToJson(const Accuracy& a) {
+  nlohmann::json j = AccuracyToJson(a);
+  if (FitDiverges(a.fit_percent)) j["diverged"] = true;
+  return j;
+}
+
 }  // namespace odonata::metrics

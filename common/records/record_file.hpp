@@ -4,10 +4,14 @@
 // program that reads a record (odonata-fit, odonata-replay, odonata-ulog export) reads it here,
 // so a .ulg is taken wherever a CSV is, under the same gap rules.
 
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/csv_table.hpp"
+#include "timeseries/keep_condition.hpp"
+#include "timeseries/uniform_grid.hpp"
 
 namespace odonata::records {
 
@@ -19,11 +23,18 @@ struct RecordOptions {
   io::CsvFormat csv_format;  ///< CSV only
   /// ULog only: the signals to take, by name (topic.field, topic.field[i], topic/1.field).
   std::vector<std::string> signals;
-  /// ULog only: the grid's rate (0: the highest median rate of the chosen signals).
+  /// ULog only: the grid's rate (0: the slowest chosen signal's median rate, which every chosen
+  /// signal fills; timeseries/uniform_grid.hpp).
   double rate_hz = 0;
   /// ULog only: where a signal's own samples are more than max_gap + 1 grid periods apart its
   /// cells are missing (NaN), for the reader's gap rules to bridge or split.
   int max_gap = 3;
+  /// ULog only: the grid covers only this window (seconds since the log's start).
+  double from_s = -std::numeric_limits<double>::infinity();
+  double to_s = std::numeric_limits<double>::infinity();
+  /// ULog only: this condition's signal is read too (held, as a column of the table), for the
+  /// series reader to keep only the samples where it holds.
+  std::optional<timeseries::KeepCondition> keep;
 };
 
 struct Record {
@@ -33,11 +44,13 @@ struct Record {
   /// What the reader should hear of: a damaged ULog read up to its damage, samples dropped for
   /// time going backwards, cells left missing by gaps.
   std::vector<std::string> warnings;
+  /// What the reader should know: the grid a ULog was put on, and each signal's own rate.
+  std::vector<std::string> notes;
 };
 
 /// @throws io::CsvError (a CSV's problem, with file, line and column) or std::runtime_error /
 ///   std::invalid_argument (a ULog that is not one, no --signals for it, an unknown signal with
-///   the nearest names) naming the file.
+///   the nearest names, a given rate far above a signal's own) naming the file.
 Record ReadRecord(const std::string& path, const RecordOptions& options);
 
 }  // namespace odonata::records

@@ -21,7 +21,8 @@ FlightRows FlightRowsFromTable(const io::CsvTable& table, const FlightRowsOption
   if (f.names.empty()) {
     // odonata-logger export's own bookkeeping column is not a signal of the vehicle.
     for (const auto& n : table.names())
-      if (n != time && n != "seq") f.names.push_back(n);
+      if (n != time && n != "seq" && !(options.keep && n == options.keep->signal))
+        f.names.push_back(n);
     if (f.names.empty()) throw io::CsvError(table.source() + ": no column to replay but time");
   }
   std::vector<const std::vector<double>*> columns;
@@ -42,9 +43,30 @@ FlightRows FlightRowsFromTable(const io::CsvTable& table, const FlightRowsOption
       throw io::CsvError(table.source() + ": no time column, and the rate is not positive");
     for (std::size_t r = 0; r < rows; ++r) f.times_s[r] = static_cast<double>(r) / options.rate_hz;
   }
-  f.rows.assign(rows, std::vector<double>(f.names.size()));
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < columns.size(); ++c) f.rows[r][c] = (*columns[c])[r];
+  const std::vector<double>* condition =
+      options.keep ? &table.Column(options.keep->signal) : nullptr;
+  // The window, in the file's own time (before times are counted from the first row sent).
+  std::vector<double> times;
+  std::vector<std::vector<double>> kept;
+  const double t0 = time.empty() ? 0.0 : table.Column(time).front();
+  for (std::size_t r = 0; r < rows; ++r) {
+    const double t = f.times_s[r] + t0;
+    if (t < options.from_s || t > options.to_s) continue;
+    std::vector<double> row(f.names.size());
+    for (std::size_t c = 0; c < columns.size(); ++c) row[c] = (*columns[c])[r];
+    if (condition && !options.keep->Holds((*condition)[r]))
+      row.assign(row.size(), std::numeric_limits<double>::quiet_NaN());  // sent as a gap
+    times.push_back(f.times_s[r]);
+    kept.push_back(std::move(row));
+  }
+  if (kept.empty())
+    throw io::CsvError(table.source() + ": no row inside the window (from " +
+                       std::to_string(options.from_s) + " s to " + std::to_string(options.to_s) +
+                       " s)");
+  const double first = times.front();
+  for (double& t : times) t -= first;
+  f.times_s = std::move(times);
+  f.rows = std::move(kept);
   return f;
 }
 

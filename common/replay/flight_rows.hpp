@@ -4,10 +4,13 @@
 // Knows nothing of the bus.
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/csv_table.hpp"
+#include "timeseries/keep_condition.hpp"
 
 namespace odonata::replay {
 
@@ -18,6 +21,12 @@ struct FlightRowsOptions {
   /// `rate_hz` apart.
   std::string time_column;
   double rate_hz = 100.0;  ///< without a time column: samples per second
+  /// Only the rows inside this window are sent (seconds on the file's time axis: the time
+  /// column, or row / rate_hz); the first one sent is seq 0.
+  double from_s = -std::numeric_limits<double>::infinity();
+  double to_s = std::numeric_limits<double>::infinity();
+  /// Rows where this fails are not sent (the receivers see a gap); its column is not sent.
+  std::optional<timeseries::KeepCondition> keep;
 };
 
 struct FlightRows {

@@ -25,11 +25,15 @@ struct TopicInstance {
   }
 };
 
+// Euler angles derived from a quaternion field "q" (float[4]).
+enum class Derived { kNone, kRollRad, kPitchRad, kYawRad };
+
 struct SignalRef {
   std::string name;
   std::size_t instance = 0;
   const FieldLayout* field = nullptr;
   std::size_t element = 0;
+  Derived derived = Derived::kNone;
 };
 
 struct Catalogue {
@@ -40,6 +44,20 @@ struct Catalogue {
 
 bool IsSignalField(const FieldLayout& f) {
   return f.type != BasicType::kChar && f.path != "timestamp";
+}
+
+bool IsQuaternion(const FieldLayout& f) {
+  return f.path == "q" && f.is_array && f.count == 4 &&
+         (f.type == BasicType::kFloat || f.type == BasicType::kDouble);
+}
+
+// Flags and enumerations: a state, held between samples.
+timeseries::Interpolation InterpolationOf(const SignalRef& r) {
+  if (r.derived != Derived::kNone) return timeseries::Interpolation::kLinear;
+  const BasicType t = r.field->type;
+  return t == BasicType::kBool || t == BasicType::kUint8 || t == BasicType::kInt8
+             ? timeseries::Interpolation::kHold
+             : timeseries::Interpolation::kLinear;
 }
 
 Catalogue Catalog(const UlogFile& file) {
@@ -67,6 +85,14 @@ Catalogue Catalog(const UlogFile& file) {
         // first keeps them; no real log does this.
         if (c.by_name.emplace(name, c.signals.size()).second)
           c.signals.push_back(SignalRef{std::move(name), i, &f, e});
+      }
+      if (!IsQuaternion(f)) continue;
+      for (const auto& [suffix, kind] :
+           {std::pair{".roll_rad", Derived::kRollRad}, std::pair{".pitch_rad", Derived::kPitchRad},
+            std::pair{".yaw_rad", Derived::kYawRad}}) {
+        std::string name = ti.prefix + suffix;
+        if (c.by_name.emplace(name, c.signals.size()).second)
+          c.signals.push_back(SignalRef{std::move(name), i, &f, 0, kind});
       }
     }
   }
@@ -114,6 +140,30 @@ std::vector<std::pair<const Subscription*, std::size_t>> Timeline(const TopicIns
   return all;
 }
 
+// One Euler angle (Z-Y-X, radians) of the rotation q = [w, x, y, z].
+double EulerAngle(Derived kind, double w, double x, double y, double z) {
+  switch (kind) {
+    case Derived::kRollRad:
+      return std::atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y));
+    case Derived::kPitchRad:
+      return std::asin(std::clamp(2.0 * (w * y - z * x), -1.0, 1.0));
+    default:
+      return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+  }
+}
+
+// Adds whole turns so that no step between neighbours exceeds half a turn.
+void Unwrap(std::vector<double>& angle_rad) {
+  constexpr double kTurn = 2.0 * 3.14159265358979323846;
+  double offset = 0.0;
+  for (std::size_t i = 1; i < angle_rad.size(); ++i) {
+    const double raw = angle_rad[i];
+    const double step = raw + offset - angle_rad[i - 1];
+    if (std::isfinite(step)) offset -= kTurn * std::round(step / kTurn);
+    angle_rad[i] = raw + offset;
+  }
+}
+
 Series SeriesOf(const Catalogue& c, const SignalRef& ref) {
   Series out;
   const auto timeline = Timeline(c.instances[ref.instance], out.out_of_order);
@@ -121,8 +171,15 @@ Series SeriesOf(const Catalogue& c, const SignalRef& ref) {
   out.values.reserve(timeline.size());
   for (const auto& [s, i] : timeline) {
     out.t_us.push_back(s->timestamps_us[i]);
-    out.values.push_back(s->Value(i, *ref.field, ref.element));
+    if (ref.derived == Derived::kNone) {
+      out.values.push_back(s->Value(i, *ref.field, ref.element));
+      continue;
+    }
+    const FieldLayout& q = *ref.field;
+    out.values.push_back(EulerAngle(ref.derived, s->Value(i, q, 0), s->Value(i, q, 1),
+                                    s->Value(i, q, 2), s->Value(i, q, 3)));
   }
+  if (ref.derived == Derived::kRollRad || ref.derived == Derived::kYawRad) Unwrap(out.values);
   return out;
 }
 
@@ -153,6 +210,25 @@ double SecondsSince(std::uint64_t start_us, std::uint64_t t_us) {
                           : -static_cast<double>(start_us - t_us) / 1e6;
 }
 
+// Where a signal of an older PX4 log lives in a current one (PX4 1.13 split actuator_controls;
+// body rates left vehicle_attitude in 1.10): docs/guide/real-flights.md has the whole table.
+std::string Px4RenameHint(const std::string& name) {
+  const auto starts = [&name](const char* p) { return name.rfind(p, 0) == 0; };
+  if (starts("vehicle_attitude.rollspeed") || starts("vehicle_attitude.pitchspeed") ||
+      starts("vehicle_attitude.yawspeed"))
+    return "current PX4 logs hold body rates in vehicle_angular_velocity.xyz[0], [1], [2] "
+           "(roll, pitch, yaw; rad/s)";
+  if (name == "vehicle_attitude.roll" || name == "vehicle_attitude.pitch" ||
+      name == "vehicle_attitude.yaw")
+    return "current PX4 logs hold the attitude as vehicle_attitude.q; its Euler angles are "
+           "vehicle_attitude.roll_rad, pitch_rad, yaw_rad";
+  if (starts("actuator_controls_0.control["))
+    return "current PX4 logs hold the torque commands in vehicle_torque_setpoint.xyz[0..2], the "
+           "thrust command in vehicle_thrust_setpoint.xyz[2] and motor outputs in "
+           "actuator_motors.control[i]";
+  return "";
+}
+
 const SignalRef& Lookup(const UlogFile& file, const Catalogue& c, const std::string& name) {
   if (const auto it = c.by_name.find(name); it != c.by_name.end()) return c.signals[it->second];
   std::vector<std::pair<std::size_t, const std::string*>> near;
@@ -164,6 +240,7 @@ const SignalRef& Lookup(const UlogFile& file, const Catalogue& c, const std::str
                       return a.first != b.first ? a.first < b.first : *a.second < *b.second;
                     });
   std::string message = "no signal '" + name + "' in " + file.source;
+  if (const std::string hint = Px4RenameHint(name); !hint.empty()) message += " (" + hint + ")";
   const std::string prefix = name.substr(0, name.find('.'));
   for (const auto& ti : c.instances)
     if (ti.prefix == prefix && !ti.HasSamples())
@@ -198,17 +275,21 @@ std::vector<SignalInfo> ListSignals(const UlogFile& file) {
     const InstanceTiming& t = timing[ref.instance];
     if (t.samples == 0) continue;
     const Subscription& s = *c.instances[ref.instance].subscriptions.front();
-    out.push_back(SignalInfo{ref.name, s.topic, s.multi_id, TypeName(ref.field->type), t.samples,
-                             t.out_of_order, t.median_hz, t.mean_hz});
+    out.push_back(SignalInfo{
+        ref.name, s.topic, s.multi_id,
+        ref.derived == Derived::kNone ? TypeName(ref.field->type) : std::string("derived"),
+        InterpolationOf(ref), t.samples, t.out_of_order, t.median_hz, t.mean_hz});
   }
   return out;
 }
 
 SignalSamples Extract(const UlogFile& file, const std::string& name) {
   const Catalogue c = Catalog(file);
-  Series s = SeriesOf(c, Lookup(file, c, name));
+  const SignalRef& ref = Lookup(file, c, name);
+  Series s = SeriesOf(c, ref);
   SignalSamples out;
   out.name = name;
+  out.interpolation = InterpolationOf(ref);
   out.out_of_order = s.out_of_order;
   out.values = std::move(s.values);
   out.t_s.reserve(s.t_us.size());
@@ -217,92 +298,49 @@ SignalSamples Extract(const UlogFile& file, const std::string& name) {
 }
 
 ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& names,
-                          double rate_hz, int max_gap) {
+                          const timeseries::GridOptions& grid) {
   if (names.empty()) throw std::invalid_argument("resampling needs at least one signal");
   for (std::size_t i = 0; i < names.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (names[i] == names[j])
         throw std::invalid_argument("signal '" + names[i] + "' is asked for twice");
-  if (!std::isfinite(rate_hz) || rate_hz < 0.0)
-    throw std::invalid_argument(
-        "the resampling rate must be a finite number of Hz >= 0 (0: the "
-        "fastest signal's), not " +
-        std::to_string(rate_hz));
-  if (max_gap < 0)
-    throw std::invalid_argument("max_gap must be >= 0, not " + std::to_string(max_gap));
-
   const Catalogue c = Catalog(file);
-  std::vector<Series> series;
-  series.reserve(names.size());
-  double fastest_hz = 0.0;
-  std::uint64_t begin_us = 0, end_us = std::numeric_limits<std::uint64_t>::max();
-  for (const auto& name : names) {
-    series.push_back(SeriesOf(c, Lookup(file, c, name)));
-    const Series& s = series.back();
-    if (s.t_us.empty()) throw std::invalid_argument("signal '" + name + "' has no samples");
-    fastest_hz = std::max(fastest_hz, MedianRateHz(s.t_us));
-    begin_us = std::max(begin_us, s.t_us.front());
-    end_us = std::min(end_us, s.t_us.back());
-  }
-  if (end_us < begin_us)
-    throw std::invalid_argument("the signals' time spans do not overlap (the latest starts " +
-                                std::to_string(SecondsSince(file.start_time_us, begin_us)) +
-                                " s after the file's start, the earliest ends at " +
-                                std::to_string(SecondsSince(file.start_time_us, end_us)) + " s)");
-  const double rate = rate_hz > 0.0 ? rate_hz : fastest_hz;
-  if (rate <= 0.0)
-    throw std::invalid_argument(
-        "no rate to resample at: none of the signals has two distinct "
-        "times; give the rate");
-  const double period_us = 1e6 / rate;
-  const double span_periods = static_cast<double>(end_us - begin_us) / period_us;
-  const double max_points =
-      static_cast<double>(kMaxResampledCells) / static_cast<double>(names.size() + 1);
-  if (!(span_periods + 1.0 <= max_points))
-    throw std::invalid_argument("resampling " + std::to_string(names.size()) + " signals over " +
-                                std::to_string(static_cast<double>(end_us - begin_us) / 1e6) +
-                                " s at " + std::to_string(rate) + " Hz makes more than " +
-                                std::to_string(kMaxResampledCells) + " cells");
-  const std::size_t points = static_cast<std::size_t>(std::floor(span_periods)) + 1;
-
+  std::vector<timeseries::TimedSignal> timed;
   ResampledSignals out;
-  out.rate_hz = rate;
-  out.names = names;
-  out.t_s.resize(points);
-  const double t0_s = SecondsSince(file.start_time_us, begin_us);
-  const double begin = static_cast<double>(begin_us);
-  // Each time from its index, so that no rounding accumulates along a long grid.
-  for (std::size_t i = 0; i < points; ++i) out.t_s[i] = t0_s + static_cast<double>(i) / rate;
-  // A relative tolerance lets neighbours exactly max_gap + 1 periods apart through despite the
-  // rounding of the period.
-  const double widest = (max_gap + 1.0) * period_us * (1.0 + 1e-9);
-  for (const Series& s : series) {
-    std::vector<double> column(points);
-    std::size_t gaps = 0;
-    std::size_t hi = 0;  // the first sample later than the grid time; grid times only increase
-    for (std::size_t i = 0; i < points; ++i) {
-      const double t = begin + static_cast<double>(i) * period_us;
-      while (hi < s.t_us.size() && static_cast<double>(s.t_us[hi]) <= t) ++hi;
-      if (hi == 0) hi = 1;  // t at the first sample despite rounding: begin is a sample time
-      const std::size_t lo = hi - 1;
-      const double t_lo = static_cast<double>(s.t_us[lo]);
-      if (t_lo == t || hi == s.t_us.size()) {
-        column[i] = s.values[lo];  // a sample at t, or the last grid time rounded past the end
-        continue;
-      }
-      const double t_hi = static_cast<double>(s.t_us[hi]);
-      if (t_hi - t_lo > widest) {
-        column[i] = std::numeric_limits<double>::quiet_NaN();
-        ++gaps;
-        continue;
-      }
-      column[i] = s.values[lo] + (s.values[hi] - s.values[lo]) * ((t - t_lo) / (t_hi - t_lo));
-    }
-    out.columns.push_back(std::move(column));
+  for (const auto& name : names) {
+    const SignalRef& ref = Lookup(file, c, name);
+    Series s = SeriesOf(c, ref);
+    timeseries::TimedSignal t;
+    t.name = name;
+    t.interpolation = InterpolationOf(ref);
+    t.t_s.reserve(s.t_us.size());
+    for (const std::uint64_t us : s.t_us) t.t_s.push_back(SecondsSince(file.start_time_us, us));
+    t.values = std::move(s.values);
     out.out_of_order.push_back(s.out_of_order);
-    out.gap_cells.push_back(gaps);
+    out.interpolation.push_back(t.interpolation);
+    timed.push_back(std::move(t));
+  }
+  timeseries::GridOptions o = grid;
+  o.max_cells = kMaxResampledCells;
+  timeseries::UniformGrid g = timeseries::Resample(timed, o);
+  out.rate_hz = g.rate_hz;
+  out.rate_chosen = g.rate_chosen;
+  out.t_s = std::move(g.t_s);
+  out.names = names;
+  out.columns = std::move(g.columns);
+  for (const auto& s : g.signals) {
+    out.gap_cells.push_back(s.gap_cells);
+    out.median_rate_hz.push_back(s.median_rate_hz);
   }
   return out;
+}
+
+ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& names,
+                          double rate_hz, int max_gap) {
+  timeseries::GridOptions o;
+  o.rate_hz = rate_hz;
+  o.max_gap = max_gap;
+  return Resample(file, names, o);
 }
 
 }  // namespace odonata::ulog

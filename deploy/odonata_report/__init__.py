@@ -2,7 +2,7 @@
 
 A package of one concern per module: common (reading and printing numbers), verdicts (what a
 model is said to be against ARX), tables, plots, page. What run-experiments and the tests use is
-re-exported here.
+re-exported here. fit_verdict and fit_page are the page of one odonata-fit run (fit_report.py).
 """
 from .common import live_scores, read_predictions
 from .tables import COLUMNS, markdown, table_rows, terminal_table

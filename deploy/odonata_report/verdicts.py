@@ -40,10 +40,11 @@ def _fits(s, mode):
     return (s["validate"].get(mode) or {}).get("fit"), (s["arx"].get(mode) or {}).get("fit")
 
 
-def _compare(f, a, mode, rules):
-    """(sentence, short) for two FITs that both stayed bounded."""
+def _compare(f, a, mode, rules, where=None):
+    """(sentence, short) for two FITs that both stayed bounded; `where` words the mode (default
+    MODE_WORDS[mode]; fit_report.py's K steps ahead has none there)."""
     d = f - a
-    where = MODE_WORDS[mode]
+    where = where or MODE_WORDS[mode]
     if abs(d) < EQUAL_POINTS:
         # Equal and both poor says nothing about linearity: neither structure fits.
         why = (f"neither model fits well (FIT {f:.0f} % and {a:.0f} %)" if max(f, a) < POOR_FIT

@@ -6,6 +6,25 @@
 namespace odonata::fit {
 namespace {
 
+// Which part of each file is read: a window, and a condition such as "airborne".
+void AddWindowOptions(CLI::App* app, FitCli& c, FitJobOptions* o) {
+  app->add_option("--from", o->from_s,
+                  "read each file from this time on, in seconds on its own time axis (a ULog: "
+                  "since its start; a CSV: its --time column, or row / --rate)");
+  app->add_option("--to", o->to_s, "read each file up to this time (seconds, as --from)");
+  app->add_flag("--airborne", c.airborne,
+                "keep only a PX4 log's airborne part (vehicle_land_detected.landed == 0); "
+                "--keep-when names another condition");
+  app->add_option("--keep-when", c.keep_when,
+                  "keep only the samples where this holds: SIGNAL OP VALUE, OP one of < <= > >= "
+                  "== != (e.g. 'vehicle_thrust_setpoint.xyz[2]<-0.1'); the signal is held, "
+                  "never interpolated");
+  app->add_option("--time-unit", c.time_unit,
+                  "unit of the --time column: s, ms or us (default: from its name, *_ms or "
+                  "*_us, else s)")
+      ->check(CLI::IsMember({"s", "ms", "us"}));
+}
+
 // The data: files, signals, lags and how a real log is read.
 void AddDataOptions(CLI::App* app, FitJobOptions* o) {
   app->add_option("--train", o->train_csv,
@@ -21,8 +40,9 @@ void AddDataOptions(CLI::App* app, FitJobOptions* o) {
                   "time column in seconds: samples are resampled onto a fixed rate (--rate) by "
                   "linear interpolation");
   app->add_option("--rate", o->rate_hz,
-                  "with --time or a ULog: the rate in Hz (default: the file's median; for a ULog "
-                  "the fastest chosen signal's)")
+                  "the rate in Hz: with --time or a ULog, the grid's (default: the slowest chosen "
+                  "signal's median rate, which every signal fills); without, the rows' (time "
+                  "constants are then in seconds)")
       ->check(CLI::Range(1e-6, 1e7));
   app->add_option("--max-gap", o->max_gap,
                   "missing samples (empty or NaN cells, or time gaps) bridged by linear "
@@ -257,6 +277,10 @@ void AddOutputOptions(CLI::App* app, FitCli& c, FitJobOptions* o) {
       "draw the model into this directory (python3, matplotlib): each signal's readable "
       "terms, which rule fires when along the validation run, and the output surface "
       "of a static map or the gain schedule of a dynamic one; the data beside them");
+  app->add_option("--report", c.report_dir,
+                  "write a page for this fit into DIR (DIR/index.html): the verdict beside ARX and "
+                  "persistence, the compare plot, the readable rules with time constants, the "
+                  "pictures (--plot), the data's excitation and windows, the command");
   app->add_flag("--json", c.json, "print one JSON object on stdout");
 }
 
@@ -270,6 +294,7 @@ void AddFitOptions(CLI::App* app, FitCli& c, FitJobOptions* o) {
   o->spec.input_lags = 1;
   o->spec.delay = 1;
   AddDataOptions(app, o);
+  AddWindowOptions(app, c, o);
   AddLearnerOptions(app, c, o);
   AddRefitOptions(app, o);
   AddSelectionOptions(app, c, o);
@@ -280,6 +305,16 @@ void ApplyFitCli(const FitCli& c, FitJobOptions& o) {
   if (o.load_model.empty()) {
     if (o.train_csv.empty()) throw std::runtime_error("--train is required (or --load-model)");
     if (o.outputs.empty()) throw std::runtime_error("--output is required");
+  }
+  if (c.airborne && !c.keep_when.empty())
+    throw std::runtime_error("--airborne is --keep-when vehicle_land_detected.landed==0: give one");
+  if (c.airborne) o.keep = timeseries::Px4Airborne();
+  if (!c.keep_when.empty()) o.keep = timeseries::ParseKeepCondition(c.keep_when);
+  if (!c.time_unit.empty())
+    o.time_unit_s = c.time_unit == "ms" ? 1e-3 : c.time_unit == "us" ? 1e-6 : 1.0;
+  if (!c.report_dir.empty()) {
+    o.plot_dir = c.report_dir;
+    if (o.predictions.empty()) o.predictions = c.report_dir + "/predictions.csv";
   }
   o.model.consequent = fuzzy::ConsequentKindFromString(c.consequent);
   o.model.entropy.measure =

@@ -23,6 +23,9 @@ struct FitCli {
   int simulation_steps = 30;
   std::vector<int> simulation_horizons{10, 40, 160, 640};
   bool json = false, rules = false, full_rules = false, no_ls = false, no_select = false;
+  bool airborne = false;
+  std::string keep_when, time_unit;
+  std::string report_dir;  ///< --report: the page's directory
   cli::CsvFormatOptions csv_format;
   CLI::Option* threshold = nullptr;
   CLI::Option* epochs = nullptr;

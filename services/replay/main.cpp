@@ -42,9 +42,22 @@ int main(int argc, char** argv) {
   double rate_hz = 0;
   app.add_option("--rate", rate_hz,
                  "samples per second: of a CSV without a time column (default 100), or the grid "
-                 "a ULog's signals are resampled onto (default: the fastest one's median)")
+                 "a ULog's signals are resampled onto (default: the slowest one's median, which "
+                 "every signal fills)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--from", rows.from_s,
+                 "send from this time on (seconds on the file's time axis: a ULog's since its "
+                 "start, a CSV's time column, or row / --rate)");
+  app.add_option("--to", rows.to_s, "send up to this time (seconds, as --from)");
+  bool airborne = false;
+  std::string keep_when;
+  app.add_flag("--airborne", airborne,
+               "send only a PX4 log's airborne part (vehicle_land_detected.landed == 0); other "
+               "rows go out as gaps");
+  app.add_option("--keep-when", keep_when,
+                 "send only the rows where this holds (SIGNAL OP VALUE, OP one of < <= > >= == "
+                 "!=); other rows go out as gaps");
   app.add_option("--speed", o.speed, "the flight's time runs this many times faster")
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 1e6));
@@ -82,12 +95,21 @@ int main(int argc, char** argv) {
   try {
     const auto format = csv_format.Format();
     if (!format) throw std::runtime_error("--decimal ',' needs another --delimiter (';' or tab)");
+    if (airborne && !keep_when.empty())
+      throw std::runtime_error(
+          "--airborne is --keep-when vehicle_land_detected.landed==0: give one");
+    if (airborne) rows.keep = odonata::timeseries::Px4Airborne();
+    if (!keep_when.empty()) rows.keep = odonata::timeseries::ParseKeepCondition(keep_when);
     // A CSV as it is, or a ULog's chosen signals on one grid with a t_s column.
     odonata::records::RecordOptions ro;
     ro.csv_format = *format;
     ro.signals = rows.signals;
     ro.rate_hz = rate_hz;
+    ro.from_s = rows.from_s;
+    ro.to_s = rows.to_s;
+    ro.keep = rows.keep;
     const odonata::records::Record record = odonata::records::ReadRecord(path, ro);
+    for (const auto& n : record.notes) std::fprintf(stderr, "odonata-replay: %s\n", n.c_str());
     for (const auto& w : record.warnings)
       std::fprintf(stderr, "odonata-replay: warning: %s\n", w.c_str());
     if (rows.time_column.empty()) rows.time_column = record.time_column;

@@ -53,24 +53,33 @@ int Export(const std::string& path, const odonata::records::RecordOptions& o,
     throw std::runtime_error(path + " is not a ULog file (no ULog magic at its start)");
   const odonata::records::Record r = odonata::records::ReadRecord(path, o);
   for (const auto& w : r.warnings) std::fprintf(stderr, "odonata-ulog: warning: %s\n", w.c_str());
-  char rate[64];
-  std::snprintf(rate, sizeof rate, "%.6g", r.rate_hz);
-  odonata::io::CsvWriter out(out_path, r.table.names(),
-                             {"from " + path + ", resampled onto " + std::string(rate) +
-                                  " Hz by linear interpolation (odonata-ulog export)",
-                              "t_s: seconds since the log's start; nan: a gap longer than the "
-                              "gap rule bridges"});
+  for (const auto& n : r.notes) std::fprintf(stderr, "odonata-ulog: %s\n", n.c_str());
+  // What the columns mean goes to stderr, not into the CSV, which every reader takes as it is.
+  std::fprintf(stderr,
+               "odonata-ulog: t_s: seconds since the log's start; nan: a gap longer than the gap "
+               "rule bridges\n");
+  odonata::io::CsvWriter out(out_path, r.table.names());
   const auto& names = r.table.names();
   std::vector<const std::vector<double>*> cols;
   for (const auto& n : names) cols.push_back(&r.table.Column(n));
+  const std::vector<double>* condition = o.keep ? &r.table.Column(o.keep->signal) : nullptr;
   std::vector<double> row(names.size());
+  std::size_t written = 0;
   for (std::size_t i = 0; i < r.table.rows(); ++i) {
+    if (condition && !o.keep->Holds((*condition)[i])) continue;
     for (std::size_t c = 0; c < cols.size(); ++c) row[c] = (*cols[c])[i];
     out.WriteRow(row);
+    ++written;
+  }
+  if (written == 0) {
+    out.Close();
+    std::remove(out_path.c_str());  // no header-only file left behind to be mistaken for data
+    throw std::runtime_error(path + ": the condition " + o.keep->ToString() +
+                             " holds at no sample: nothing written");
   }
   out.Close();
-  std::printf("odonata-ulog: %zu samples of %zu signals at %s Hz written to %s\n", r.table.rows(),
-              names.size() - 1, rate, out_path.c_str());
+  std::printf("odonata-ulog: %zu samples of %zu signals at %.6g Hz written to %s\n", written,
+              names.size() - 1, r.rate_hz, out_path.c_str());
   return 0;
 }
 
@@ -94,8 +103,18 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   exp->add_option("-o,--output", out_path, "the CSV to write")->required();
   exp->add_option("--rate", o.rate_hz,
-                  "the rate in Hz (default: the fastest chosen signal's median rate)")
+                  "the rate in Hz (default: the slowest chosen signal's median rate, which every "
+                  "chosen signal fills)")
       ->check(CLI::Range(1e-6, 1e7));
+  exp->add_option("--from", o.from_s, "write from this time on (seconds since the log's start)");
+  exp->add_option("--to", o.to_s, "write up to this time (seconds since the log's start)");
+  bool airborne = false;
+  std::string keep_when;
+  exp->add_flag("--airborne", airborne,
+                "only the airborne part (vehicle_land_detected.landed == 0): rows where it fails "
+                "are left out");
+  exp->add_option("--keep-when", keep_when,
+                  "only the rows where this holds: SIGNAL OP VALUE, OP one of < <= > >= == !=");
   exp->add_option("--max-gap", o.max_gap,
                   "a signal's samples further apart than this many grid periods + 1 leave the "
                   "cells between them empty (nan)")
@@ -104,6 +123,11 @@ int main(int argc, char** argv) {
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   try {
     if (*topics) return Topics(path, match);
+    if (airborne && !keep_when.empty())
+      throw std::runtime_error(
+          "--airborne is --keep-when vehicle_land_detected.landed==0: give one");
+    if (airborne) o.keep = odonata::timeseries::Px4Airborne();
+    if (!keep_when.empty()) o.keep = odonata::timeseries::ParseKeepCondition(keep_when);
     return Export(path, o, out_path);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-ulog: error: %s\n", e.what());

@@ -22,6 +22,7 @@ void Check(bool ok) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   namespace ulog = odonata::ulog;
+  namespace timeseries = odonata::timeseries;
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   try {
     const ulog::UlogFile file = ulog::Parse(bytes, "fuzz");
@@ -39,12 +40,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::vector<ulog::SignalInfo> signals = ulog::ListSignals(file);
     std::vector<std::string> names;
     double fastest_hz = 0.0, begin_s = -1e300, end_s = 1e300;
-    for (std::size_t i = 0; i < signals.size() && names.size() < 3; i += 1 + signals.size() / 3) {
+    // The grid spans what the interpolated signals cover (held flags do not bound it), or what
+    // all cover when none is interpolated.
+    std::vector<std::size_t> chosen;
+    for (std::size_t i = 0; i < signals.size() && chosen.size() < 3; i += 1 + signals.size() / 3)
+      chosen.push_back(i);
+    const bool any_linear = std::any_of(chosen.begin(), chosen.end(), [&](std::size_t i) {
+      return signals[i].interpolation == timeseries::Interpolation::kLinear;
+    });
+    for (const std::size_t i : chosen) {
       const ulog::SignalSamples s = ulog::Extract(file, signals[i].name);
       Check(s.t_s.size() == s.values.size() && s.values.size() == signals[i].samples);
       Check(std::is_sorted(s.t_s.begin(), s.t_s.end()));
       names.push_back(signals[i].name);
       fastest_hz = std::max(fastest_hz, signals[i].median_rate_hz);
+      if (any_linear && signals[i].interpolation != timeseries::Interpolation::kLinear) continue;
       begin_s = std::max(begin_s, s.t_s.front());
       end_s = std::min(end_s, s.t_s.back());
     }

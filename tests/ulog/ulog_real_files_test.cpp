@@ -164,12 +164,17 @@ TEST(UlogRealFiles, SampleMulticopterVersion0) {
   EXPECT_EQ(FindSignal(signals, "vehicle_attitude.timestamp"), nullptr);
   EXPECT_NEAR(FindSignal(signals, "sensor_combined.gyro_rad[2]")->median_rate_hz, 250.0, 1e-9);
 
-  // Resampled at the faster one's median rate, over the span both cover.
+  // Resampled at the slower one's median rate (which both fill), over the span both cover.
   const ResampledSignals r =
       Resample(f, {"vehicle_attitude.rollspeed", "actuator_controls_0.control[0]"}, 0.0, 2);
-  EXPECT_NEAR(r.rate_hz, 83.34027835652971, 1e-9);
+  EXPECT_TRUE(r.rate_chosen);
+  EXPECT_NEAR(r.rate_hz, FindSignal(signals, "actuator_controls_0.control[0]")->median_rate_hz,
+              1e-6);
+  EXPECT_LT(r.rate_hz, 83.0);
   EXPECT_DOUBLE_EQ(r.t_s.front(), (112574774 - 112500176) / 1e6);
-  EXPECT_GT(r.t_s.size(), 5000u);
+  EXPECT_GT(r.t_s.size(), 3000u);
+  // The slow command is no gap on its own grid, but for the log's few real dropouts.
+  EXPECT_LT(r.gap_cells[1], r.t_s.size() / 100);
 }
 
 TEST(UlogRealFiles, SampleVtolPx4_1_11) {

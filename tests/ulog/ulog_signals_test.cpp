@@ -65,6 +65,9 @@ TEST(UlogSignals, NamesFollowFieldsArraysNestingAndInstances) {
                                              "sensor.q[1]",
                                              "sensor.q[2]",
                                              "sensor.q[3]",
+                                             "sensor.roll_rad",  // derived from q
+                                             "sensor.pitch_rad",
+                                             "sensor.yaw_rad",
                                              "sensor.accel.x",
                                              "sensor.accel.y",
                                              "sensor.accel.z",
@@ -84,12 +87,19 @@ TEST(UlogSignals, NamesFollowFieldsArraysNestingAndInstances) {
   EXPECT_EQ(signals[0].type, "int8_t");
   EXPECT_EQ(signals[9].type, "double");
   EXPECT_EQ(signals[10].type, "bool");
-  EXPECT_EQ(signals[24].type, "uint16_t");
+  EXPECT_EQ(signals[15].type, "derived");
+  EXPECT_EQ(signals[27].type, "uint16_t");
   EXPECT_EQ(signals[0].samples, 3u);
   EXPECT_EQ(signals[0].median_rate_hz, 10.0);  // 100 ms apart
-  EXPECT_EQ(signals[28].topic, "motor");
-  EXPECT_EQ(signals[28].multi_id, 1);
-  EXPECT_EQ(signals[28].samples, 2u);
+  EXPECT_EQ(signals[31].topic, "motor");
+  EXPECT_EQ(signals[31].multi_id, 1);
+  EXPECT_EQ(signals[31].samples, 2u);
+  // Flags and 8-bit enumerations are held, everything else interpolated.
+  EXPECT_EQ(signals[0].interpolation, timeseries::Interpolation::kHold);   // int8_t
+  EXPECT_EQ(signals[1].interpolation, timeseries::Interpolation::kHold);   // uint8_t
+  EXPECT_EQ(signals[10].interpolation, timeseries::Interpolation::kHold);  // bool
+  EXPECT_EQ(signals[2].interpolation, timeseries::Interpolation::kLinear);
+  EXPECT_EQ(signals[15].interpolation, timeseries::Interpolation::kLinear);
 }
 
 TEST(UlogSignals, ExtractGivesExactValuesAndSecondsSinceTheStart) {
@@ -163,8 +173,12 @@ TEST(UlogSignals, SamplesBeforeTheStartHaveNegativeTimes) {
 
 TEST(UlogSignals, ResampleInterpolatesEachSignalOnTheOverlap) {
   const UlogFile f = TwoRatesLog();
-  const ResampledSignals r = Resample(f, {"b.v", "a.v", "b.n"}, 0.0, 1);
-  EXPECT_DOUBLE_EQ(r.rate_hz, 100.0);  // a's, the fastest
+  const ResampledSignals slowest = Resample(f, {"b.v", "a.v", "b.n"}, 0.0, 1);
+  EXPECT_NEAR(slowest.rate_hz, 50.0, 1e-9);  // b's, the slowest: every signal fills it
+  EXPECT_TRUE(slowest.rate_chosen);
+  EXPECT_EQ(slowest.gap_cells, (std::vector<std::size_t>{0, 0, 0}));
+  const ResampledSignals r = Resample(f, {"b.v", "a.v", "b.n"}, 100.0, 1);
+  EXPECT_FALSE(r.rate_chosen);
   // From b's first sample (3 ms) to a's last (1 s): 100 points at 3, 13, … 993 ms.
   ASSERT_EQ(r.t_s.size(), 100u);
   EXPECT_DOUBLE_EQ(r.t_s.front(), 0.003);

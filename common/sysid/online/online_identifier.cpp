@@ -1,5 +1,7 @@
 #include "sysid/online/online_identifier.hpp"
 
+#include "timeseries/gap_rule.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -84,17 +86,16 @@ std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* 
   if (have_last_ && s.index != last_index_ + 1) {
     const int64_t missing = s.index - last_index_ - 1;
     gaps_ += missing;
-    if (missing <= max_gap_ && !history_.empty()) {
-      // The straight line from the newest sample to this one, in odonata-fit's own arithmetic
-      // (series_from_table.cpp BridgeRuns), so a lossy real-time run learns what odonata-fit
-      // learns from the exported log instead of warming up again for ny samples.
+    if (timeseries::Bridges(missing, max_gap_) && !history_.empty()) {
+      // The straight line from the newest sample to this one, by odonata-fit's own gap rule
+      // (timeseries/gap_rule.hpp), so a lossy real-time run learns what odonata-fit learns from
+      // the exported log instead of warming up again for ny samples.
       const Sample a = history_.back();
       for (int64_t k = 1; k <= missing; ++k) {
-        const double w = double(k) / double(missing + 1);
         Sample b;
         b.index = a.index + k;
-        b.outputs = a.outputs + w * (s.outputs - a.outputs);
-        b.inputs = a.inputs + w * (s.inputs - a.inputs);
+        b.outputs = timeseries::Bridge<Eigen::VectorXd>(a.outputs, s.outputs, k, missing + 1);
+        b.inputs = timeseries::Bridge<Eigen::VectorXd>(a.inputs, s.inputs, k, missing + 1);
         Step(b);
         ++bridged_;
       }

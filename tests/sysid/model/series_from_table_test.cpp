@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "sysid/model/free_run.hpp"
+#include "sysid/model/nothing_to_identify.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -64,11 +65,89 @@ TEST(SeriesFromTable, NothingUsableIsAClearError) {
   try {
     SeriesFromTable(table, Options());
     FAIL() << "no error";
-  } catch (const io::CsvError& e) {
+  } catch (const NothingToIdentify& e) {
     EXPECT_NE(std::string(e.what()).find("holes.csv: 4 data rows"), std::string::npos) << e.what();
   }
   EXPECT_THROW(SeriesFromTable(io::CsvTable::Parse("u,y\n0,1\n", "x"), Options("t")),
                io::CsvError);  // no time column
+}
+
+TEST(SeriesFromTable, ALogAtSeveralRatesIsReadOnTheSlowestColumnsGrid) {
+  // y every 10 ms, u every 40 ms (empty cells between): the grid is u's 25 Hz, u never a gap.
+  std::string csv = "t,y,u\n";
+  for (int i = 0; i <= 200; ++i)
+    csv += std::to_string(i * 0.01) + "," + std::to_string(i * 0.01) + "," +
+           (i % 4 == 0 ? std::to_string(2 * i * 0.01) : std::string("")) + "\n";
+  const auto table = io::CsvTable::Parse(csv, "rates.csv", io::MissingCells::kKeepAsNaN);
+  SeriesReport r;
+  const Series s = SeriesFromTable(table, Options("t"), &r);
+  EXPECT_NEAR(r.rate_hz, 25.0, 1e-6);
+  EXPECT_TRUE(r.rate_chosen);
+  EXPECT_EQ(r.slowest, "u");
+  EXPECT_EQ(s.samples(), 51);
+  EXPECT_EQ(r.missing, 0);
+  // Forced onto 100 Hz, u is far slower than the grid: the error names it and the fix.
+  SeriesOptions fast = Options("t", 1);
+  fast.rate_hz = 100;
+  try {
+    SeriesFromTable(table, fast);
+    FAIL() << "no error";
+  } catch (const NothingToIdentify& e) {
+    EXPECT_NE(std::string(e.what()).find("'u' is logged at 25 Hz"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--rate 25"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SeriesFromTable, FlagsAreHeldWindowsAndConditionsCut) {
+  // A 0/1 column is a flag: held on a grid, never 0.5. "on" is 1 from 1 s on.
+  std::string csv = "t,y,u,on\n";
+  for (int i = 0; i <= 40; ++i)
+    csv += std::to_string(i * 0.1) + "," + std::to_string(i) + "," + std::to_string(i % 3) + "," +
+           (i >= 10 ? "1" : "0") + "\n";
+  const auto table = io::CsvTable::Parse(csv, "flag.csv", io::MissingCells::kKeepAsNaN);
+  SeriesOptions o = Options("t");
+  o.rate_hz = 20;  // between the rows: a linear column is interpolated, the flag held
+  o.keep = timeseries::ParseKeepCondition("on==1");
+  SeriesReport r;
+  const Series s = SeriesFromTable(table, o, &r);
+  EXPECT_GT(r.cut_by_condition, 0);
+  EXPECT_NEAR(r.first_s, 1.0, 1e-9);  // the condition held from 1 s on
+  ASSERT_EQ(r.columns.size(), 3u);
+  EXPECT_TRUE(r.columns[2].held);
+  // A window on the time axis.
+  SeriesOptions w = Options("t");
+  w.from_s = 2.0;
+  w.to_s = 3.0;
+  SeriesReport rw;
+  EXPECT_EQ(SeriesFromTable(table, w, &rw).samples(), 11);
+  EXPECT_NEAR(rw.first_s, 2.0, 1e-9);
+  // A window that keeps nothing, and a condition that never holds: nothing to identify.
+  w.from_s = 10;
+  w.to_s = 11;
+  EXPECT_THROW(SeriesFromTable(table, w), NothingToIdentify);
+  o.keep = timeseries::ParseKeepCondition("on==2");
+  EXPECT_THROW(SeriesFromTable(table, o), NothingToIdentify);
+  // Without a time column, a window needs the rows' rate.
+  SeriesOptions rows = Options();
+  rows.from_s = 1;
+  EXPECT_THROW(SeriesFromTable(table, rows), io::CsvError);
+  rows.rate_hz = 10;
+  EXPECT_EQ(SeriesFromTable(table, rows).samples(), 31);
+}
+
+TEST(SeriesFromTable, TheTimeUnitComesFromTheColumnsName) {
+  EXPECT_DOUBLE_EQ(TimeUnitFromName("time_ms"), 1e-3);
+  EXPECT_DOUBLE_EQ(TimeUnitFromName("t [ms]"), 1e-3);
+  EXPECT_DOUBLE_EQ(TimeUnitFromName("timestamp_us"), 1e-6);
+  EXPECT_DOUBLE_EQ(TimeUnitFromName("t_s"), 1.0);
+  // Milliseconds read as such give the true rate.
+  const auto table = io::CsvTable::Parse("time_ms,y,u\n0,0,0\n10,1,1\n20,2,0\n30,3,1\n", "ms.csv",
+                                         io::MissingCells::kKeepAsNaN);
+  SeriesOptions o = Options("time_ms");
+  o.time_unit_s = TimeUnitFromName("time_ms");
+  SeriesReport r;
+  SeriesFromTable(table, o, &r);
+  EXPECT_NEAR(r.rate_hz, 100.0, 1e-6);
 }
 
 TEST(Segments, NoRegressorCrossesABreakAndTheFreeRunRestartsFromMeasuredValues) {
