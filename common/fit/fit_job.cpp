@@ -379,7 +379,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     report["config_file"] = o.save_config;
   }
   if (!o.save_model.empty()) {
-    model->Save(o.save_model);
+    model->Save(o.save_model, sample_time_s);
     report["model_file"] = o.save_model;
   }
   if (!o.plot_dir.empty() && (d.validate || d.train)) {

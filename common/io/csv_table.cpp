@@ -1,5 +1,7 @@
 #include "io/csv_table.hpp"
 
+#include <cctype>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -164,9 +166,19 @@ bool CsvTable::HasColumn(const std::string& name) const {
 const std::vector<double>& CsvTable::Column(const std::string& name) const {
   for (std::size_t c = 0; c < names_.size(); ++c)
     if (names_[c] == name) return columns_[c];
-  std::string have;
-  for (const auto& n : names_) have += (have.empty() ? "" : ", ") + n;
-  throw CsvError(source_ + ": no column named '" + name + "' (columns: " + have + ")");
+  std::string have, same_letters;
+  const auto lower = [](std::string s) {
+    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+  };
+  for (const auto& n : names_) {
+    have += (have.empty() ? "" : ", ") + n;
+    // Column names are case-sensitive; a name that differs only in case is what was meant.
+    if (same_letters.empty() && lower(n) == lower(name)) same_letters = n;
+  }
+  throw CsvError(source_ + ": no column named '" + name + "'" +
+                 (same_letters.empty() ? "" : " (did you mean '" + same_letters + "'?)") +
+                 " (columns: " + have + ")");
 }
 
 }  // namespace odonata::io

@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
                  "Octave script to write: each rule's linear local model as a discrete "
                  "state-space model, loaded as octave-control ss objects (local_models(k).sys)");
   app.add_option("--sample-time", sample_time_s,
-                 "with --local-models: the sample time in seconds (default: 1, time in samples)")
+                 "with --local-models: the sample time in seconds (default: the one the model "
+                 "was saved with, odonata-fit's when it knew the rate; else 1, time in samples)")
       ->check(CLI::PositiveNumber);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (fis.empty() && fll.empty() && local_models.empty()) {
@@ -91,6 +92,12 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (!local_models.empty()) {
+      if (!(sample_time_s > 0))
+        sample_time_s = odonata::sysid::NarxModel::SavedSampleTime(model_path);
+      if (!(sample_time_s > 0))
+        std::cerr << "odonata-export: warning: " << model_path
+                  << " holds no sample time: the local models' Ts is 1 (time in samples); give "
+                     "--sample-time SECONDS\n";
       odonata::io::WriteFileAtomically(local_models, odonata::model_export::OctaveLocalModels(
                                                          model, chosen, sample_time_s, model_path));
       std::cout << "wrote " << local_models << " (each rule's state-space model, octave-control)\n";

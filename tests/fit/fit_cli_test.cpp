@@ -285,6 +285,58 @@ void ExpectError(const std::string& args, const std::string& fragment) {
       << "expected '" << fragment << "' in: " << r.out;
 }
 
+// Issue 57: the data holds nothing to identify — said with what to do, exit 3, never a model.
+TEST(FitCli, NothingToIdentifyIsAFindingWithItsOwnExitCode) {
+  std::string flat = "k,u,y\n", still = "k,u,y\n";
+  for (int k = 0; k < 400; ++k) {
+    flat += std::to_string(k) + "," + std::to_string(k % 7) + ",0.5\n";             // y never moves
+    still += std::to_string(k) + ",0," + std::to_string(std::sin(k * 0.1)) + "\n";  // nor u
+  }
+  const ProcessResult f = Exec("--train " + Write("flat.csv", flat) + " --output y --input u");
+  EXPECT_EQ(f.status, 3) << f.out;
+  EXPECT_NE(f.out.find("nothing to identify"), std::string::npos) << f.out;
+  EXPECT_NE(f.out.find("the output 'y' never moves"), std::string::npos) << f.out;
+  const ProcessResult s = Exec("--train " + Write("still.csv", still) + " --output y --input u");
+  EXPECT_EQ(s.status, 3) << s.out;
+  EXPECT_NE(s.out.find("the input 'u' never moves"), std::string::npos) << s.out;
+  // 30 rows: settings would be chosen on 5 samples.
+  std::string shortlog = "k,u,y\n";
+  for (int k = 0; k < 30; ++k)
+    shortlog +=
+        std::to_string(k) + "," + std::to_string(k % 3) + "," + std::to_string(k % 5) + "\n";
+  const ProcessResult r = Exec("--train " + Write("short.csv", shortlog) + " --output y --input u");
+  EXPECT_EQ(r.status, 3) << r.out;
+  EXPECT_NE(r.out.find("settings would be chosen on"), std::string::npos) << r.out;
+  // A window that keeps nothing.
+  const ProcessResult w = Exec("--train " + Write("win.csv", flat) +
+                               " --output y --input u --rate 100 --from 100 --to 101");
+  EXPECT_EQ(w.status, 3) << w.out;
+}
+
+TEST(FitCli, SmallMistakesGetTheirFix) {
+  std::string csv = "k,u,m2,time_ms\n";
+  for (int k = 0; k < 300; ++k)
+    csv += std::to_string(k) + "," + std::to_string(std::sin(k * 0.3)) + "," +
+           std::to_string(std::sin(k * 0.3 - 0.2)) + "," + std::to_string(10 * k) + "\n";
+  const std::string file = Write("small.csv", csv);
+  // A column that differs only in case.
+  ExpectError("--train " + file + " --output M2 --input u", "did you mean 'm2'?");
+  // The output named as an input too.
+  ExpectError("--train " + file + " --output m2 --input m2", "named as the output and as an input");
+  // A time column in milliseconds, by its name: 100 Hz, and time constants in seconds.
+  const ProcessResult ms = Exec(
+      "--train " + file + " --output m2 --input u --time time_ms --no-select --epochs 1 --json",
+      false);
+  ASSERT_EQ(ms.status, 0) << ms.out;
+  const nlohmann::json j = nlohmann::json::parse(ms.out);
+  EXPECT_NEAR(j["data"][file]["rate_hz"].get<double>(), 100.0, 1e-6) << ms.out;
+  EXPECT_TRUE(j["local_models"][0].contains("time_constants_s")) << j["local_models"][0].dump();
+  // A mistyped option is answered with the one meant.
+  const ProcessResult typo = Exec("--train " + file + " --output m2 --inptu u");
+  EXPECT_EQ(typo.status, 2);
+  EXPECT_NE(typo.out.find("did you mean --input?"), std::string::npos) << typo.out;
+}
+
 TEST(FitCli, BadInputGivesAClearErrorNamingFileLineAndColumn) {
   const std::string ok = "k,u,y\n0,1,2\n1,2,3\n2,3,4\n3,4,5\n4,5,6\n";
   ExpectError("--train " + Dir() + "/missing.csv --output y --input u", "missing.csv");

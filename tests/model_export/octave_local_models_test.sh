@@ -40,3 +40,36 @@ if !(worst <= 1e-9)
 end
 OCTAVE
 octave-cli --no-window-system -q "$dir/check.m"
+
+# A model saved with its sample time (odonata-fit at 100 Hz writes "sample_time_s": 0.01): the
+# export takes it without --sample-time, so Ts, the step's time axis and each rule's slowest time
+# constant are in seconds, equal to odonata's τ in samples times 0.01 (1e-9).
+python3 -c "
+import json, sys
+m = json.load(open('$dir/model.json')); m['sample_time_s'] = 0.01
+json.dump(m, open('$dir/model_100hz.json', 'w'))"
+"$exporter" "$dir/model_100hz.json" --local-models "$dir/local_100hz.m" >/dev/null
+cat >"$dir/check_ts.m" <<OCTAVE
+run('$dir/local_100hz.m');
+want = jsondecode(fileread('$dir/expected.json'));
+if iscell(want), want = [want{:}]; end
+worst = 0;
+for k = 1:numel(local_models)
+  m = local_models(k);
+  worst = max(worst, abs(m.Ts - 0.01) + abs(m.sys.Ts - 0.01));
+  [y, t] = step(m.sys(1, 1), 39 * m.Ts);
+  worst = max(worst, abs((t(2) - t(1)) - 0.01));
+  mine = max(abs(complex(want(k).poles(:, 1), want(k).poles(:, 2))));
+  if mine > 0 && mine < 1
+    tau_s = -m.Ts / log(max(abs(pole(m.sys))));
+    worst = max(worst, abs(tau_s - (-1 / log(mine)) * 0.01));
+  end
+end
+printf('octave-control at Ts = 0.01 s: max error %.3g (Ts, step time axis, time constants)\n', worst);
+if !(worst <= 1e-9)
+  exit(1);
+end
+OCTAVE
+octave-cli --no-window-system -q "$dir/check_ts.m"
+"$exporter" "$dir/model.json" --local-models "$dir/local_samples.m" 2>"$dir/warn.txt" >/dev/null
+grep -q "holds no sample time" "$dir/warn.txt" || { echo "FAIL: no warning for a model without a sample time"; exit 1; }

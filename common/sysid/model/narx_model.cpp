@@ -251,8 +251,23 @@ bool NarxModel::Readable() const {
   }
 }
 
-void NarxModel::Save(const std::string& path) const {
-  const nlohmann::json j = ToJson();
+double NarxModel::SavedSampleTime(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const auto it = j.find("sample_time_s");
+    if (it == j.end() || !it->is_number()) return 0.0;
+    const double ts = it->get<double>();
+    return std::isfinite(ts) && ts > 0 ? ts : 0.0;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+void NarxModel::Save(const std::string& path, double sample_time_s) const {
+  nlohmann::json j = ToJson();
+  if (std::isfinite(sample_time_s) && sample_time_s > 0) j["sample_time_s"] = sample_time_s;
   // A model its own reader refuses is not written: a learner that diverged wrote NaN as null,
   // which no program could read back, over the last good file.
   try {

@@ -193,9 +193,14 @@ class NarxModel {
   nlohmann::json ToJson() const;
   /// @throws std::runtime_error naming what is wrong.
   static NarxModel FromJson(const nlohmann::json& j);
-  void Save(const std::string& path) const;
+  /// Writes the model; a known sample time (seconds, > 0) goes with it as "sample_time_s", so
+  /// that what reads the file (odonata-export's local models) keeps time in seconds.
+  void Save(const std::string& path, double sample_time_s = 0.0) const;
   /// @throws std::runtime_error naming the file and the problem.
   static NarxModel Load(const std::string& path);
+  /// The sample time a model file was saved with (seconds; 0: not known).
+  /// @throws std::runtime_error naming the file when it cannot be read.
+  static double SavedSampleTime(const std::string& path);
 
  private:
   RegressorSpec spec_;
