@@ -28,9 +28,11 @@ void FormatHeader(std::ostream& out, const nlohmann::json& r) {
   }
 }
 
-// One line per candidate; `ahead` > 0 adds the K-step score's column.
-void FormatCandidates(std::ostream& out, const nlohmann::json& sel, int ahead) {
-  char line[256];
+// One line per candidate; `ahead` > 0 adds the K-step score's column. `final_rules`: the model's
+// own count, which the chosen line names when training on every row changed it (the candidates
+// are trained on the search's rows), so that a model's rule count is one number.
+void FormatCandidates(std::ostream& out, const nlohmann::json& sel, int ahead, int final_rules) {
+  char line[320];
   std::size_t k = 0;
   for (const auto& c : sel["candidates"]) {
     const bool chosen = k == sel["chosen_index"].get<std::size_t>();
@@ -42,18 +44,23 @@ void FormatCandidates(std::ostream& out, const nlohmann::json& sel, int ahead) {
     if (ahead > 0)
       std::snprintf(ahead_cell, sizeof ahead_cell, "  %13.4g",
                     Num(c.value("holdout_ahead_ndei", nlohmann::json())));
-    std::snprintf(line, sizeof line,
-                  "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s  %5.2g%s\n",
-                  chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
-                  c["entropy_threshold"].get<double>(), c["kappa"].get<double>(),
-                  c["epochs"].get<int>(), c["rules"].get<int>(), Num(c["holdout_one_step_ndei"]),
-                  Num(c["holdout_free_run_ndei"]), ahead_cell, c.value("deviation_ridge", 0.0),
-                  c.value("restless", false)        ? "  (oscillates at rest)"
-                  : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
-                  : best && from_linear             ? "  (best; from ARX)"
-                  : best                            ? "  (best)"
-                  : from_linear                     ? "  (from ARX)"
-                                                    : "");
+    const bool recounted = chosen && final_rules > 0 && c["rules"].get<int>() != final_rules;
+    std::snprintf(
+        line, sizeof line, "    %s %-10s %-8.4g %5.2g  %6d  %5d  %13.4g  %13.4g%s  %5.2g%s%s\n",
+        chosen ? "*" : " ", linear ? "ARX" : c["consequent"].get<std::string>().c_str(),
+        c["entropy_threshold"].get<double>(), c["kappa"].get<double>(), c["epochs"].get<int>(),
+        c["rules"].get<int>(), Num(c["holdout_one_step_ndei"]), Num(c["holdout_free_run_ndei"]),
+        ahead_cell, c.value("deviation_ridge", 0.0),
+        c.value("restless", false)        ? "  (oscillates at rest)"
+        : c.value("one_step_lost", false) ? "  (worse than ARX one step ahead)"
+        : best && from_linear             ? "  (best; from ARX)"
+        : best                            ? "  (best)"
+        : from_linear                     ? "  (from ARX)"
+                                          : "",
+        recounted
+            ? ("  (the model, trained on every row: " + std::to_string(final_rules) + " rules)")
+                  .c_str()
+            : "");
     out << line;
     ++k;
   }
@@ -94,7 +101,7 @@ void FormatLinearChecks(std::ostream& out, const nlohmann::json& sel) {
   }
 }
 
-void FormatSelection(std::ostream& out, const nlohmann::json& sel) {
+void FormatSelection(std::ostream& out, const nlohmann::json& sel, int final_rules) {
   const std::string on = sel.value("scored_on", std::string("training hold-out"));
   out << "\n  model selection on " << sel["holdout_samples"].get<long>() << " samples of "
       << (on == "training hold-out" ? std::string("the training file's end") : on) << " ("
@@ -114,7 +121,7 @@ void FormatSelection(std::ostream& out, const nlohmann::json& sel) {
     out << "    (searched on " << sel["searched_rows"].get<long>() << " of the "
         << sel["training_rows"].get<long>()
         << " training rows, in blocks spread over the file; --search-rows)\n";
-  FormatCandidates(out, sel, ahead);
+  FormatCandidates(out, sel, ahead, final_rules);
   FormatLinearChecks(out, sel);
 }
 
@@ -189,7 +196,7 @@ std::string FormatReport(const nlohmann::json& r, RulesShown rules_shown) {
   FormatHeader(out, r);
   if (r.contains("verdict"))
     out << "  verdict: " << r["verdict"]["text"].get<std::string>() << "\n";
-  if (r.contains("selection")) FormatSelection(out, r["selection"]);
+  if (r.contains("selection")) FormatSelection(out, r["selection"], r.value("rules", 0));
   // One table (and rule list) per output: the top level holds the first, per_output all.
   if (r.contains("per_output")) {
     for (const auto& [name, b] : r["per_output"].items()) {

@@ -70,6 +70,20 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                       {"missing", r.missing},
                       {"dropped_segments", r.dropped_segments}};
   if (r.rate_hz > 0) d["rate_hz"] = r.rate_hz;
+  // A CSV's own time column resampled here: the grid said as a ULog's is (records).
+  if (o.note && record.time_column.empty() && !so.time_column.empty()) {
+    char head[160];
+    std::snprintf(head, sizeof head, ": one grid at %.4g Hz%s; logged at:", r.rate_hz,
+                  r.rate_chosen ? " (the slowest column's rate; --rate sets another)" : "");
+    std::string note = path + head;
+    for (std::size_t k = 0; k < r.columns.size(); ++k) {
+      char cell[64];
+      std::snprintf(cell, sizeof cell, " %.4g Hz", r.columns[k].median_rate_hz);
+      note += (k ? ", " : " ") + r.columns[k].name + cell +
+              (r.columns[k].held ? " (held, a flag)" : "");
+    }
+    o.note(note);
+  }
   if (!so.time_column.empty()) {
     d["time_column"] = so.time_column;
     d["time_unit_s"] = so.time_unit_s;

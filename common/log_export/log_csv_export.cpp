@@ -120,7 +120,9 @@ ExportSummary ExportLogToCsv(const std::vector<std::string>& log_paths, const st
     }
   });
   if (commands == 0)
-    throw std::runtime_error("no commands on " + options.command_channel + " in the log");
+    throw std::runtime_error("no commands on " + options.command_channel +
+                             " in the log: it holds no simulated DI-MAV run; a vehicle's "
+                             "signals (signals_t) export with --signals");
 
   // First pass: the runs, and what each needs for its header and its pairing.
   std::vector<RunFacts> runs(1);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "timeseries/nothing_to_identify.hpp"
 #include "ulog/ulog_file.hpp"
 #include "ulog/ulog_signals.hpp"
 
@@ -81,7 +82,11 @@ Record ReadUlog(const std::string& path, const RecordOptions& o) {
   grid.to_s = o.to_s;
   ulog::ResampledSignals s;
   try {
-    s = ulog::Resample(file, signals, grid);
+    s = ulog::Resample(
+        file, signals, grid,
+        o.keep ? std::vector<std::string>{o.keep->signal} : std::vector<std::string>{});
+  } catch (const timeseries::NothingToIdentify& e) {
+    throw timeseries::NothingToIdentify(path + ": " + e.what());
   } catch (const std::invalid_argument& e) {
     if (o.keep && std::string(e.what()).find("'" + o.keep->signal + "'") != std::string::npos)
       throw std::invalid_argument(path + ": the condition " + o.keep->ToString() +

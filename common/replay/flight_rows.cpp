@@ -1,5 +1,8 @@
 #include "replay/flight_rows.hpp"
 
+#include "timeseries/nothing_to_identify.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -60,9 +63,15 @@ FlightRows FlightRowsFromTable(const io::CsvTable& table, const FlightRowsOption
     kept.push_back(std::move(row));
   }
   if (kept.empty())
-    throw io::CsvError(table.source() + ": no row inside the window (from " +
-                       std::to_string(options.from_s) + " s to " + std::to_string(options.to_s) +
-                       " s)");
+    throw timeseries::NothingToIdentify(table.source() + ": no row inside the window (from " +
+                                        std::to_string(options.from_s) + " s to " +
+                                        std::to_string(options.to_s) + " s)");
+  if (condition && std::none_of(kept.begin(), kept.end(), [](const std::vector<double>& row) {
+        return std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); });
+      }))
+    throw timeseries::NothingToIdentify(table.source() + ": the condition " +
+                                        options.keep->ToString() +
+                                        " holds at no row: nothing to send");
   const double first = times.front();
   for (double& t : times) t -= first;
   f.times_s = std::move(times);

@@ -1,5 +1,7 @@
 #include "timeseries/uniform_grid.hpp"
 
+#include "timeseries/nothing_to_identify.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -132,9 +134,9 @@ UniformGrid Resample(const std::vector<TimedSignal>& signals, const GridOptions&
     throw std::invalid_argument("the signals' time spans do not overlap (the latest starts at " +
                                 Seconds(begin) + ", the earliest ends at " + Seconds(end) + ")");
   if (o.from_s > end || o.to_s < begin)
-    throw std::invalid_argument("the window " + Seconds(o.from_s) + " to " + Seconds(o.to_s) +
-                                " is outside the signals' common span, " + Seconds(begin) + " to " +
-                                Seconds(end));
+    throw NothingToIdentify("the window " + Seconds(o.from_s) + " to " + Seconds(o.to_s) +
+                            " is outside the signals' common span, " + Seconds(begin) + " to " +
+                            Seconds(end));
   begin = std::max(begin, o.from_s);
   end = std::min(end, o.to_s);
   g.rate_chosen = !(o.rate_hz > 0.0);

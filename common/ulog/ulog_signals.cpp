@@ -298,7 +298,8 @@ SignalSamples Extract(const UlogFile& file, const std::string& name) {
 }
 
 ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& names,
-                          const timeseries::GridOptions& grid) {
+                          const timeseries::GridOptions& grid,
+                          const std::vector<std::string>& held) {
   if (names.empty()) throw std::invalid_argument("resampling needs at least one signal");
   for (std::size_t i = 0; i < names.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
@@ -312,7 +313,9 @@ ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& 
     Series s = SeriesOf(c, ref);
     timeseries::TimedSignal t;
     t.name = name;
-    t.interpolation = InterpolationOf(ref);
+    t.interpolation = std::find(held.begin(), held.end(), name) != held.end()
+                          ? timeseries::Interpolation::kHold
+                          : InterpolationOf(ref);
     t.t_s.reserve(s.t_us.size());
     for (const std::uint64_t us : s.t_us) t.t_s.push_back(SecondsSince(file.start_time_us, us));
     t.values = std::move(s.values);

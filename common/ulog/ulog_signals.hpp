@@ -86,8 +86,11 @@ inline constexpr std::size_t kMaxResampledCells = 50'000'000;
 /// @throws std::invalid_argument for no or repeated names, an unknown name, a signal without
 ///   samples, a bad rate or max_gap, no rate to be had, spans that do not overlap, a window
 ///   outside them, or a grid larger than kMaxResampledCells.
+/// Names in `held` are held whatever their type (the signal a keep condition reads: a threshold
+/// on thrust is a state of the flight, and does not choose the grid).
 ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& names,
-                          const timeseries::GridOptions& grid);
+                          const timeseries::GridOptions& grid,
+                          const std::vector<std::string>& held = {});
 
 /// Resample at `rate_hz` (0: chosen) with `max_gap`, over the whole common span.
 ResampledSignals Resample(const UlogFile& file, const std::vector<std::string>& names,

@@ -16,6 +16,7 @@
 #include "records/record_file.hpp"
 #include "replay/flight_rows.hpp"
 #include "replay_node.hpp"
+#include "timeseries/nothing_to_identify.hpp"
 
 int main(int argc, char** argv) {
   std::string path, summary_json;
@@ -126,6 +127,9 @@ int main(int argc, char** argv) {
       if (!out) throw std::runtime_error(summary_json + ": cannot write the summary");
     }
     return code;
+  } catch (const odonata::timeseries::NothingToIdentify& e) {
+    std::fprintf(stderr, "odonata-replay: nothing to send: %s\n", e.what());
+    return odonata::timeseries::kNothingToIdentifyExit;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-replay: error: %s\n", e.what());
     return 1;

@@ -11,6 +11,7 @@
 #include "cli/parse_command_line.hpp"
 #include "io/csv_writer.hpp"
 #include "records/record_file.hpp"
+#include "timeseries/nothing_to_identify.hpp"
 #include "ulog/ulog_file.hpp"
 #include "ulog/ulog_signals.hpp"
 
@@ -74,8 +75,8 @@ int Export(const std::string& path, const odonata::records::RecordOptions& o,
   if (written == 0) {
     out.Close();
     std::remove(out_path.c_str());  // no header-only file left behind to be mistaken for data
-    throw std::runtime_error(path + ": the condition " + o.keep->ToString() +
-                             " holds at no sample: nothing written");
+    throw odonata::timeseries::NothingToIdentify(path + ": the condition " + o.keep->ToString() +
+                                                 " holds at no sample: nothing written");
   }
   out.Close();
   std::printf("odonata-ulog: %zu samples of %zu signals at %.6g Hz written to %s\n", written,
@@ -129,6 +130,9 @@ int main(int argc, char** argv) {
     if (airborne) o.keep = odonata::timeseries::Px4Airborne();
     if (!keep_when.empty()) o.keep = odonata::timeseries::ParseKeepCondition(keep_when);
     return Export(path, o, out_path);
+  } catch (const odonata::timeseries::NothingToIdentify& e) {
+    std::fprintf(stderr, "odonata-ulog: nothing to write: %s\n", e.what());
+    return odonata::timeseries::kNothingToIdentifyExit;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "odonata-ulog: error: %s\n", e.what());
     return 1;

@@ -40,6 +40,14 @@ PY
 "$PY" -c "import json,sys; d=next(iter(json.load(open(sys.argv[1]))['data'].values())); sys.exit(0 if abs(d['first_s']-10)<0.02 and abs(d['last_s']-30)<0.02 else 1)" "$OUT/win.json" ||
   fail "the window was not kept: $(grep -o '"first_s[^,]*,' "$OUT/win.json")"
 
+# A threshold on thrust (a float at 100 Hz) keeps the airborne part too; the condition's signal is
+# held and does not choose the grid.
+"$FIT" --train "$OUT/flight.ulg" --keep-when 'vehicle_thrust_setpoint.xyz[2]<-0.1' --output "$Y" \
+  --input 'actuator_motors.control[0]' --ny 2 --nu 2 --horizon 5 >"$OUT/thrust.out" 2>&1 ||
+  { cat "$OUT/thrust.out"; fail "--keep-when on thrust failed"; }
+grep -q "one grid at 50 Hz" "$OUT/thrust.out" && grep -q "vehicle_thrust_setpoint.xyz\[2\] 100 Hz (held" "$OUT/thrust.out" ||
+  { cat "$OUT/thrust.out"; fail "the thrust condition was not held apart from the grid"; }
+
 # Motors at 50 Hz: the grid follows them; a --rate far above is refused naming them.
 "$FIT" --train "$OUT/flight.ulg" --airborne --output "$Y" --input 'actuator_motors.control[0]' --ny 2 --nu 2 \
   --horizon 5 >"$OUT/motors.out" 2>&1 || { cat "$OUT/motors.out"; fail "the motors' recipe failed"; }
@@ -60,6 +68,13 @@ for extra in "" "--airborne"; do
   [[ $rc == 3 ]] && grep -q "nothing to identify" "$OUT/ground.out" ||
     { cat "$OUT/ground.out"; fail "the ground test ($extra) gave exit $rc"; }
 done
+
+# Replaying the ground test's airborne part: nothing to send, exit 3, before any bus is joined.
+set +e
+"$BUILD/services/replay/odonata-replay" "$OUT/ground.ulg" --signals "$Y" --airborne >"$OUT/replay.out" 2>&1
+rc=$?
+set -e
+[[ $rc == 3 ]] && grep -q "nothing to send" "$OUT/replay.out" || { cat "$OUT/replay.out"; fail "replay of no airborne part gave exit $rc"; }
 
 # Old names are answered with where a current log holds them; Euler angles come from q.
 set +e

@@ -168,7 +168,10 @@ TEST(LogCsvExport, ALogWithoutCommandsSaysSo) {
     ExportLogToCsv({log}, dir.path() + "/samples.csv", ExportOptions{});
     FAIL() << "a log without commands exported";
   } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "no commands on DIMAV_COMMAND in the log");
+    // And says what to do when the log is a vehicle's own (issue 57: no hint before).
+    EXPECT_STREQ(e.what(),
+                 "no commands on DIMAV_COMMAND in the log: it holds no simulated DI-MAV run; a "
+                 "vehicle's signals (signals_t) export with --signals");
   }
 }
 

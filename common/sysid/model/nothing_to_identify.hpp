@@ -1,20 +1,12 @@
 #pragma once
-// The data holds nothing a model can be identified from: a signal that never moves, a log too
-// short for the lags, a window or condition that keeps nothing. Not a failure of the program but
-// a finding about the data; odonata-fit reports it with what to do and exits with its own code
-// (kNothingToIdentifyExit, docs/guide/offline-tool.md).
+// The learner's name for a finding about the data (timeseries/nothing_to_identify.hpp): what the
+// excitation check and the series reader throw when the data holds nothing to identify.
 
-#include <stdexcept>
-#include <string>
+#include "timeseries/nothing_to_identify.hpp"
 
 namespace odonata::sysid {
 
-class NothingToIdentify : public std::runtime_error {
- public:
-  explicit NothingToIdentify(const std::string& what) : std::runtime_error(what) {}
-};
-
-/// odonata-fit's and odonata-replay's exit code for it (1: an error, 2: a usage mistake).
-inline constexpr int kNothingToIdentifyExit = 3;
+using NothingToIdentify = timeseries::NothingToIdentify;
+using timeseries::kNothingToIdentifyExit;
 
 }  // namespace odonata::sysid
