@@ -1,5 +1,7 @@
 #include "monitor_node.hpp"
 
+#include "metrics/accuracy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -262,33 +264,40 @@ void MonitorNode::Print() {
   // integrate), and free run. "<= ARX" marks a mode whose rules do not beat linear over the
   // window (one step or K steps ahead: the comparison the alarm makes; free run where ARX's own
   // simulation holds: two diverging runs say nothing).
-  std::snprintf(line, sizeof line, "%-12s %5s %-8s %17s %17s %7s\n", "output", "rules", "mode",
+  std::snprintf(line, sizeof line, "%-12s %5s %-8s %19s %19s %7s\n", "output", "rules", "mode",
                 "FIT window (ARX)", "FIT run (ARX)", "samples");
   text += line;
   // A FIT below −100 % (errors over twice the signal's spread) is a diverging simulation, not
-  // a figure to read digits from (odonata-compare's cut too).
+  // a figure to read digits from: "diverges", as every tool prints it (metrics/accuracy.hpp).
   const auto fit_text = [](double fit) {
     char cell[24];
-    if (fit < -100.0)
-      std::snprintf(cell, sizeof cell, "%7s", "< -100");
+    if (metrics::FitDiverges(fit))
+      std::snprintf(cell, sizeof cell, "%8s", "diverges");
     else
-      std::snprintf(cell, sizeof cell, "%7.2f", fit);
+      std::snprintf(cell, sizeof cell, "%8.2f", fit);
     return std::string(cell);
   };
   const auto pair = [&fit_text](double fuzzy, double arx, bool has_arx) {
-    return fit_text(fuzzy) + " (" + (has_arx ? fit_text(arx) : std::string(6, ' ') + "-") + ")";
+    return fit_text(fuzzy) + " (" + (has_arx ? fit_text(arx) : std::string(7, ' ') + "-") + ")";
   };
   for (const auto& name : scores_.outputs()) {
     const auto& o = scores_.output(name);
     const bool arx = o.has_arx();
     const bool k_step = o.has_ahead();
-    const auto row = [&](const std::string& label, const std::string& mode,
-                         const monitoring::ModeScore& mine, const monitoring::ModeScore& linear,
-                         bool behind, const std::string& note = "") {
-      const std::string rules = label.empty() ? "" : std::to_string(o.rules);
-      const std::string samples = label.empty() ? "" : std::to_string(mine.total.samples());
+    // A name longer than its column goes on a line of its own, so the columns stay aligned.
+    std::string label_text = name;
+    if (name.size() > 12) {
+      text += name + "\n";
+      label_text = "";
+    }
+    const auto row = [&](bool first, const std::string& mode, const monitoring::ModeScore& mine,
+                         const monitoring::ModeScore& linear, bool behind,
+                         const std::string& note = "") {
+      const std::string label = first ? label_text : "";
+      const std::string rules = first ? std::to_string(o.rules) : "";
+      const std::string samples = first ? std::to_string(mine.total.samples()) : "";
       std::snprintf(
-          line, sizeof line, "%-12s %5s %-8s %17s %17s %7s%s\n", label.c_str(), rules.c_str(),
+          line, sizeof line, "%-12s %5s %-8s %19s %19s %7s%s\n", label.c_str(), rules.c_str(),
           mode.c_str(),
           pair(mine.window.Get().fit_percent, linear.window.Get().fit_percent, arx).c_str(),
           pair(mine.total.Get().fit_percent, linear.total.Get().fit_percent, arx).c_str(),
@@ -302,12 +311,12 @@ void MonitorNode::Print() {
         o.outside > 0 && scored > 0
             ? "  " + std::to_string((100 * o.outside + scored / 2) / scored) + "% outside"
             : "";
-    row(name, "1 step", o.fuzzy.one_step, o.arx.one_step, behind && !k_step, outside);
-    if (k_step) row("", std::to_string(o.horizon) + " steps", o.fuzzy.ahead, o.arx.ahead, behind);
+    row(true, "1 step", o.fuzzy.one_step, o.arx.one_step, behind && !k_step, outside);
+    if (k_step) row(false, std::to_string(o.horizon) + " steps", o.fuzzy.ahead, o.arx.ahead, behind);
     const double free = o.fuzzy.free_run.window.Get().fit_percent;
     const double arx_free = o.arx.free_run.window.Get().fit_percent;
-    row("", "free run", o.fuzzy.free_run, o.arx.free_run,
-        arx && arx_free >= -100.0 && free <= arx_free);
+    row(false, "free run", o.fuzzy.free_run, o.arx.free_run,
+        arx && !metrics::FitDiverges(arx_free) && free <= arx_free);
   }
   for (const auto& [instance, peer] : peers_.peers()) {
     const monitoring::Heartbeat& p = peer.last;

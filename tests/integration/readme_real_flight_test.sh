@@ -9,7 +9,7 @@ source "$(dirname "$0")/lib.sh"
 enter_netns "$@"
 REALDATA=${ODONATA_REALDATA:?the Flapper flights folder (CMake sets it when found)}
 OUT=$(mktemp -d)
-trap 'stop_all; rm -rf "$OUT"' EXIT
+trap 'stop_all; [[ -n ${ODONATA_KEEP:-} ]] && cp -r "$OUT" "$ODONATA_KEEP"; rm -rf "$OUT"' EXIT
 export LCM_DEFAULT_URL='udpm://239.255.76.67:7692?ttl=0'
 block=$(readme_block "readme_real_flight_test.sh runs the next block")
 grep -q 'R=$(realpath ../shared/realdata)' <<<"$block" || fail "the README block no longer reads ../shared/realdata"
@@ -32,4 +32,14 @@ rows=$(($(grep -vc '^#' "$F/level1.csv") - 1))
 live=$(json_get "$F/monitor.json" "'%.1f %% (ARX %.1f %%) 20 steps ahead, %.1f %% one step' % (j['outputs']['pitch_deg']['ahead']['fit'], j['outputs']['pitch_deg']['arx']['ahead']['fit'], j['outputs']['pitch_deg']['one_step']['fit'])") ||
   { show; fail "the monitor has no 20-step score"; }
 compare=$(grep -E "validation file, 20 steps ahead:" "$OUT/block.log" | head -1 | sed 's/^ *//')
+# One meaning per number (issue 57): the monitor's free run over the run is odonata-compare's free
+# run of the same frozen model on the same flight.
+"$PY" - "$F/monitor.json" "$OUT/block.log" <<'PY' || { show; fail "the live free run differs from odonata-compare's"; }
+import json, re, sys
+live = json.load(open(sys.argv[1]))["outputs"]["pitch_deg"]["free_run"]["fit"]
+line = next(l for l in open(sys.argv[2]) if "validation file, free run:" in l and "fastest" not in l)
+offline = float(re.search(r"fuzzy[^0-9-]*(-?[0-9]+\.[0-9]+) %", line).group(1))
+print(f"free run on walt1: live {live:.2f} %, odonata-compare {offline:.2f} %")
+sys.exit(0 if abs(live - offline) <= 0.05 else 1)
+PY
 pass "the README's real-flight block ran as written: $n of $n samples sent, live model = odonata-fit's; live on walt1: $live; $compare"

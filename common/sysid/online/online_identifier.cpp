@@ -147,7 +147,6 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.measured = s.outputs;
   const Eigen::Index t = n - 1;
   Eigen::VectorXd x(spec.size());
-  spec.Fill(t, f, u, x);
   // A diverging output holds the last value of its own history rather than poisoning
   // everything with NaN.
   const auto hold_at = [&](Eigen::Index r, Eigen::VectorXd v, const Eigen::MatrixXd& past) {
@@ -174,6 +173,9 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
     rep.arx_ahead = ga.row(t).transpose();
     rep.horizon = ahead_horizon_;
   }
+  // The free run's regressor is filled here, after the K-step predictions, which reuse x: filled
+  // before them, the free run read the live ARX's K-step trajectory instead of its own past.
+  spec.Fill(t, f, u, x);
   rep.free_run = hold(model_.Predict(x), f);
   free_history_.back() = rep.free_run;
   spec.Fill(t, fa, u, x);

@@ -728,3 +728,44 @@ TEST(SignalRanges, ScalingAndJsonRoundTrip) {
 
 }  // namespace
 }  // namespace odonata::sysid
+
+namespace odonata::sysid {
+namespace {
+
+// One meaning per number (issue 57): the free run a frozen identifier publishes over a new run is
+// odonata-fit's free run (SimulateFreeRun) of the same model on the same samples, sample by sample,
+// with lags of 2 and a K-step horizon as the Flapper's pitch loop has them.
+TEST(OnlineIdentifier, AFrozenModelsFreeRunIsOdonataFitsFreeRun) {
+  const Series train = testing::NarendraTrain(1500);
+  RegressorSpec spec = testing::NarendraSpec();
+  spec.output_lags = 2;
+  spec.input_lags = 2;
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  NarxModel model(spec, cfg);
+  model.SetScaling(ScalingFromRanges(spec, RangesFromSeries(spec, train)));
+  TrainOptions o;
+  o.epochs = 2;
+  model.Train(train, o);
+  const Series run = testing::NarendraTrain(600);
+  const Predictor predict = [&model](const Eigen::VectorXd& x) { return model.Predict(x); };
+  const Eigen::MatrixXd offline = SimulateFreeRun(spec, run, predict);
+  for (const int horizon : {0, 20}) {
+    SCOPED_TRACE(horizon);
+    OnlineIdentifier online(model);
+    online.set_ahead_horizon(horizon);
+    online.Freeze();
+    Eigen::Index r = 0;
+    for (Eigen::Index k = 0; k < run.samples(); ++k) {
+      const auto rep = online.Push(Row(run, k));
+      if (!rep) continue;
+      ASSERT_LT(r, offline.rows());
+      EXPECT_EQ(rep->free_run(0), offline(r, 0)) << "sample " << k;
+      ++r;
+    }
+    EXPECT_EQ(r, offline.rows());
+  }
+}
+
+}  // namespace
+}  // namespace odonata::sysid
