@@ -279,7 +279,9 @@ int BusNode::Run() {
 
 void BusNode::Stop(int exit_code) {
   if (stopping_) return;
-  exit_code_ = exit_code;
+  // The worst thing the service saw stands: a SIGTERM or SHUTDOWN (code 0) after a divergence
+  // (SetExitCode(3)) must not turn the run's exit into a success.
+  if (exit_code_ == 0) exit_code_ = exit_code;
   SetState("stopping");
   if (on_shutdown_) {
     try {

@@ -120,6 +120,8 @@ class BusNode {
 
   /// Runs the loop until Stop() or a signal. Returns the process exit code.
   int Run();
+  /// Stops the loop; `exit_code` becomes Run()'s unless a non-zero code was set before (the
+  /// worst thing the service saw is what it exits with).
   void Stop(int exit_code = 0);
 
   /// Sets the heartbeat state, publishing a heartbeat at once when it changes.

@@ -5,6 +5,7 @@
 #include "fit/fit_scoring.hpp"
 #include "fit/fit_tracking.hpp"
 #include "fit/fit_verdict.hpp"
+#include "io/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -262,9 +263,8 @@ void WriteIdentifierConfig(const FitJobOptions& o, const sysid::NarxModel& model
   c.refit.horizon = o.horizon;
   c.ranges = o.ranges.empty() ? sysid::RangesFromSeries(c.spec, train) : ReadRanges(o.ranges);
   c.source = identifier::SampleSource::kSignals;
-  std::ofstream out(o.save_config);
-  out << identifier::IdentifierConfigToJson(c).dump(2) << "\n";
-  if (!out) throw std::runtime_error(o.save_config + ": cannot write");
+  // Whole or absent (a full disk must not leave an empty configuration and exit 0).
+  io::WriteFileAtomically(o.save_config, identifier::IdentifierConfigToJson(c).dump(2) + "\n");
 }
 
 // Whether the training data holds anything to identify (sysid/model/excitation.hpp), for what
@@ -321,9 +321,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   const bool search = !model && !o.refit.enabled() && o.select &&
                       !(o.consequent_given && o.threshold_given && o.kappa_given && o.epochs_given);
   if (!o.save_ranges.empty() && d.train) {
-    std::ofstream out(o.save_ranges);
-    out << sysid::RangesToJson(sysid::RangesFromSeries(spec, *d.train)).dump(1) << "\n";
-    if (!out) throw std::runtime_error(o.save_ranges + ": cannot write");
+    io::WriteFileAtomically(
+        o.save_ranges, sysid::RangesToJson(sysid::RangesFromSeries(spec, *d.train)).dump(1) + "\n");
   }
   if (!search && o.simulation_given && o.train.refine_least_squares) topt.simulation = o.simulation;
   if (!model && o.refit.enabled()) {

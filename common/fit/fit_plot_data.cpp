@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "fuzzy/gaussian_rule_base.hpp"
+#include "io/atomic_file.hpp"
 #include "sysid/model/free_run.hpp"
 #include "sysid/model/local_dynamics.hpp"
 
@@ -19,9 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void WriteJson(const fs::path& path, const nlohmann::json& j) {
-  std::ofstream out(path);
-  out << j.dump(1) << "\n";
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+  io::WriteFileAtomically(path.string(), j.dump(1) + "\n");
 }
 
 // Sample, time, measured, one step, free run and the readable rules' firing, first output.

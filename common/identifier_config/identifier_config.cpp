@@ -261,7 +261,6 @@ std::string ExampleIdentifierConfig() {
   c.spec.input_lags = 1;
   c.spec.delay = 1;
   c.ranges = {{"roll_rad", {-0.3, 0.3}}, {"u_roll_applied_rad", {-0.27, 0.27}}};
-  c.snapshot_every_samples = 100;
   return IdentifierConfigToJson(c).dump(2) + "\n";
 }
 

@@ -1,5 +1,6 @@
 #include "io/csv_table.hpp"
 
+#include <algorithm>
 #include <cctype>
 
 #include <cerrno>
@@ -44,9 +45,24 @@ std::string DelimiterHint(const std::string& header, char delimiter) {
 CsvTable CsvTable::Read(const std::string& path, MissingCells missing, CsvFormat format) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(path + ": cannot open file (" + std::strerror(errno) + ")");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return Parse(ss.str(), path, missing, format);
+  // Read in chunks with a cap, and refuse binary bytes early: /dev/zero or a device given by
+  // mistake must end in an error, not in reading for ever.
+  std::string text;
+  std::vector<char> chunk(1 << 16);
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    const auto got = static_cast<std::size_t>(in.gcount());
+    const auto end = chunk.begin() + static_cast<std::ptrdiff_t>(got);
+    if (const auto nul = std::find(chunk.begin(), end, '\0'); nul != end)
+      throw CsvError(path + ": a NUL byte at byte " +
+                     std::to_string(text.size() + static_cast<std::size_t>(nul - chunk.begin())) +
+                     ": a binary file, not a CSV");
+    text.append(chunk.data(), got);
+    if (text.size() > kMaxCsvBytes)
+      throw CsvError(path + ": larger than " + std::to_string(kMaxCsvBytes >> 20) +
+                     " MiB, more than a CSV this reader takes (cut it with odonata-fit --from/--to "
+                     "after splitting it, or decimate it)");
+  }
+  return Parse(text, path, missing, format);
 }
 
 CsvTable CsvTable::Parse(const std::string& text, const std::string& source_name,

@@ -8,6 +8,9 @@
 
 namespace odonata::io {
 
+/// A CSV larger than this (2 GiB) is refused: a device or a runaway file, not a flight log.
+inline constexpr std::size_t kMaxCsvBytes = std::size_t{2} << 30;
+
 /// Raised for any malformed input; the message names the file, line and column.
 class CsvError : public std::runtime_error {
  public:

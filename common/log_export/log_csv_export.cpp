@@ -14,6 +14,7 @@
 #include "bus/event_log_reader.hpp"
 #include "bus/safe_decode.hpp"
 #include "experiments/sample_columns.hpp"
+#include "io/atomic_file.hpp"
 #include "io/csv_writer.hpp"
 #include "io/row_decimator.hpp"
 #include "messages/beat_state_message.hpp"
@@ -374,9 +375,7 @@ long ScorePredictionsToJson(const std::vector<std::string>& log_paths, const std
   if (scored == 0) throw std::runtime_error("no predictions on " + channel + " in the log");
   nlohmann::json summary = board.Summary();
   summary["predictions_missing"] = missing;
-  std::ofstream out(json_path);
-  out << summary.dump(1) << "\n";
-  if (!out) throw std::runtime_error(json_path + ": cannot write");
+  io::WriteFileAtomically(json_path, summary.dump(1) + "\n");
   if (missing_out != nullptr) *missing_out = missing;
   return scored;
 }
@@ -396,9 +395,7 @@ long ExportSnapshotsToJson(const std::vector<std::string>& log_paths, const std:
       // a snapshot that does not describe a valid model is skipped
     }
   });
-  std::ofstream out(json_path);
-  out << arr.dump() << "\n";
-  if (!out) throw std::runtime_error(json_path + ": cannot write");
+  io::WriteFileAtomically(json_path, arr.dump() + "\n");
   return static_cast<long>(arr.size());
 }
 

@@ -21,6 +21,10 @@ FlightRows FlightRowsFromTable(const io::CsvTable& table, const FlightRowsOption
   std::string time = options.time_column;
   if (time.empty() && table.HasColumn("t_s")) time = "t_s";
   f.names = options.signals;
+  for (std::size_t i = 0; i < f.names.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (f.names[i] == f.names[j])
+        throw io::CsvError(table.source() + ": signal '" + f.names[i] + "' is asked for twice");
   if (f.names.empty()) {
     // odonata-logger export's own bookkeeping column is not a signal of the vehicle.
     for (const auto& n : table.names())

@@ -315,9 +315,9 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
       why +=
           ", the linear model landed (it beat the fuzzy one on the samples since the refit "
           "began)";
-    std::fprintf(stderr, "%s: refit %lld %s: %d rules%s (%lld failed)\n", config_.instance.c_str(),
+    std::fprintf(stderr, "%s: refit %lld %s: %d rules%s %s\n", config_.instance.c_str(),
                  static_cast<long long>(core_.refits()), when.c_str(), core_.model().total_rules(),
-                 why.c_str(), static_cast<long long>(core_.failed_refits()));
+                 why.c_str(), core_.FailedRefitsText().c_str());
   }
   if (!report->predicted.allFinite()) return Diverged(sample.index);
   bus_.Publish(config_.channels.prediction,

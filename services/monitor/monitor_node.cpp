@@ -1,5 +1,6 @@
 #include "monitor_node.hpp"
 
+#include "io/atomic_file.hpp"
 #include "metrics/accuracy.hpp"
 
 #include <algorithm>
@@ -59,9 +60,7 @@ MonitorNode::MonitorNode(bus::BusNode& bus, MonitorOptions options)
   bus_.OnShutdown([this] {
     Print();
     if (!options_.summary_json.empty()) {
-      std::ofstream out(options_.summary_json);
-      out << Summary().dump(1) << "\n";
-      if (!out) throw std::runtime_error(options_.summary_json + ": cannot write summary");
+      io::WriteFileAtomically(options_.summary_json, Summary().dump(1) + "\n");
     }
   });
   bus_.SetState("running");
@@ -312,7 +311,8 @@ void MonitorNode::Print() {
             ? "  " + std::to_string((100 * o.outside + scored / 2) / scored) + "% outside"
             : "";
     row(true, "1 step", o.fuzzy.one_step, o.arx.one_step, behind && !k_step, outside);
-    if (k_step) row(false, std::to_string(o.horizon) + " steps", o.fuzzy.ahead, o.arx.ahead, behind);
+    if (k_step)
+      row(false, std::to_string(o.horizon) + " steps", o.fuzzy.ahead, o.arx.ahead, behind);
     const double free = o.fuzzy.free_run.window.Get().fit_percent;
     const double arx_free = o.arx.free_run.window.Get().fit_percent;
     row(false, "free run", o.fuzzy.free_run, o.arx.free_run,

@@ -12,6 +12,7 @@
 #include "bus_cli/bus_options.hpp"
 #include "cli/csv_format_options.hpp"
 #include "cli/parse_command_line.hpp"
+#include "io/atomic_file.hpp"
 #include "io/csv_table.hpp"
 #include "records/record_file.hpp"
 #include "replay/flight_rows.hpp"
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
                  "a ULog's signals are resampled onto (default: the slowest one's median, which "
                  "every signal fills)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 1e7));
   app.add_option("--from", rows.from_s,
                  "send from this time on (seconds on the file's time axis: a ULog's since its "
                  "start, a CSV's time column, or row / --rate)");
@@ -122,9 +123,7 @@ int main(int argc, char** argv) {
     const int code = bus.Run();
     std::printf("odonata-replay: %s\n", node.SummaryLine().c_str());
     if (!summary_json.empty()) {
-      std::ofstream out(summary_json);
-      out << node.Summary().dump(1) << "\n";
-      if (!out) throw std::runtime_error(summary_json + ": cannot write the summary");
+      odonata::io::WriteFileAtomically(summary_json, node.Summary().dump(1) + "\n");
     }
     return code;
   } catch (const odonata::timeseries::NothingToIdentify& e) {

@@ -313,6 +313,27 @@ TEST(FitCli, NothingToIdentifyIsAFindingWithItsOwnExitCode) {
   EXPECT_EQ(w.status, 3) << w.out;
 }
 
+// Issue 61 finding 4: on a full disk (here: no file may grow) a configuration or ranges file is
+// not left empty with exit 0: the run fails naming the file, and no file is left.
+TEST(FitCli, AFileThatCannotBeWrittenIsAnErrorAndNoEmptyFileIsLeft) {
+  for (const char* option : {"--save-config", "--save-ranges"}) {
+    SCOPED_TRACE(option);
+    const std::string out = Dir() + "/full_disk_" + std::string(option + 7) + ".json";
+    std::remove(out.c_str());
+    const ProcessResult r =
+        Exec("sh -c 'trap \"\" XFSZ; ulimit -f 0; exec " + std::string(ODONATA_FIT_EXE) +
+                 " --train " + std::string(ODONATA_EXAMPLES_DIR) +
+                 "/narendra/train.csv --output y --input u "
+                 "--no-select --epochs 1 " +
+                 option + " " + out + "' 2>&1",
+             true, true);
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(r.out.find(out), std::string::npos) << r.out;
+    std::ifstream left(out);
+    EXPECT_FALSE(left.good()) << "an empty or partial file was left";
+  }
+}
+
 TEST(FitCli, SmallMistakesGetTheirFix) {
   std::string csv = "k,u,m2,time_ms\n";
   for (int k = 0; k < 300; ++k)

@@ -159,5 +159,15 @@ TEST(IdentifierConfig, RefitHorizonIsFreeRunOrAtLeastTwoStepsAhead) {
   EXPECT_EQ(ParseIdentifierConfig(j.dump(), "edited").refit.horizon, 50);
 }
 
+// The documented default (issue 61): a configuration without the key, and the one odonata-fit
+// --save-config writes, snapshot every 100 learned samples.
+TEST(IdentifierConfig, SnapshotsEveryHundredSamplesByDefault) {
+  EXPECT_EQ(IdentifierConfig{}.snapshot_every_samples, 100);
+  nlohmann::ordered_json j = IdentifierConfigToJson(DefaultIdentifierConfig());
+  EXPECT_EQ(j["snapshot_every_samples"], 100);
+  j.erase("snapshot_every_samples");
+  EXPECT_EQ(ParseIdentifierConfig(j.dump(), "no key").snapshot_every_samples, 100);
+}
+
 }  // namespace
 }  // namespace odonata::identifier

@@ -33,6 +33,7 @@ void Pump(bus::BusNode& bus) { testing::Pump(bus, 2); }
 IdentifierConfig Config() {
   IdentifierConfig c;
   c.instance = "id-test";
+  c.snapshot_every_samples = 0;  // the tests count the snapshots they ask for
   c.spec.output_lags = 1;
   c.spec.input_lags = 1;
   c.spec.delay = 1;
@@ -683,6 +684,9 @@ TEST_F(IdentifierNodeTest, ANonFinitePredictionRestoresTheLastGoodModelAndIsAnEr
   for (int64_t k = 122; k < 130; ++k) send(k, 0.5);
   EXPECT_GT(predictions.size(), before) << "it predicts again";
   for (const auto& p : predictions) EXPECT_TRUE(std::isfinite(p.predicted[0]));
+  // A SHUTDOWN afterwards (as SIGTERM, Stop(0)) leaves the exit code the divergence set (issue 61).
+  Control(odonata::control_t::SHUTDOWN);
+  EXPECT_EQ(bus_->exit_code(), kExitDiverged);
 }
 
 TEST_F(IdentifierNodeTest, ASignalNameTheVehicleDoesNotSendIsReportedNotSilent) {

@@ -46,5 +46,16 @@ TEST(CsvFormat, TheWrongSeparatorIsNamedWithTheOptionThatReadsIt) {
                std::invalid_argument);
 }
 
+// Issue 61: a device or a binary file is an error, not a read that never ends.
+TEST(CsvTable, ABinaryFileOrDeviceIsRefusedNotReadForEver) {
+  try {
+    CsvTable::Read("/dev/zero");
+    FAIL() << "read /dev/zero";
+  } catch (const CsvError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: a NUL byte at byte 0"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace odonata::io

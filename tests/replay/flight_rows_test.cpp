@@ -2,6 +2,8 @@
 // refused with the file's name.
 #include "replay/flight_rows.hpp"
 
+#include "timeseries/nothing_to_identify.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,6 +40,35 @@ TEST(FlightRows, ChosenSignalsInTheirOrderAndARateWithoutTime) {
   const FlightRows f = FlightRowsFromTable(t, o);
   EXPECT_EQ(f.rows[1], (std::vector<double>{6, 4}));
   EXPECT_DOUBLE_EQ(f.times_s[1], 0.02);
+}
+
+// Issue 61: a signal named twice is refused, as a ULog's export refuses it.
+TEST(FlightRows, ASignalNamedTwiceIsRefused) {
+  const auto t = io::CsvTable::Parse("u,y\n1,2\n3,4\n", "f.csv");
+  FlightRowsOptions o;
+  o.signals = {"u", "u"};
+  EXPECT_EQ(Error(t, o), "f.csv: signal 'u' is asked for twice");
+}
+
+// Issue 57: a window in seconds on the file's time axis, and a condition whose failing rows go
+// out as gaps; a window that keeps nothing is nothing to send.
+TEST(FlightRows, AWindowAndAConditionChooseTheRowsSent) {
+  const auto t = io::CsvTable::Parse(
+      "t_s,a,landed\n10,1,1\n10.1,2,0\n10.2,3,0\n10.3,4,1\n10.4,5,0\n", "f.csv");
+  FlightRowsOptions o;
+  o.from_s = 10.1;
+  o.to_s = 10.35;
+  o.keep = timeseries::ParseKeepCondition("landed==0");
+  const FlightRows f = FlightRowsFromTable(t, o);
+  EXPECT_EQ(f.names, (std::vector<std::string>{"a"}));  // the condition's column is not sent
+  ASSERT_EQ(f.rows.size(), 3u);
+  EXPECT_DOUBLE_EQ(f.times_s[0], 0.0);
+  EXPECT_NEAR(f.times_s[2], 0.2, 1e-12);
+  EXPECT_TRUE(f.Complete(0));
+  EXPECT_FALSE(f.Complete(2));  // landed: a gap
+  o.from_s = 20;
+  o.to_s = 21;
+  EXPECT_THROW(FlightRowsFromTable(t, o), timeseries::NothingToIdentify);
 }
 
 TEST(FlightRows, ARowWithAGapIsNotCompleteAndStaysInPlace) {

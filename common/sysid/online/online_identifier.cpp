@@ -36,6 +36,12 @@ void OnlineIdentifier::Freeze() {
   learning_ = false;
 }
 
+std::string OnlineIdentifier::FailedRefitsText() const {
+  const std::string& why = refitter_.last_failure();
+  return "(" + std::to_string(refitter_.failed()) + " failed" + (why.empty() ? "" : ": " + why) +
+         ")";
+}
+
 void OnlineIdentifier::set_ahead_horizon(int horizon) {
   if (horizon < 0 || horizon == 1)
     throw std::invalid_argument("the horizon must be 0 (none) or K >= 2 steps ahead, not " +
@@ -192,7 +198,7 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
   // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).
-  const bool per_sample = learning_ && refitter_.refits() == 0;
+  const bool per_sample = learning_ && !refitter_.owns_model();
   const auto results = model_.Learn(
       x, s.outputs, per_sample ? fuzzy::LearnMode::kGrowAndTune : fuzzy::LearnMode::kFrozen);
   // Between refits the model tracks by recursive global least squares, continued from the last

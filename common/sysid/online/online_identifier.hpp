@@ -125,6 +125,10 @@ class OnlineIdentifier {
   /// Scheduled refits landed so far (ScheduledRefitter), and refits that found too few samples.
   int64_t refits() const { return refitter_.refits(); }
   int64_t failed_refits() const { return refitter_.failed(); }
+  /// Why the last failed refit failed, as its exception said it.
+  const std::string& last_refit_failure() const { return refitter_.last_failure(); }
+  /// "(N failed)", with the last one's reason when there is one: as the identifier reports them.
+  std::string FailedRefitsText() const;
   /// Of the refits landed, those that ran a model selection (ScheduledRefitter::selections).
   int64_t selections() const { return refitter_.selections(); }
   /// Of the refits landed, those that kept the last refit's model (IncumbentHoldsItsOwn).

@@ -182,15 +182,16 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, 
   pending_at_ = KeptSinceStart();
   if (!base_) base_ = model.model(0).config();
   cancel_ = std::make_shared<std::atomic<bool>>(false);
+  failure_ = std::make_shared<std::string>();
   std::optional<Chosen> reuse;
   if (!select) reuse = chosen_;
-  // Everything the worker reads is its own copy (the cancel flag is shared, atomic).
+  // Everything the worker reads is its own copy (the cancel flag and the failure are shared).
   pending_ = std::async(
       std::launch::async,
       [spec = model.spec(), base = *base_, series = KeptSeries(), threads = schedule_.threads,
        horizon = schedule_.horizon, declared = model.scaling(), reuse = std::move(reuse),
        incumbent = landed_, unseen = pending_at_ - landed_at_, judged, closing, expert = expert_,
-       cancel = cancel_]() -> std::optional<Refitted> {
+       cancel = cancel_, failure = failure_]() -> std::optional<Refitted> {
         try {
           OfflineFitOptions o;
           // odonata-fit's defaults, with the regressors in the identifier's declared envelope and
@@ -321,8 +322,8 @@ void ScheduledRefitter::Start(const NarxModel& model, bool select, bool judged, 
             }
           }
           return out;
-        } catch (const std::exception&) {
-          // Too few samples for the hold-out and the lags, or cancelled: keep the model learning.
+        } catch (const std::exception& e) {  // the model keeps learning; the reason is reported
+          *failure = dynamic_cast<const TrainingCancelled*>(&e) ? "cancelled" : e.what();
           return std::nullopt;
         }
       });
@@ -338,9 +339,11 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   std::optional<Refitted> refitted = pending_.get();
   if (!refitted) {
     ++failed_;
+    if (failure_) last_failure_ = *failure_;
     return false;
   }
   ++refits_;
+  ++landed_since_clear_;
   if (refitted->steady_state_refused) ++steady_state_refused_;
   if (refitted->expert_kept) ++experts_kept_;
   if (refitted->expert_replaced && expert_) {
@@ -412,7 +415,9 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
   if (!schedule_.enabled()) return false;
   if (!base_) base_ = model.model(0).config();
   learned_ = learned;
-  if (!schedule_.Due(learned)) return false;
+  if (schedule_base_ < 0) schedule_base_ = learned - 1;
+  const int64_t since_clear = learned - schedule_base_;  // 1 at the first sample learned
+  if (!schedule_.Due(since_clear)) return false;
   const bool landed = Land(model);
   // A refit chooses its settings until one has chosen on a full buffer; from then on, at steady
   // state (every `every` samples), it trains with what that selection chose: a later search
@@ -423,8 +428,8 @@ bool ScheduledRefitter::AfterLearn(NarxModel& model, int64_t learned) {
   const bool informed = chosen_ && chosen_->samples >= static_cast<std::size_t>(schedule_.buffer);
   // While an expert's rules stand, every refit selects: a steady-state refit has no hold-out to
   // judge them on.
-  Start(model,
-        expert_.has_value() || !(informed && schedule_.every > 0 && learned >= schedule_.every));
+  Start(model, expert_.has_value() ||
+                   !(informed && schedule_.every > 0 && since_clear >= schedule_.every));
   last_started_ = learned;
   return landed;
 }
@@ -476,6 +481,8 @@ void ScheduledRefitter::Clear() {
   base_.reset();
   last_started_ = -1;
   learned_ = 0;
+  schedule_base_ = -1;
+  landed_since_clear_ = 0;
 }
 
 }  // namespace odonata::sysid

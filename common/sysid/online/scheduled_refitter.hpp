@@ -20,6 +20,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -145,7 +146,12 @@ class ScheduledRefitter {
   /// The samples a refit would learn from now, oldest first (a break at every skipped index).
   Series KeptSeries() const;
   int64_t refits() const { return refits_; }  ///< refits landed
-  int64_t failed() const { return failed_; }  ///< refits that could not fit (too few samples)
+  /// Whether a refit has landed since the last Clear (a RESET, a restore, a resume): from then on
+  /// the refits own the model and per-sample learning stops; before, the model learns per sample.
+  bool owns_model() const { return landed_since_clear_ > 0; }
+  int64_t failed() const { return failed_; }  ///< refits that could not fit
+  /// Why the last refit that failed did (its exception's message, "cancelled", or empty).
+  const std::string& last_failure() const { return last_failure_; }
   /// Refits landed that chose their settings (a model selection); the others trained with the
   /// settings the last selection chose (see Start).
   int64_t selections() const { return selections_; }
@@ -228,7 +234,14 @@ class ScheduledRefitter {
   ConsequentTracker tracker_;  // the landed refit's
   /// Raised to stop the refit in flight when it will never land (Clear, the destructor).
   std::shared_ptr<std::atomic<bool>> cancel_;
-  int64_t learned_ = 0;        ///< the count AfterLearn last saw
+  int64_t learned_ = 0;  ///< the count AfterLearn last saw
+  /// The count before the first AfterLearn since Clear: the schedule counts from there, so that a
+  /// restart at sample N (a restore, a resume) refits at N + first, inside the run, not at the
+  /// schedule's next point past N (with the defaults 12 000 for a restore at 4 400).
+  int64_t schedule_base_ = -1;
+  std::shared_ptr<std::string> failure_;  ///< the worker's reason, read after it ends
+  std::string last_failure_;
+  int64_t landed_since_clear_ = 0;
   int64_t last_started_ = -1;  ///< the count the last refit began at
   bool closing_ = false;       ///< the refit in flight lands at Settle()
   int64_t refits_ = 0;

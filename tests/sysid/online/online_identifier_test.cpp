@@ -167,7 +167,53 @@ TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
   id.Settle();
   EXPECT_EQ(id.refits(), 0);
   EXPECT_GE(id.failed_refits(), 1);
+  // The reason is the refit's own (issue 61), not a guess.
+  EXPECT_FALSE(id.last_refit_failure().empty());
+  EXPECT_NE(id.last_refit_failure(), "cancelled");
   EXPECT_TRUE(id.model().Predict(Eigen::VectorXd::Zero(id.model().spec().size())).allFinite());
+}
+
+// Issue 61 finding 1: after a RESET (an empty model put in) with scheduled refits, the model
+// learns again per sample at once, instead of predicting with no rule until a refit lands.
+TEST(OnlineIdentifier, AResetModelLearnsPerSampleAgainThoughRefitsHadLanded) {
+  const Series train = testing::NarendraTrain(700);
+  RefitSchedule refit;
+  refit.first = 200;
+  refit.every = 0;
+  refit.buffer = 5000;
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  Eigen::Index k = 0;
+  for (; k < 450; ++k) id.Push(Row(train, k));
+  id.Settle();
+  ASSERT_GE(id.refits(), 1);
+  id.ReplaceModel(Empty(fuzzy::ConsequentKind::kLinear, train));
+  ASSERT_EQ(id.model().total_rules(), 0);
+  for (const Eigen::Index end = k + 10; k < end; ++k) id.Push(Row(train, k));
+  EXPECT_GT(id.model().total_rules(), 0) << "the reset model learns nothing per sample";
+}
+
+// Issue 61 finding 2: a model put back at sample N (a divergence restore) keeps learning, and
+// its schedule counts from there: the next refit lands inside the run, not at the schedule's next
+// point past N.
+TEST(OnlineIdentifier, ARestoredModelKeepsLearningAndRefitsInsideTheRun) {
+  const Series train = testing::NarendraTrain(1200);
+  RefitSchedule refit;
+  refit.first = 100;
+  refit.every = 0;
+  refit.buffer = 5000;
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  Eigen::Index k = 0;
+  for (; k < 450; ++k) id.Push(Row(train, k));
+  id.Settle();
+  ASSERT_GE(id.refits(), 1);
+  id.ReplaceModel(id.model(), id.samples_learned());
+  const std::string restored = id.model().ToJson().dump();
+  for (const Eigen::Index end = k + 10; k < end; ++k) id.Push(Row(train, k));
+  EXPECT_NE(id.model().ToJson().dump(), restored) << "the restored model is frozen";
+  const int64_t before = id.refits();
+  for (const Eigen::Index end = k + 300; k < end; ++k) id.Push(Row(train, k));
+  id.Settle();
+  EXPECT_GT(id.refits(), before) << "no refit landed in the 310 samples after the restore";
 }
 
 TEST(RefitSchedule, SeriesFromSamplesBreaksWhereAnIndexIsSkipped) {
