@@ -89,7 +89,9 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
     d["time_unit_s"] = so.time_unit_s;
     d["first_s"] = r.first_s;
     d["last_s"] = r.last_s;
-    for (const auto& c : r.columns) d["signal_rates_hz"][c.name] = c.median_rate_hz;
+    // A log's own rates are in its grid note; its table is already on the grid.
+    if (record.time_column.empty())
+      for (const auto& c : r.columns) d["signal_rates_hz"][c.name] = c.median_rate_hz;
     if (r.rate_chosen) d["rate_from"] = r.slowest;
   }
   if (std::isfinite(o.from_s) || std::isfinite(o.to_s))

@@ -5,6 +5,11 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "crazyflie_usd/usd_log_file.hpp"
+#include "crazyflie_usd/usd_log_signals.hpp"
+#include "dataflash/dataflash_file.hpp"
+#include "dataflash/dataflash_signals.hpp"
+#include "records/record_grid.hpp"
 #include "timeseries/nothing_to_identify.hpp"
 #include "ulog/ulog_file.hpp"
 #include "ulog/ulog_signals.hpp"
@@ -21,48 +26,19 @@ bool IsUlog(const std::string& path) {
 
 namespace {
 
-std::string Number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.4g", x);
-  return text;
+std::string NameThem(const std::string& path, const char* what) {
+  return path + ": " + what + " holds many signals; name the ones to take (odonata-log topics " +
+         path + " lists them)";
 }
 
-std::string Hz(double rate) { return Number(rate) + " Hz"; }
-
-// The grid and each signal's own rate, as the user should see them: a log at several rates is
-// read at the slowest one's unless told otherwise.
-std::string GridNote(const std::string& path, const ulog::ResampledSignals& s) {
-  std::string note = path + ": one grid at " + Hz(s.rate_hz) +
-                     (s.rate_chosen ? " (the slowest signal's rate; --rate sets another)" : "") +
-                     "; logged at:";
-  for (std::size_t k = 0; k < s.names.size(); ++k) {
-    note += (k ? ", " : " ") + s.names[k] + " " + Hz(s.median_rate_hz[k]);
-    if (s.interpolation[k] == timeseries::Interpolation::kHold) note += " (held, a flag)";
-  }
-  return note;
-}
-
-// A given rate far above a signal's own leaves that signal mostly gaps: said with the fix
-// instead of a fit on scraps.
-void CheckRates(const std::string& path, const ulog::ResampledSignals& s, int max_gap) {
-  for (std::size_t k = 0; k < s.names.size(); ++k) {
-    if (s.interpolation[k] == timeseries::Interpolation::kHold) continue;
-    const double own = s.median_rate_hz[k];
-    if (own > 0 && own * (max_gap + 1) < s.rate_hz)
-      throw std::invalid_argument(
-          path + ": '" + s.names[k] + "' is logged at " + Hz(own) + ", too slow for a " +
-          Hz(s.rate_hz) + " grid (its samples would be gaps there): give --rate " + Number(own) +
-          " or less, leave --rate out (the slowest signal's rate), or "
-          "log it faster");
-  }
+std::string DamageWarning(const std::string& path, std::uint64_t offset,
+                          const std::string& problem) {
+  return path + ": damaged at byte " + std::to_string(offset) + " (" + problem +
+         "); what was read apart from it is used";
 }
 
 Record ReadUlog(const std::string& path, const RecordOptions& o) {
-  if (o.signals.empty())
-    throw std::invalid_argument(path +
-                                ": a ULog holds hundreds of signals; name the ones to take "
-                                "(odonata-ulog topics " +
-                                path + " lists them)");
+  if (o.signals.empty()) throw std::invalid_argument(NameThem(path, "a ULog"));
   const ulog::UlogFile file = ulog::Read(path);
   Record r;
   if (!file.complete()) {
@@ -72,9 +48,7 @@ Record ReadUlog(const std::string& path, const RecordOptions& o) {
     r.warnings.push_back(path + ": damaged at byte " + where + " (" + file.problem +
                          "); what was logged before it is used");
   }
-  std::vector<std::string> signals = o.signals;
-  if (o.keep && std::find(signals.begin(), signals.end(), o.keep->signal) == signals.end())
-    signals.push_back(o.keep->signal);
+  const std::vector<std::string> signals = SignalsToRead(o);
   timeseries::GridOptions grid;
   grid.rate_hz = o.rate_hz;
   grid.max_gap = o.max_gap;
@@ -94,33 +68,102 @@ Record ReadUlog(const std::string& path, const RecordOptions& o) {
                                   "; name another signal to keep by (--keep-when)");
     throw std::invalid_argument(path + ": " + e.what());
   }
-  CheckRates(path, s, o.max_gap);
-  r.notes.push_back(GridNote(path, s));
-  std::vector<std::string> names{"t_s"};
-  std::vector<std::vector<double>> columns{s.t_s};
-  for (std::size_t k = 0; k < s.names.size(); ++k) {
-    names.push_back(s.names[k]);
-    columns.push_back(std::move(s.columns[k]));
-    if (s.out_of_order[k] > 0)
-      r.warnings.push_back(path + ": " + s.names[k] + ": " + std::to_string(s.out_of_order[k]) +
-                           " samples dropped, their time went backwards");
-    if (s.gap_cells[k] > 0)
-      r.warnings.push_back(path + ": " + s.names[k] + ": " + std::to_string(s.gap_cells[k]) +
-                           " of " + std::to_string(s.t_s.size()) +
-                           " grid samples fall in gaps longer than the gap rule bridges");
+  SignalsOnGrid g;
+  g.rate_hz = s.rate_hz;
+  g.rate_chosen = s.rate_chosen;
+  g.t_s = std::move(s.t_s);
+  g.names = std::move(s.names);
+  g.columns = std::move(s.columns);
+  g.median_rate_hz = std::move(s.median_rate_hz);
+  g.interpolation = std::move(s.interpolation);
+  g.gap_cells = std::move(s.gap_cells);
+  g.out_of_order = std::move(s.out_of_order);
+  return RecordFromGrid(path, std::move(g), o.max_gap, std::move(r));
+}
+
+// A log read by its own reader (`Parse`) and named signals (`Extract`), put on the shared grid.
+template <class File, class ExtractFn>
+Record ReadSignalLog(const std::string& path, const RecordOptions& o, const File& file,
+                     ExtractFn extract, Record r) {
+  std::vector<timeseries::TimedSignal> timed;
+  for (const auto& name : SignalsToRead(o)) {
+    try {
+      timed.push_back(extract(file, name));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": " + e.what());
+    }
+    // A condition's signal is a state of the flight: held, and it does not choose the grid.
+    if (o.keep && name == o.keep->signal)
+      timed.back().interpolation = timeseries::Interpolation::kHold;
   }
-  r.table = io::CsvTable::FromColumns(path, std::move(names), std::move(columns));
-  r.time_column = "t_s";
-  r.rate_hz = s.rate_hz;
-  return r;
+  try {
+    SignalsOnGrid g = ResampleSignals(timed, {}, o);
+    return RecordFromGrid(path, std::move(g), o.max_gap, std::move(r));
+  } catch (const timeseries::NothingToIdentify& e) {
+    throw timeseries::NothingToIdentify(path + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+}
+
+Record ReadDataflash(const std::string& path, const RecordOptions& o) {
+  if (o.signals.empty()) throw std::invalid_argument(NameThem(path, "a DataFlash log"));
+  const dataflash::DataflashFile file = dataflash::Read(path);
+  Record r;
+  if (!file.complete())
+    r.warnings.push_back(DamageWarning(path, file.problem_offset, file.problem));
+  return ReadSignalLog(path, o, file, dataflash::Extract, std::move(r));
+}
+
+Record ReadUsdLog(const std::string& path, const RecordOptions& o) {
+  if (o.signals.empty()) throw std::invalid_argument(NameThem(path, "a Crazyflie micro-SD log"));
+  const crazyflie_usd::UsdLogFile file = crazyflie_usd::Read(path);
+  Record r;
+  if (!file.complete())
+    r.warnings.push_back(DamageWarning(path, file.problem_offset, file.problem));
+  for (const auto& n : file.notes) r.warnings.push_back(path + ": " + n);
+  return ReadSignalLog(path, o, file, crazyflie_usd::Extract, std::move(r));
 }
 
 }  // namespace
 
+RecordFormat DetectFormat(const std::string& path) {
+  if (IsUlog(path)) return RecordFormat::kUlog;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (dataflash::LooksLikeDataflash(head)) return RecordFormat::kDataflash;
+  if (crazyflie_usd::LooksLikeUsdLog(head)) return RecordFormat::kCrazyflieUsd;
+  return RecordFormat::kCsv;
+}
+
+const char* FormatName(RecordFormat format) {
+  switch (format) {
+    case RecordFormat::kUlog:
+      return "PX4 ULog";
+    case RecordFormat::kDataflash:
+      return "ArduPilot DataFlash";
+    case RecordFormat::kCrazyflieUsd:
+      return "Crazyflie micro-SD";
+    case RecordFormat::kCsv:
+      break;
+  }
+  return "CSV";
+}
+
 Record ReadRecord(const std::string& path, const RecordOptions& options) {
-  if (IsUlog(path)) return ReadUlog(path, options);
-  Record r{io::CsvTable::Read(path, options.missing, options.csv_format), "", 0, {}, {}};
-  return r;
+  switch (DetectFormat(path)) {
+    case RecordFormat::kUlog:
+      return ReadUlog(path, options);
+    case RecordFormat::kDataflash:
+      return ReadDataflash(path, options);
+    case RecordFormat::kCrazyflieUsd:
+      return ReadUsdLog(path, options);
+    case RecordFormat::kCsv:
+      break;
+  }
+  return Record{io::CsvTable::Read(path, options.missing, options.csv_format), "", 0, {}, {}};
 }
 
 }  // namespace odonata::records

@@ -1,8 +1,9 @@
 #pragma once
-// A recorded flight's file as one table, whatever wrote it: a CSV as it is, or a PX4 ULog's
-// chosen signals resampled onto one time grid (column t_s, seconds since the log's start). Every
-// program that reads a record (odonata-fit, odonata-replay, odonata-ulog export) reads it here,
-// so a .ulg is taken wherever a CSV is, under the same gap rules.
+// A recorded flight's file as one table, whatever wrote it: a CSV as it is, or an autopilot's log
+// (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD) with its chosen signals resampled onto one
+// time grid (column t_s, seconds on the log's own clock). Every program that reads a record
+// (odonata-fit, odonata-replay, odonata-log export) reads it here, so a log is taken wherever a
+// CSV is, under the same gap rules (records/record_grid.hpp).
 
 #include <limits>
 #include <optional>
@@ -18,21 +19,30 @@ namespace odonata::records {
 /// True when `path` starts with the ULog magic ("ULog" 01 12 35), whatever its name.
 bool IsUlog(const std::string& path);
 
+/// What a record file is, told by its content, never by its name alone: a PX4 ULog, an
+/// ArduPilot DataFlash log (0xA3 0x95 and an FMT record first), a Crazyflie micro-SD deck log
+/// (0xBC, version 1 or 2), else a CSV.
+enum class RecordFormat { kCsv, kUlog, kDataflash, kCrazyflieUsd };
+RecordFormat DetectFormat(const std::string& path);
+/// "CSV", "PX4 ULog", "ArduPilot DataFlash", "Crazyflie micro-SD".
+const char* FormatName(RecordFormat format);
+
 struct RecordOptions {
   io::MissingCells missing = io::MissingCells::kKeepAsNaN;
   io::CsvFormat csv_format;  ///< CSV only
-  /// ULog only: the signals to take, by name (topic.field, topic.field[i], topic/1.field).
+  /// Logs only: the signals to take, by name as the log's ecosystem names them (a ULog's
+  /// topic.field[i], a DataFlash log's ATT.Pitch or IMU[1].GyrX, a Crazyflie log's gyro.x).
   std::vector<std::string> signals;
-  /// ULog only: the grid's rate (0: the slowest chosen signal's median rate, which every chosen
+  /// Logs only: the grid's rate (0: the slowest chosen signal's median rate, which every chosen
   /// signal fills; timeseries/uniform_grid.hpp).
   double rate_hz = 0;
-  /// ULog only: where a signal's own samples are more than max_gap + 1 grid periods apart its
+  /// Logs only: where a signal's own samples are more than max_gap + 1 grid periods apart its
   /// cells are missing (NaN), for the reader's gap rules to bridge or split.
   int max_gap = 3;
-  /// ULog only: the grid covers only this window (seconds since the log's start).
+  /// Logs only: the grid covers only this window (seconds since the log's start).
   double from_s = -std::numeric_limits<double>::infinity();
   double to_s = std::numeric_limits<double>::infinity();
-  /// ULog only: this condition's signal is read too (held, as a column of the table), for the
+  /// Logs only: this condition's signal is read too (held, as a column of the table), for the
   /// series reader to keep only the samples where it holds.
   std::optional<timeseries::KeepCondition> keep;
 };

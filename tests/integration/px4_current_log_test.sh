@@ -7,7 +7,7 @@
 source "$(dirname "$0")/lib.sh"
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-ULOG=$BUILD/services/ulog/odonata-ulog
+ULOG=$BUILD/services/log/odonata-log
 W=$BUILD/tests/ulog/write_px4_flight_ulog
 "$W" "$OUT/flight.ulg" 40 || fail "could not write the flight"
 "$W" "$OUT/ground.ulg" 10 --ground || fail "could not write the ground test"

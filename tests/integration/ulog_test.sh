@@ -10,7 +10,7 @@ enter_netns "$@"
 OUT=$(mktemp -d)
 trap 'stop_all; rm -rf "$OUT"' EXIT
 URL='udpm://239.255.76.67:7689?ttl=0'
-ULOG=$BUILD/services/ulog/odonata-ulog
+ULOG=$BUILD/services/log/odonata-ulog
 REPLAY=$BUILD/services/replay/odonata-replay
 LOG=$OUT/flight.ulg
 "$BUILD/tests/ulog/write_flight_ulog" "$LOG" 40 || fail "could not write the synthetic log"
