@@ -106,13 +106,34 @@ struct Series {
   std::size_t out_of_order = 0;
 };
 
+// The median step between a subscription's increasing timestamps (0 with fewer than two).
+std::uint64_t MedianStepUs(const Subscription& s) {
+  std::vector<std::uint64_t> dt;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (s.timestamps_us[i] > s.timestamps_us[i - 1])
+      dt.push_back(s.timestamps_us[i] - s.timestamps_us[i - 1]);
+  if (dt.empty()) return 0;
+  std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
+  return dt[dt.size() / 2];
+}
+
 // Sample indices of one subscription kept in time order: a sample earlier than the last kept one
-// is dropped.
+// is dropped. So is a lone leap ahead (a flipped byte in a timestamp: the sample jumps over 1000
+// median steps ahead and the next one is back in sequence, or it is the last): kept, it would
+// drop every later sample as out of order and stretch the signal's span to years.
 std::vector<std::size_t> KeptSamples(const Subscription& s, std::size_t& dropped) {
   std::vector<std::size_t> kept;
   kept.reserve(s.size());
+  const std::uint64_t leap = 1000 * MedianStepUs(s);
+  const auto& t = s.timestamps_us;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    if (!kept.empty() && s.timestamps_us[i] < s.timestamps_us[kept.back()]) {
+    if (!kept.empty() && t[i] < t[kept.back()]) {
+      ++dropped;
+      continue;
+    }
+    const bool leaps = !kept.empty() && leap > 0 && t[i] - t[kept.back()] > leap &&
+                       (i + 1 == s.size() || (t[i + 1] < t[i] && t[i + 1] >= t[kept.back()]));
+    if (leaps) {
       ++dropped;
       continue;
     }

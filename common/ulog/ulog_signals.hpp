@@ -37,7 +37,7 @@ struct SignalInfo {
   std::string type;  ///< the field's C type: "float", "uint16_t", "bool", …
   timeseries::Interpolation interpolation = timeseries::Interpolation::kLinear;
   std::size_t samples = 0;       ///< kept samples
-  std::size_t out_of_order = 0;  ///< samples dropped because their time went backwards
+  std::size_t out_of_order = 0;  ///< dropped: their time went backwards, or leapt ahead alone
   /// 1 / the median interval between consecutive samples of distinct times (0 with fewer than
   /// two): the rate the topic was published at, unmoved by a few long gaps.
   double median_rate_hz = 0.0;

@@ -10,6 +10,7 @@
 
 #include "cli/parse_command_line.hpp"
 #include "io/atomic_file.hpp"
+#include "model_export/exact_number.hpp"
 #include "model_export/fis_writer.hpp"
 #include "model_export/fll_writer.hpp"
 #include "model_export/octave_local_models.hpp"
@@ -70,7 +71,15 @@ int main(int argc, char** argv) {
       for (const auto& in : tsk.input_names) order += (order.empty() ? "" : ", ") + in;
       if (!fis.empty()) {
         const auto path = PerOutput(fis, out_name, several);
-        odonata::io::WriteFileAtomically(path, odonata::model_export::ToFis(tsk));
+        // The sample time, for whoever simulates the rules as a discrete model: a comment
+        // before [System], which MATLAB, Octave and fuzzylite skip.
+        const double ts = sample_time_s > 0
+                              ? sample_time_s
+                              : odonata::sysid::NarxModel::SavedSampleTime(model_path);
+        const std::string ts_line =
+            ts > 0 ? "% Sample time Ts = " + odonata::model_export::ExactNumber(ts) + " s\n"
+                   : "% Sample time unknown: time in samples\n";
+        odonata::io::WriteFileAtomically(path, ts_line + odonata::model_export::ToFis(tsk));
         std::cout << "wrote " << path << "\n";
       }
       if (!fll.empty()) {

@@ -73,3 +73,6 @@ OCTAVE
 octave-cli --no-window-system -q "$dir/check_ts.m"
 "$exporter" "$dir/model.json" --local-models "$dir/local_samples.m" 2>"$dir/warn.txt" >/dev/null
 grep -q "holds no sample time" "$dir/warn.txt" || { echo "FAIL: no warning for a model without a sample time"; exit 1; }
+# The .fis says the sample time too (a comment before [System], as its first line already is).
+"$exporter" "$dir/model_100hz.json" --fis "$dir/m.fis" >/dev/null
+head -1 "$dir/m.fis" | grep -qE "^% Sample time Ts = 0\.010*[0-9]* s$" || { echo "FAIL: .fis: $(head -1 "$dir/m.fis")"; exit 1; }

@@ -162,6 +162,25 @@ TEST(UlogSignals, TimesThatGoBackwardsAreDroppedAndCounted) {
   EXPECT_NEAR(r.columns[0][4], 0.10, 1e-12);
 }
 
+// Issue 61: one flipped byte in a timestamp (2^56 µs ahead) drops that sample alone, counted;
+// the rest of the signal is read and resampled as before.
+TEST(UlogSignals, ALoneLeapAheadInTimeIsDroppedNotTheRestOfTheLog) {
+  std::vector<std::uint64_t> times;
+  for (std::uint64_t i = 0; i <= 100; ++i) times.push_back(kStartUs + 10'000 * i);
+  times[40] |= std::uint64_t{1} << 56;
+  const UlogFile f = TwoRatesLog(times);
+  const SignalSamples a = Extract(f, "a.v");
+  EXPECT_EQ(a.out_of_order, 1u);
+  EXPECT_EQ(a.t_s.size(), 100u);
+  const ResampledSignals r = Resample(f, {"a.v", "b.v"}, 0.0, 3);
+  EXPECT_NEAR(r.t_s.back(), 0.983, 1e-9);  // b's 50 Hz grid to a's end, not 7.2e10 s
+  EXPECT_EQ(r.out_of_order[0], 1u);
+  // The leap as the very last sample is dropped too.
+  times[40] = kStartUs + 400'000;
+  times.back() |= std::uint64_t{1} << 56;
+  EXPECT_EQ(Extract(TwoRatesLog(times), "a.v").t_s.size(), 100u);
+}
+
 TEST(UlogSignals, SamplesBeforeTheStartHaveNegativeTimes) {
   UlogWriter w(1, 5'000'000);
   w.Format("a:uint64_t timestamp;uint8_t v;").Subscribe(0, 0, "a");
