@@ -2,14 +2,17 @@
 // that odonata-fit reads.
 
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "bus/event_log_reader.hpp"
 #include "bus_cli/bus_options.hpp"
 #include "cli/parse_command_line.hpp"
+#include "io/atomic_file.hpp"
 #include "log_export/log_csv_export.hpp"
 #include "logger_node.hpp"
 
@@ -105,7 +108,9 @@ CLI::App* AddExportCommand(CLI::App& app, ExportCli& e) {
   return exp;
 }
 
-void ExportSamples(const ExportCli& e) {
+// Returns the samples of the exported run the log misses (incomplete, or lost on the way): one
+// count with the predictions missing, in the scores (ExportIdentifierOutputs).
+long ExportSamples(const ExportCli& e) {
   if (e.signals) {
     if (e.ex.decimate != 1)
       throw std::runtime_error("--decimate applies to the DI-MAV's samples, not to --signals");
@@ -122,7 +127,7 @@ void ExportSamples(const ExportCli& e) {
                    "name is taken by an earlier column; give odonata-fit --output or --input "
                    "%s)\n",
                    name.c_str(), column.c_str(), column.c_str());
-    return;
+    return s.lost;
   }
   const auto s = odonata::log_export::ExportLogToCsv(e.logs, e.csv, e.ex);
   std::fprintf(stderr, "odonata-logger: %ld samples of run %d (of %d) written to %s", s.rows,
@@ -135,10 +140,11 @@ void ExportSamples(const ExportCli& e) {
   if (s.dropped_blocks)
     std::fprintf(stderr, "; %ld decimation blocks dropped for a missing sample", s.dropped_blocks);
   std::fprintf(stderr, "\n");
+  return s.incomplete;
 }
 
 // The identifier's predictions and snapshots in the log, as files and scores.
-void ExportIdentifierOutputs(const ExportCli& e) {
+void ExportIdentifierOutputs(const ExportCli& e, long samples_missing) {
   if (!e.predictions_csv.empty()) {
     const long n = odonata::log_export::ExportPredictionsToCsv(e.logs, e.prediction_channel,
                                                                e.predictions_csv);
@@ -151,6 +157,12 @@ void ExportIdentifierOutputs(const ExportCli& e) {
                                                                e.scores_json, &missing);
     std::fprintf(stderr, "odonata-logger: %ld predictions scored into %s\n", n,
                  e.scores_json.c_str());
+    // The run's samples the log misses beside its predictions: what odonata-run counts as the
+    // log's loss, one number whichever messages the logger happened to miss.
+    std::ifstream in(e.scores_json);
+    nlohmann::json scores = nlohmann::json::parse(in);
+    scores["samples_missing"] = samples_missing;
+    odonata::io::WriteFileAtomically(e.scores_json, scores.dump(1) + "\n");
     if (missing > 0)
       std::fprintf(stderr,
                    "odonata-logger: WARNING: %lld predictions the identifier published are "
@@ -199,8 +211,7 @@ int main(int argc, char** argv) {
     if (e.strict)
       odonata::bus::ForEachLogEvent(
           e.logs, [](const lcm::LogEvent&) {}, true);
-    ExportSamples(e);
-    ExportIdentifierOutputs(e);
+    ExportIdentifierOutputs(e, ExportSamples(e));
     return 0;
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "odonata-logger: error: %s\n", ex.what());

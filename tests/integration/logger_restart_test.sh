@@ -19,7 +19,7 @@ rc=0
 wait "$PID_run" || rc=$?
 ((rc == 3)) || fail "odonata-run exited $rc, not 3, after its logger was killed: $(cat "$OUT/run.log")"
 grep -q "the logger died; restarted" "$OUT/run.log" || fail "no restart said: $(cat "$OUT/run.log")"
-grep -qE "WARNING: the log misses [1-9][0-9]* of the identifier's predictions; the logger died 1 time" "$OUT/run.log" ||
+grep -qE "WARNING: the log misses [1-9][0-9]* messages \([0-9]+ of the run's samples incomplete, [0-9]+ of the identifier's predictions\); the logger died 1 time" "$OUT/run.log" ||
   fail "the loss was not counted: $(cat "$OUT/run.log")"
 # Everything else was written as usual, from both files of the log.
 [[ -s $OUT/run/train.csv && -s $OUT/run/scores.json && -s $OUT/run/model.json ]] ||
