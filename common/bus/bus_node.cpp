@@ -1,6 +1,7 @@
 #include "bus/bus_node.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -21,6 +22,34 @@ int64_t NowUtime() {
              std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
+
+namespace {
+
+// SIGINT/SIGTERM seen, even while a handler blocks the loop (a landing waiting for its refit):
+// asio's own handler only queues the signal for the loop, so ours runs first and chains to it.
+volatile std::sig_atomic_t g_stop_signal = 0;
+struct sigaction g_asio_handlers[2];
+
+extern "C" void NoteStopSignal(int sig) {
+  g_stop_signal = 1;
+  const struct sigaction& next = g_asio_handlers[sig == SIGINT ? 0 : 1];
+  if (next.sa_handler != SIG_DFL && next.sa_handler != SIG_IGN) next.sa_handler(sig);
+}
+
+void ChainStopSignals() {
+  for (const int sig : {SIGINT, SIGTERM}) {
+    struct sigaction current {};
+    if (sigaction(sig, nullptr, &current) != 0 || current.sa_handler == NoteStopSignal) continue;
+    g_asio_handlers[sig == SIGINT ? 0 : 1] = current;
+    struct sigaction ours = current;
+    ours.sa_handler = NoteStopSignal;
+    sigaction(sig, &ours, nullptr);
+  }
+}
+
+}  // namespace
+
+bool BusNode::stop_requested() const { return g_stop_signal != 0 || stopping_; }
 
 BusNode::BusNode(const BusOptions& options)
     : options_(options),
@@ -73,6 +102,7 @@ BusNode::BusNode(const BusOptions& options)
       throw std::runtime_error("cannot make LCM's notify descriptor non-blocking");
     WaitForLcm();
   }
+  ChainStopSignals();
   signals_.async_wait([this](const boost::system::error_code& ec, int) {
     if (ec) return;
     stopped_by_signal_ = true;

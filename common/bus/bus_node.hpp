@@ -114,6 +114,9 @@ class BusNode {
   void OnShutdown(std::function<void()> fn) { on_shutdown_ = std::move(fn); }
   /// True once SIGINT or SIGTERM stopped the loop (not the service's own Stop()).
   bool stopped_by_signal() const { return stopped_by_signal_; }
+  /// True once SIGINT or SIGTERM arrived or Stop() began, even while a handler blocks the loop
+  /// (so that a long wait inside one can give up and let the stop happen).
+  bool stop_requested() const;
   /// The code Run() returns, for a shutdown hook that learns the run did not finish.
   void SetExitCode(int code) { exit_code_ = code; }
   int exit_code() const { return exit_code_; }

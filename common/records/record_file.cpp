@@ -9,6 +9,8 @@
 #include "crazyflie_usd/usd_log_signals.hpp"
 #include "dataflash/dataflash_file.hpp"
 #include "dataflash/dataflash_signals.hpp"
+#include "mavlink/tlog_file.hpp"
+#include "mavlink/tlog_signals.hpp"
 #include "records/record_grid.hpp"
 #include "timeseries/nothing_to_identify.hpp"
 #include "ulog/ulog_file.hpp"
@@ -115,6 +117,16 @@ Record ReadDataflash(const std::string& path, const RecordOptions& o) {
   return ReadSignalLog(path, o, file, dataflash::Extract, std::move(r));
 }
 
+Record ReadTlog(const std::string& path, const RecordOptions& o) {
+  if (o.signals.empty()) throw std::invalid_argument(NameThem(path, "a MAVLink telemetry log"));
+  const mavlink::TlogFile file = mavlink::Read(path);
+  Record r;
+  if (!file.complete())
+    r.warnings.push_back(DamageWarning(path, file.problem_offset, file.problem));
+  for (const auto& n : file.notes) r.warnings.push_back(path + ": " + n);
+  return ReadSignalLog(path, o, file, mavlink::Extract, std::move(r));
+}
+
 Record ReadUsdLog(const std::string& path, const RecordOptions& o) {
   if (o.signals.empty()) throw std::invalid_argument(NameThem(path, "a Crazyflie micro-SD log"));
   const crazyflie_usd::UsdLogFile file = crazyflie_usd::Read(path);
@@ -135,6 +147,7 @@ RecordFormat DetectFormat(const std::string& path) {
   head.resize(static_cast<std::size_t>(in.gcount()));
   if (dataflash::LooksLikeDataflash(head)) return RecordFormat::kDataflash;
   if (crazyflie_usd::LooksLikeUsdLog(head)) return RecordFormat::kCrazyflieUsd;
+  if (mavlink::LooksLikeTlog(head)) return RecordFormat::kMavlinkTlog;
   return RecordFormat::kCsv;
 }
 
@@ -146,6 +159,8 @@ const char* FormatName(RecordFormat format) {
       return "ArduPilot DataFlash";
     case RecordFormat::kCrazyflieUsd:
       return "Crazyflie micro-SD";
+    case RecordFormat::kMavlinkTlog:
+      return "MAVLink telemetry log";
     case RecordFormat::kCsv:
       break;
   }
@@ -160,6 +175,8 @@ Record ReadRecord(const std::string& path, const RecordOptions& options) {
       return ReadDataflash(path, options);
     case RecordFormat::kCrazyflieUsd:
       return ReadUsdLog(path, options);
+    case RecordFormat::kMavlinkTlog:
+      return ReadTlog(path, options);
     case RecordFormat::kCsv:
       break;
   }

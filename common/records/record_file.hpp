@@ -21,10 +21,11 @@ bool IsUlog(const std::string& path);
 
 /// What a record file is, told by its content, never by its name alone: a PX4 ULog, an
 /// ArduPilot DataFlash log (0xA3 0x95 and an FMT record first), a Crazyflie micro-SD deck log
-/// (0xBC, version 1 or 2), else a CSV.
-enum class RecordFormat { kCsv, kUlog, kDataflash, kCrazyflieUsd };
+/// (0xBC, version 1 or 2), a MAVLink telemetry log (a ground station's .tlog: a big-endian
+/// timestamp, then a frame), else a CSV.
+enum class RecordFormat { kCsv, kUlog, kDataflash, kCrazyflieUsd, kMavlinkTlog };
 RecordFormat DetectFormat(const std::string& path);
-/// "CSV", "PX4 ULog", "ArduPilot DataFlash", "Crazyflie micro-SD".
+/// "CSV", "PX4 ULog", "ArduPilot DataFlash", "Crazyflie micro-SD", "MAVLink telemetry log".
 const char* FormatName(RecordFormat format);
 
 struct RecordOptions {

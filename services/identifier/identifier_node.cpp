@@ -48,22 +48,11 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
   if (initial) core_.KeepExpertRules();
   // Samples are formed from the first message on; while it waits for a snapshot they are kept.
   stream_.Start();
-  // A landing that must wait for its refit blocks this thread, and with it the heartbeat timer.
-  // Say so first, so a lockstep generator waits instead of resending into a process that is not
-  // reading (docs/lcm.md §10), and keep beating meanwhile: a generator that starts during the
-  // wait (the next phase, after a freeze's closing refit) hears a consumer that will read again,
-  // not silence, and the monitor sees why nothing comes.
-  core_.SetRefitWaitHook(
-      [this] {
-        if (bus_.state() == "refitting") {
-          bus_.PublishHeartbeat();
-          return;
-        }
-        state_before_refit_ = bus_.state();
-        bus_.SetState("refitting");
-      },
-      std::chrono::milliseconds(
-          std::max<int64_t>(1, static_cast<int64_t>(bus_.options().heartbeat_period_s * 1e3))));
+  // A landing that must wait for its refit blocks this thread: WhileRefitting says so and beats
+  // (a generator that starts during the wait hears a consumer that will read again).
+  core_.SetRefitWaitHook([this] { return WhileRefitting(); },
+                         std::chrono::milliseconds(std::max<int64_t>(
+                             1, static_cast<int64_t>(bus_.options().heartbeat_period_s * 1e3))));
   const auto& ch = config_.channels;
   if (config_.source == SampleSource::kSignals) {
     // Any vehicle, one signals_t per sample: no pairing, and no lockstep receipts (odonata's

@@ -30,6 +30,11 @@ namespace odonata::identifier {
 /// Exit code of a run in which a prediction was not finite (the model diverged and was restored).
 inline constexpr int kExitDiverged = 3;
 
+/// The longest a landing waits for its refit before giving up on it (the refit cancelled, the
+/// model kept, the refit counted as failed with the reason): a refit starved of CPU must not hold
+/// the identifier, its heartbeat "refitting", for ever (docs/guide/live-system.md).
+inline constexpr int kRefitWaitBoundS = 600;
+
 class IdentifierNode {
  public:
   /// @param initial a saved model to start from; without one the node first asks the bus for
@@ -95,6 +100,9 @@ class IdentifierNode {
   int64_t experts_reported_ = 0;     ///< of them, those that kept the rules it started from
   bool expert_replaced_reported_ = false;
   std::string state_before_refit_;  ///< the heartbeat state to go back to after "refitting"
+  std::chrono::steady_clock::time_point refit_wait_began_;
+  /// Called while a landing waits for its refit (identifier_refit_wait.cpp).
+  sysid::RefitWait WhileRefitting();
   int64_t snapshot_seq_ = 0;
   // The last model that predicted finitely (KeepLastGood), and the divergences since start.
   std::optional<sysid::NarxModel> last_good_;

@@ -9,6 +9,8 @@
 #include "crazyflie_usd/usd_log_signals.hpp"
 #include "dataflash/dataflash_file.hpp"
 #include "dataflash/dataflash_signals.hpp"
+#include "mavlink/tlog_file.hpp"
+#include "mavlink/tlog_signals.hpp"
 #include "records/record_file.hpp"
 #include "ulog/ulog_file.hpp"
 #include "ulog/ulog_signals.hpp"
@@ -99,6 +101,24 @@ int UsdTopics(const std::string& path, const std::string& match) {
   return 0;
 }
 
+int TlogTopics(const std::string& path, const std::string& match) {
+  const odonata::mavlink::TlogFile f = odonata::mavlink::Read(path);
+  const auto signals = odonata::mavlink::ListSignals(f);
+  std::printf("%s: MAVLink telemetry log, %zu bytes\n", path.c_str(), f.file_size);
+  Damage(f.complete(), static_cast<unsigned long long>(f.problem_offset), f.problem);
+  for (const auto& n : f.notes) std::printf("  note: %s\n", n.c_str());
+  std::printf("%-48s %-9s %8s %10s\n", "signal", "type", "samples", "median Hz");
+  std::size_t shown = 0;
+  for (const auto& s : signals) {
+    if (!Shown(s.name, match)) continue;
+    std::printf("%-48s %-9s %8zu %10.2f\n", s.name.c_str(), s.type.c_str(), s.samples,
+                s.median_rate_hz);
+    ++shown;
+  }
+  Footer(shown, signals.size(), match);
+  return 0;
+}
+
 }  // namespace
 
 int Topics(const std::string& path, const std::string& match) {
@@ -109,10 +129,13 @@ int Topics(const std::string& path, const std::string& match) {
       return DataflashTopics(path, match);
     case odonata::records::RecordFormat::kCrazyflieUsd:
       return UsdTopics(path, match);
+    case odonata::records::RecordFormat::kMavlinkTlog:
+      return TlogTopics(path, match);
     case odonata::records::RecordFormat::kCsv:
       break;
   }
-  throw std::runtime_error(path +
-                           " is no flight log this tool reads (not a PX4 ULog, an ArduPilot "
-                           "DataFlash log or a Crazyflie micro-SD log, by its first bytes)");
+  throw std::runtime_error(
+      path +
+      " is no flight log this tool reads (not a PX4 ULog, an ArduPilot "
+      "DataFlash log, a Crazyflie micro-SD log or a MAVLink .tlog, by its first bytes)");
 }

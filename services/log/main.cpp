@@ -21,9 +21,10 @@ namespace {
 int Export(const std::string& path, const odonata::records::RecordOptions& o,
            const std::string& out_path) {
   if (odonata::records::DetectFormat(path) == odonata::records::RecordFormat::kCsv)
-    throw std::runtime_error(path +
-                             " is no flight log this tool reads (not a PX4 ULog, an ArduPilot "
-                             "DataFlash log or a Crazyflie micro-SD log, by its first bytes)");
+    throw std::runtime_error(
+        path +
+        " is no flight log this tool reads (not a PX4 ULog, an ArduPilot "
+        "DataFlash log, a Crazyflie micro-SD log or a MAVLink .tlog, by its first bytes)");
   const odonata::records::Record r = odonata::records::ReadRecord(path, o);
   for (const auto& w : r.warnings) std::fprintf(stderr, "odonata-log: warning: %s\n", w.c_str());
   for (const auto& n : r.notes) std::fprintf(stderr, "odonata-log: %s\n", n.c_str());
@@ -60,7 +61,8 @@ int Export(const std::string& path, const odonata::records::RecordOptions& o,
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Reads flight logs — PX4 ULog, ArduPilot DataFlash (.bin), Crazyflie micro-SD (told by "
+      "Reads flight logs — PX4 ULog, ArduPilot DataFlash (.bin), Crazyflie micro-SD, MAVLink "
+      ".tlog (told by "
       "their content, not their names): lists their signals, and writes chosen ones as the CSV "
       "odonata-fit reads (odonata-fit and odonata-replay also take such a log as it is)."};
   app.require_subcommand(1);

@@ -18,6 +18,16 @@ grep -q "Crazyflie micro-SD, version 2" "$OUT/usd_topics.txt" && grep -q "CRC va
   { cat "$OUT/usd_topics.txt"; fail "the micro-SD log header"; }
 grep -qE "^gyro\.x +float +7930 " "$OUT/usd_topics.txt" || fail "gyro.x's 7930 samples"
 
+# A ground station's MAVLink telemetry log, as ArduPilot and PX4 users record it.
+TLOG=$ODONATA_MAVLINK/ardusub_small.tlog
+"$LOG" topics "$TLOG" --match ATTITUDE. >"$OUT/tlog_topics.txt" || fail "topics of the .tlog"
+grep -qE "^ATTITUDE\.pitchspeed +float +5245 +20\.00" "$OUT/tlog_topics.txt" ||
+  { cat "$OUT/tlog_topics.txt"; fail "ATTITUDE.pitchspeed's 5245 frames at 20 Hz"; }
+"$FIT" --train "$TLOG" --output ATTITUDE.pitchspeed --input SERVO_OUTPUT_RAW.servo5_raw --ny 2 --nu 2 \
+  --horizon 5 >"$OUT/tlog_fit.out" 2>&1 || { cat "$OUT/tlog_fit.out"; fail "odonata-fit on the .tlog"; }
+grep -q "one grid at 2 Hz (the slowest signal's rate" "$OUT/tlog_fit.out" ||
+  { cat "$OUT/tlog_fit.out"; fail "the .tlog's grid"; }
+
 # Content, not name: the DataFlash log under a CSV's name.
 ln -s "$BIN" "$OUT/flight.csv"
 "$FIT" --train "$OUT/flight.csv" --output ATT.Pitch --input RCOU.C3 --ny 2 --nu 2 --horizon 5 --json \
@@ -49,4 +59,4 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 assert len(rows) > 1500, len(rows)  # on stateEstimate's 253 Hz grid, the slower of the two
 assert all(math.isfinite(float(r["stateEstimate.z"])) for r in rows[5:-5])
 PY
-pass "DataFlash and micro-SD logs: listed with units and rates, told by content under a CSV's name, fitted and exported as they are, typos answered with the nearest names"
+pass "DataFlash, micro-SD and MAVLink telemetry logs: listed with units and rates, told by content under a CSV's name, fitted and exported as they are, typos answered with the nearest names"

@@ -90,7 +90,7 @@ class OnlineIdentifier {
   bool has_expert() const { return refitter_.has_expert(); }
   /// Called before the model waits for a scheduled refit that has not finished, and every
   /// `period` while it waits (ScheduledRefitter::SetWaitHook).
-  void SetRefitWaitHook(std::function<void()> hook,
+  void SetRefitWaitHook(std::function<RefitWait()> hook,
                         std::chrono::milliseconds period = std::chrono::milliseconds(1000)) {
     refitter_.SetWaitHook(std::move(hook), period);
   }

@@ -333,7 +333,12 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   if (!pending_.valid()) return false;
   if (wait_hook_ && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
     do {
-      wait_hook_();
+      if (wait_hook_() == RefitWait::kGiveUp) {
+        Cancel();
+        ++failed_;
+        last_failure_ = "given up while waiting for it (a stop, or the wait's bound)";
+        return false;
+      }
     } while (pending_.wait_for(wait_hook_period_) != std::future_status::ready);
   }
   std::optional<Refitted> refitted = pending_.get();

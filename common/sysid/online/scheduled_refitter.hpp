@@ -78,6 +78,9 @@ struct RefitSchedule {
   bool Due(int64_t learned) const;
 };
 
+/// What a landing that waits for its refit does next (ScheduledRefitter::SetWaitHook).
+enum class RefitWait { kKeepWaiting, kGiveUp };
+
 /// Keeps the samples learned and runs the refits of a schedule on them. Once `buffer` samples
 /// have been learned the buffer is full, or short by up to three blocks just after a doubling
 /// (below): a run of the most recent samples, at least RecentSamples() long, and before it an
@@ -119,7 +122,10 @@ class ScheduledRefitter {
   /// again every `period` while it still waits: the identifier says, and keeps saying, that it
   /// is busy, so a lockstep generator waits instead of resending, and one that starts meanwhile
   /// still hears it (docs/lcm.md §10).
-  void SetWaitHook(std::function<void()> hook,
+  /// The hook answers whether to go on waiting: kGiveUp (a stop was asked for, or the wait is
+  /// past its bound) cancels the refit (it stops at its next training pass), counts it as failed
+  /// with the reason, and the model keeps learning as it was.
+  void SetWaitHook(std::function<RefitWait()> hook,
                    std::chrono::milliseconds period = std::chrono::milliseconds(1000)) {
     wait_hook_ = std::move(hook);
     wait_hook_period_ = period;
@@ -250,7 +256,7 @@ class ScheduledRefitter {
   int64_t incumbents_kept_ = 0;
   int64_t steady_state_refused_ = 0;
   int64_t linear_landed_ = 0;
-  std::function<void()> wait_hook_;
+  std::function<RefitWait()> wait_hook_;
   std::chrono::milliseconds wait_hook_period_{1000};
 };
 

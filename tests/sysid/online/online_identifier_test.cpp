@@ -136,6 +136,7 @@ TEST(OnlineIdentifier, AWaitForARefitCallsTheWaitHookAgainEveryPeriod) {
       [&] {
         calls.push_back(Clock::now());
         refits_at_call.push_back(id.refits());
+        return RefitWait::kKeepWaiting;
       },
       kPeriod);
   for (Eigen::Index k = 0; k < train.samples(); ++k) id.Push(Row(train, k));
@@ -154,6 +155,29 @@ TEST(OnlineIdentifier, AWaitForARefitCallsTheWaitHookAgainEveryPeriod) {
   const std::size_t calls_before = calls.size();
   id.Settle();  // nothing in flight: no wait, no call
   EXPECT_EQ(calls.size(), calls_before);
+}
+
+// Issue 61 finding 6: a landing whose wait hook gives up (a SIGTERM, an overrun) cancels the
+// refit within a training pass, counts it as failed with the reason, and the model still predicts
+// and keeps learning.
+TEST(OnlineIdentifier, AWaitThatGivesUpCancelsTheRefitAndKeepsTheModel) {
+  const Series train = testing::NarendraTrain(400);
+  RefitSchedule refit;
+  refit.first = 1000;  // only the freeze's closing refit
+  OnlineIdentifier id(Empty(fuzzy::ConsequentKind::kLinear, train), refit);
+  int calls = 0;
+  id.SetRefitWaitHook([&] { return ++calls >= 2 ? RefitWait::kGiveUp : RefitWait::kKeepWaiting; },
+                      std::chrono::milliseconds(1));
+  for (Eigen::Index k = 0; k < 300; ++k) id.Push(Row(train, k));
+  const std::string before = id.model().ToJson().dump();
+  id.Freeze();
+  id.Settle();  // a whole model selection: far longer than two 1 ms periods
+  ASSERT_GE(calls, 2) << "the refit ended before the wait could give up";
+  EXPECT_EQ(id.refits(), 0);
+  EXPECT_EQ(id.failed_refits(), 1);
+  EXPECT_NE(id.last_refit_failure().find("given up"), std::string::npos) << id.last_refit_failure();
+  EXPECT_EQ(id.model().ToJson().dump(), before) << "the model changed though the refit was dropped";
+  EXPECT_TRUE(id.model().Predict(Eigen::VectorXd::Zero(id.model().spec().size())).allFinite());
 }
 
 TEST(OnlineIdentifier, ARefitWithTooFewSamplesKeepsTheModel) {
