@@ -1,5 +1,6 @@
 // odonata-fit: fit an entropy fuzzy NARX model offline on CSV files and report its accuracy.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -83,6 +84,17 @@ int main(int argc, char** argv) {
                                                       : c.rules
                                                           ? odonata::fit::RulesShown::kReadable
                                                           : odonata::fit::RulesShown::kNone);
+    }
+    // A model that came out a constant has identified nothing: the outputs are written (to be
+    // looked at), but the run is no success (issue 57).
+    const nlohmann::json flags = report.contains("verdict")
+                                     ? report["verdict"].value("flags", nlohmann::json::array())
+                                     : nlohmann::json::array();
+    if (std::find(flags.begin(), flags.end(), "constant") != flags.end()) {
+      std::cerr << "odonata-fit: nothing to identify: the model is a constant ("
+                << report["verdict"]["text"].get<std::string>()
+                << "); the data does not show the output answering the inputs\n";
+      return odonata::sysid::kNothingToIdentifyExit;
     }
   } catch (const odonata::sysid::NothingToIdentify& e) {
     std::cerr << "odonata-fit: nothing to identify: " << e.what() << std::endl;

@@ -307,6 +307,12 @@ TEST(FitCli, NothingToIdentifyIsAFindingWithItsOwnExitCode) {
   const ProcessResult r = Exec("--train " + Write("short.csv", shortlog) + " --output y --input u");
   EXPECT_EQ(r.status, 3) << r.out;
   EXPECT_NE(r.out.find("settings would be chosen on"), std::string::npos) << r.out;
+  // A model that comes out a constant (one singleton rule) is no success either: flagged, exit 3.
+  const ProcessResult c = Exec("--train " + std::string(ODONATA_EXAMPLES_DIR) +
+                               "/narendra/train.csv --output y --input u --no-select --consequent "
+                               "singleton --max-rules 1 --epochs 1");
+  EXPECT_EQ(c.status, 3) << c.out;
+  EXPECT_NE(c.out.find("the model is a constant"), std::string::npos) << c.out;
   // A window that keeps nothing.
   const ProcessResult w = Exec("--train " + Write("win.csv", flat) +
                                " --output y --input u --rate 100 --from 100 --to 101");
