@@ -3,9 +3,11 @@
 // arguments, and a mistyped option answered with the closest one it may have meant.
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -29,6 +31,34 @@ inline std::size_t EditDistance(const std::string& a, const std::string& b) {
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
   return d[a.size()][b.size()];
+}
+
+/// The `most` names of `candidates` closest to `name` by EditDistance, closest first (ties in
+/// alphabetical order): the "nearest: …" every reader of a log answers a mistyped name with.
+/// `name_of` gives a candidate's name.
+template <class Range, class NameOf>
+std::vector<std::string> NearestNames(const std::string& name, const Range& candidates,
+                                      NameOf name_of, std::size_t most = 5) {
+  std::vector<std::pair<std::size_t, const std::string*>> near;
+  for (const auto& c : candidates) {
+    const std::string& n = name_of(c);
+    near.emplace_back(EditDistance(name, n), &n);
+  }
+  const std::size_t shown = std::min(most, near.size());
+  std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(shown), near.end(),
+                    [](const auto& a, const auto& b) {
+                      return a.first != b.first ? a.first < b.first : *a.second < *b.second;
+                    });
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < shown; ++i) out.push_back(*near[i].second);
+  return out;
+}
+
+/// "a, b, c".
+inline std::string JoinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
 }
 
 /// The long options of `app` and of its subcommands, without their dashes.

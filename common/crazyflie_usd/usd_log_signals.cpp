@@ -110,17 +110,9 @@ const SignalRef& Lookup(const UsdLogFile& file, const Catalogue& c, const std::s
   const std::string message = "no signal '" + name + "' in " + file.source + Hint(file, name);
   if (c.signals.empty())
     throw std::invalid_argument(message + "; it has no signals (no event type logged a record)");
-  std::vector<std::pair<std::size_t, const std::string*>> near;
-  near.reserve(c.signals.size());
-  for (const SignalRef& s : c.signals) near.emplace_back(cli::EditDistance(name, s.name), &s.name);
-  const std::size_t shown = std::min<std::size_t>(5, near.size());
-  std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(shown), near.end(),
-                    [](const auto& a, const auto& b) {
-                      return a.first != b.first ? a.first < b.first : *a.second < *b.second;
-                    });
-  std::string nearest;
-  for (std::size_t i = 0; i < shown; ++i) nearest += (i ? ", " : "") + *near[i].second;
-  throw std::invalid_argument(message + "; nearest: " + nearest);
+  const std::vector<std::string> near = cli::NearestNames(
+      name, c.signals, [](const auto& s) -> const std::string& { return s.name; });
+  throw std::invalid_argument(message + "; nearest: " + cli::JoinNames(near));
 }
 
 }  // namespace

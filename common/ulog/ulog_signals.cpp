@@ -252,14 +252,9 @@ std::string Px4RenameHint(const std::string& name) {
 
 const SignalRef& Lookup(const UlogFile& file, const Catalogue& c, const std::string& name) {
   if (const auto it = c.by_name.find(name); it != c.by_name.end()) return c.signals[it->second];
-  std::vector<std::pair<std::size_t, const std::string*>> near;
-  near.reserve(c.signals.size());
-  for (const auto& s : c.signals) near.emplace_back(cli::EditDistance(name, s.name), &s.name);
-  const std::size_t shown = std::min<std::size_t>(5, near.size());
-  std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(shown), near.end(),
-                    [](const auto& a, const auto& b) {
-                      return a.first != b.first ? a.first < b.first : *a.second < *b.second;
-                    });
+  const std::vector<std::string> near = cli::NearestNames(
+      name, c.signals, [](const auto& s) -> const std::string& { return s.name; });
+  const std::size_t shown = near.size();
   std::string message = "no signal '" + name + "' in " + file.source;
   if (const std::string hint = Px4RenameHint(name); !hint.empty()) message += " (" + hint + ")";
   const std::string prefix = name.substr(0, name.find('.'));
@@ -269,7 +264,7 @@ const SignalRef& Lookup(const UlogFile& file, const Catalogue& c, const std::str
                                   "' is subscribed but has no samples");
   if (shown == 0) throw std::invalid_argument(message + " (it has no numeric signals)");
   message += "; nearest: ";
-  for (std::size_t i = 0; i < shown; ++i) message += (i ? ", " : "") + *near[i].second;
+  message += cli::JoinNames(near);
   throw std::invalid_argument(message);
 }
 
