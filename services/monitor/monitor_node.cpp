@@ -263,7 +263,7 @@ void MonitorNode::Print() {
   // integrate), and free run. "<= ARX" marks a mode whose rules do not beat linear over the
   // window (one step or K steps ahead: the comparison the alarm makes; free run where ARX's own
   // simulation holds: two diverging runs say nothing).
-  std::snprintf(line, sizeof line, "%-12s %5s %-8s %19s %19s %7s\n", "output", "rules", "mode",
+  std::snprintf(line, sizeof line, "%-9s %5s %-8s %19s %19s %6s\n", "output", "rules", "mode",
                 "FIT window (ARX)", "FIT run (ARX)", "samples");
   text += line;
   // A FIT below −100 % (errors over twice the signal's spread) is a diverging simulation, not
@@ -285,7 +285,7 @@ void MonitorNode::Print() {
     const bool k_step = o.has_ahead();
     // A name longer than its column goes on a line of its own, so the columns stay aligned.
     std::string label_text = name;
-    if (name.size() > 12) {
+    if (name.size() > 9) {
       text += name + "\n";
       label_text = "";
     }
@@ -296,7 +296,7 @@ void MonitorNode::Print() {
       const std::string rules = first ? std::to_string(o.rules) : "";
       const std::string samples = first ? std::to_string(mine.total.samples()) : "";
       std::snprintf(
-          line, sizeof line, "%-12s %5s %-8s %19s %19s %7s%s\n", label.c_str(), rules.c_str(),
+          line, sizeof line, "%-9s %5s %-8s %19s %19s %6s%s\n", label.c_str(), rules.c_str(),
           mode.c_str(),
           pair(mine.window.Get().fit_percent, linear.window.Get().fit_percent, arx).c_str(),
           pair(mine.total.Get().fit_percent, linear.total.Get().fit_percent, arx).c_str(),

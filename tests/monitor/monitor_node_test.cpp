@@ -38,12 +38,12 @@ class MonitorNodeTest : public ::testing::Test {
     mo.scoring.warn_fit_percent = 80.0;
     node_ = std::make_unique<MonitorNode>(*bus_, mo);
   }
-  void Send(int64_t k, double predicted, double free_run) {
+  void Send(int64_t k, double predicted, double free_run, const std::string& name = "roll_rad") {
     odonata::prediction_t p{};
     p.seq = k;
     p.sample = k;
     p.num_outputs = 1;
-    p.names = {"roll_rad"};
+    p.names = {name};
     p.measured = {Y(k)};
     p.predicted = {predicted};
     p.free_run = {free_run};
@@ -118,6 +118,31 @@ TEST_F(MonitorNodeTest, PublishesWindowAndTotalAccuracyOfBothModes) {
 }
 
 // A model that does no better than the live ARX is marked, and unmarked when it does again.
+// Issue 57: a signal name longer than its column goes on a line of its own, every line of the
+// table keeps to 80 columns, and a diverging free run prints as "diverges", as in every tool.
+TEST_F(MonitorNodeTest, ALongNameHasItsOwnLineAndADivergingRunSaysSo) {
+  const std::string name = "vehicle_angular_velocity.xyz[1]";
+  for (int64_t k = 0; k < 150; ++k) Send(k, OneStep(k), 1e3 * static_cast<double>(k), name);
+  ::testing::internal::CaptureStdout();
+  bus_->Stop(0);  // the shutdown prints the table once more
+  const std::string table = ::testing::internal::GetCapturedStdout();
+  // The name on its own line, its rows below it aligned under the header's columns.
+  const std::size_t at = table.find("\n" + name + "\n");
+  ASSERT_NE(at, std::string::npos) << table;
+  EXPECT_EQ(table.compare(at + name.size() + 2, 15, std::string(14, ' ') + "3"), 0) << table;
+  std::size_t begin = 0;
+  while (begin < table.size()) {
+    const std::size_t end = std::min(table.find('\n', begin), table.size());
+    const std::string line = table.substr(begin, end - begin);
+    // The table's columns (a row's notes, "25% outside", "<= ARX", may run past them).
+    if (line.find("errors ") == std::string::npos) {
+      EXPECT_LE(std::min(line.size(), line.find("  ", 60)), 80u) << line;
+    }
+    begin = end + 1;
+  }
+  EXPECT_NE(table.find("diverges"), std::string::npos) << table;
+}
+
 TEST_F(MonitorNodeTest, MarksAWindowWhereTheFuzzyModelDoesNotBeatTheLiveArx) {
   for (int64_t k = 0; k < 150; ++k) Send(k, OneStep(k), FreeRun(k));
   EXPECT_FALSE(node_->BehindArx("roll_rad"));
