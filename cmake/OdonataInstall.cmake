@@ -4,7 +4,8 @@
 include(GNUInstallDirs)
 
 set(_odonata_installed odonata-plant odonata-signal odonata-identifier odonata-monitor
-    odonata-logger odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log)
+    odonata-logger odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log
+    odonata-mavlink)
 # A package for any x86-64 that still fits 1.5x faster where AVX2 and FMA exist (docs/reference/benchmarks.md,
 # the x86-64 levels): deploy/package.sh builds this tree for baseline x86-64 and a second one for
 # x86-64-v3 (ODONATA_V3_TREE); both sets of programs go to libexec/odonata/<level>/, and bin/
@@ -49,7 +50,7 @@ install(DIRECTORY deploy/odonata_report DESTINATION ${CMAKE_INSTALL_DATADIR}/odo
 install(PROGRAMS deploy/odonata-compare DESTINATION ${CMAKE_INSTALL_BINDIR})
 # bash-completion loads a command's completion from a file of its name.
 foreach(_p odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger
-        odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log odonata-run odonata-compare
+        odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log odonata-mavlink odonata-run odonata-compare
         odonata-make-identifier-config)
   install(FILES deploy/odonata.bash-completion
           DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions RENAME ${_p})

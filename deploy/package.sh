@@ -9,7 +9,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 DIR="$ROOT/build-package"
 V3="$ROOT/build-package-v3"
 PROGRAMS=(odonata-plant odonata-signal odonata-identifier odonata-monitor odonata-logger
-  odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log)
+  odonata-control odonata-fit odonata-sim odonata-export odonata-replay odonata-ulog odonata-log
+  odonata-mavlink)
 common=(-DCMAKE_BUILD_TYPE=Release -DODONATA_NATIVE_ARCH=OFF -DODONATA_BUILD_TESTS=OFF
   -DODONATA_BUILD_BENCHMARKS=OFF)
 cmake -S "$ROOT" -B "$V3" "${common[@]}" -DODONATA_FORCE_X86_64_V3=ON >/dev/null

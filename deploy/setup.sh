@@ -10,7 +10,7 @@ PACKAGES=(
   libjchart2d-java xvfb
   python3 python3-matplotlib python3-numpy python3-sklearn iproute2 util-linux iptables
   octave octave-fuzzy-logic-toolkit octave-control file dpkg-dev help2man bash-completion mmdebstrap
-  clang-format universal-ctags chromium man-db
+  clang-format universal-ctags chromium man-db socat
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

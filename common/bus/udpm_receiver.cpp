@@ -13,27 +13,11 @@
 #include <boost/asio/ip/multicast.hpp>
 #include <boost/asio/post.hpp>
 
+#include "bus/socket_buffer.hpp"
 #include "bus/udpm_channel_filter.hpp"
 
 namespace odonata::bus {
 namespace {
-
-// Without recv_buf_size in the URL: room for a lockstep window's burst (16 samples of commands,
-// states, beat states, receipts and predictions, plus a model snapshot's fragments) while the
-// process is off the CPU. The kernel's default (212992 bytes, in truesize) holds about 150 small
-// datagrams; a lost prediction is not resent (docs/lcm.md §5).
-constexpr int kDefaultReceiveBuffer = 8 << 20;
-
-// SO_RCVBUF is capped at net.core.rmem_max (212992 on a stock Debian); a process with
-// CAP_NET_ADMIN (the services run as root in the tests and the systemd units) may exceed it.
-void SetReceiveBuffer(int fd, int requested) {
-  const int want = requested > 0 ? requested : kDefaultReceiveBuffer;
-  setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &want, sizeof want);
-  int got = 0;
-  socklen_t len = sizeof got;
-  getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &got, &len);
-  if (got / 2 < want) setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &want, sizeof want);  // may fail
-}
 
 int64_t WallUtime() {
   return std::chrono::duration_cast<std::chrono::microseconds>(

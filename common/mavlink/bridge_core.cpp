@@ -13,6 +13,8 @@ namespace odonata::mavlink {
 namespace {
 
 constexpr double kBridgeNaN = std::numeric_limits<double>::quiet_NaN();
+/// Senders named per message in other_senders (a hostile stream must not grow it unbounded).
+constexpr std::size_t kMaxOtherSenders = 16;
 /// Times kept per field for choosing the rate (2 s at 32 kHz).
 constexpr std::size_t kMaxRateWindowSamples = std::size_t{1} << 16;
 
@@ -122,7 +124,9 @@ FieldSelector ParseFieldSelector(const std::string& text) {
 }
 
 BridgeCore::BridgeCore(BridgeOptions options)
-    : options_(std::move(options)), t0_s_(std::numeric_limits<double>::quiet_NaN()) {
+    : options_(std::move(options)),
+      decoder_(options_.signature_check),
+      t0_s_(std::numeric_limits<double>::quiet_NaN()) {
   if (options_.fields.empty()) throw std::invalid_argument("the bridge needs at least one field");
   if (!std::isfinite(options_.rate_hz) || options_.rate_hz < 0.0)
     throw std::invalid_argument(
@@ -175,6 +179,11 @@ void BridgeCore::EndOfDatagram(double arrival_s) {
 
 void BridgeCore::OnFrame(const Frame& frame, double arrival_s) {
   if (frame.message == nullptr) return;
+  if (!frame.is_signed() && options_.unsigned_frames == UnsignedFrames::kRefuse) {
+    ++unsigned_refused_;
+    return;
+  }
+  if (options_.on_frame) options_.on_frame(frame);
   const std::uint16_t key = SenderKey(frame.sysid, frame.compid);
   bool named = false;
   bool taken = false;
@@ -206,7 +215,12 @@ void BridgeCore::OnFrame(const Frame& frame, double arrival_s) {
       f.rate_window_t_s.push_back(arrival_s);
     sampled = true;
   }
-  if (named && !taken) ++other_sender_;
+  if (named && !taken) {
+    ++other_sender_;
+    auto& senders = other_senders_[frame.message->name];
+    if (senders.size() < kMaxOtherSenders)
+      senders.insert(std::to_string(frame.sysid) + ":" + std::to_string(frame.compid));
+  }
   if (sampled) Advance();
 }
 
@@ -324,6 +338,12 @@ std::vector<std::string> BridgeCore::Silent(double now_s) const {
   return silent;
 }
 
+std::size_t BridgeCore::bridge_dropped() const {
+  std::size_t n = other_sender_ + unsigned_refused_;
+  for (const NamedField& f : fields_) n += f.out_of_order + f.overflow_dropped;
+  return n;
+}
+
 std::string BridgeCore::rate_note() const {
   if (rate_hz_ > 0.0 || rate_refused_) return rate_note_;
   return "the grid's rate is chosen once every named field has " +
@@ -348,7 +368,9 @@ nlohmann::json BridgeCore::Summary() const {
                  {"dropped", c.dropped()},
                  {"bytes_skipped", c.bytes_skipped},
                  {"sequence_lost", decoder_.sequences().lost()},
-                 {"other_sender", other_sender_}};
+                 {"other_sender", other_sender_},
+                 {"unsigned_refused", unsigned_refused_},
+                 {"other_senders", other_senders_}};
   j["grid"] = {{"rate_hz", rate_hz_},
                {"rate_note", rate_note()},
                {"t0_s", std::isnan(t0_s_) ? nlohmann::json() : nlohmann::json(t0_s_)},

@@ -52,7 +52,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +87,12 @@ struct FieldSelector {
 ///   known name), an array without an index, a text (char) field.
 FieldSelector ParseFieldSelector(const std::string& text);
 
+/// What a link with a key (BridgeOptions::signature_check) does with an unsigned frame.
+enum class UnsignedFrames : std::uint8_t {
+  kAccept,  ///< take it (no key, or a key and senders that do not sign yet)
+  kRefuse,  ///< drop it, counted in unsigned_refused (a key given: only signed frames count)
+};
+
 struct BridgeOptions {
   std::vector<std::string> fields;  ///< as ParseFieldSelector takes them; at least one
   /// The grid's rate, Hz; 0: once every field has kRateWindowS seconds of samples, the slowest
@@ -91,6 +100,13 @@ struct BridgeOptions {
   double rate_hz = 0.0;
   int max_gap = 3;         ///< the gap rule's (timeseries::GridOptions::max_gap)
   double silence_s = 3.0;  ///< a named field not heard for this long is reported by Silent()
+  /// The link's signature check (link_signature.hpp's SignatureCheckFor); empty: signatures are
+  /// not checked. A signed frame it refuses is dropped and counted (bad_signature).
+  FrameDecoder::SignatureCheck signature_check;
+  UnsignedFrames unsigned_frames = UnsignedFrames::kAccept;
+  /// Called with every frame delivered and not refused, before its fields are read (the
+  /// service's --request-rate learns there that the vehicle is heard and answers).
+  std::function<void(const Frame&)> on_frame;
 };
 
 /// One grid sample.
@@ -123,6 +139,9 @@ class BridgeCore {
   /// the first byte fed, or last heard more than silence_s ago. Empty before anything was fed.
   std::vector<std::string> Silent(double now_s) const;
 
+  /// The named fields, as given (BridgeOptions::fields): the names published.
+  const std::vector<std::string>& field_names() const { return options_.fields; }
+  double silence_s() const { return options_.silence_s; }
   double rate_hz() const { return rate_hz_; }  ///< 0 until chosen
   /// How the rate came: given, chosen (which field, its median rate), or still awaited.
   std::string rate_note() const;
@@ -130,6 +149,15 @@ class BridgeCore {
   double t0_s() const { return t0_s_; }
   std::size_t grid_samples() const { return grid_samples_; }  ///< made so far
   std::size_t gap_samples() const { return gap_samples_; }    ///< of those, with a NaN
+  /// Frames the bridge itself dropped: another sender's frames of a named message, unsigned
+  /// frames refused, and samples out of order or beyond the buffer (decoder drops apart).
+  std::size_t bridge_dropped() const;
+  std::size_t unsigned_refused() const { return unsigned_refused_; }
+  /// Per named message, the senders heard sending it that no field takes ("ATTITUDE" → {"2:1"}):
+  /// a second vehicle on the link, which a plain name does not follow.
+  const std::map<std::string, std::set<std::string>>& other_senders() const {
+    return other_senders_;
+  }
 
   /// Counts, the grid, and per field its samples and when last heard, as JSON.
   nlohmann::json Summary() const;
@@ -179,6 +207,8 @@ class BridgeCore {
   std::size_t grid_samples_ = 0;
   std::size_t gap_samples_ = 0;
   std::size_t other_sender_ = 0;  ///< frames of a named message no field took (another sender)
+  std::size_t unsigned_refused_ = 0;
+  std::map<std::string, std::set<std::string>> other_senders_;
 };
 
 }  // namespace odonata::mavlink

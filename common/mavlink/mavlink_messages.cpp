@@ -36,8 +36,8 @@ MessageDef TableMessage(std::uint32_t id, const char* name, std::vector<FieldDef
 // July 2026): each message's fields in XML order, the extensions after the marker.
 std::vector<MessageDef> TableRows() {
   constexpr FieldType kI8 = FieldType::kInt8, kU8 = FieldType::kUint8, kI16 = FieldType::kInt16,
-                      kU16 = FieldType::kUint16, kU32 = FieldType::kUint32,
-                      kU64 = FieldType::kUint64, kF = FieldType::kFloat;
+                      kU16 = FieldType::kUint16, kI32 = FieldType::kInt32,
+                      kU32 = FieldType::kUint32, kU64 = FieldType::kUint64, kF = FieldType::kFloat;
   std::vector<MessageDef> t;
   t.push_back(TableMessage(0, "HEARTBEAT",
                            {TableField(kU8, "type"), TableField(kU8, "autopilot"),
@@ -112,6 +112,11 @@ std::vector<MessageDef> TableRows() {
                                    TableField(kU8, "confirmation")};
   NumberedFields(command, kF, "param", 1, 7, "", false);
   t.push_back(TableMessage(76, "COMMAND_LONG", std::move(command)));
+  t.push_back(TableMessage(
+      77, "COMMAND_ACK",
+      {TableField(kU16, "command"), TableField(kU8, "result"), TableExtension(kU8, "progress"),
+       TableExtension(kI32, "result_param2"), TableExtension(kU8, "target_system"),
+       TableExtension(kU8, "target_component")}));
   t.push_back(TableMessage(
       83, "ATTITUDE_TARGET",
       {TableField(kU32, "time_boot_ms"), TableField(kU8, "type_mask"), TableField(kF, "q", 4),

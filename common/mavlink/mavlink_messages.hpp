@@ -84,8 +84,8 @@ std::uint8_t CrcExtra(const MessageDef& message);
 /// Every message the table holds, by id: HEARTBEAT (0), SYS_STATUS (1), SCALED_IMU (26),
 /// RAW_IMU (27), ATTITUDE (30), ATTITUDE_QUATERNION (31), LOCAL_POSITION_NED (32),
 /// SERVO_OUTPUT_RAW (36), RC_CHANNELS (65), MANUAL_CONTROL (69), VFR_HUD (74), COMMAND_LONG (76),
-/// ATTITUDE_TARGET (83), HIGHRES_IMU (105), ACTUATOR_OUTPUT_STATUS (375). Built once, on first
-/// use; the references and pointers into it stay valid for the program's life.
+/// COMMAND_ACK (77), ATTITUDE_TARGET (83), HIGHRES_IMU (105), ACTUATOR_OUTPUT_STATUS (375). Built
+/// once, on first use; the references and pointers into it stay valid for the program's life.
 const std::vector<MessageDef>& KnownMessages();
 
 /// The message with id `id`, or nullptr when the table does not hold it.

@@ -40,6 +40,7 @@ const PublishedMessage kPublished[] = {
     {"MANUAL_CONTROL", 69, 243, 11, 30},
     {"VFR_HUD", 74, 20, 20, 20},
     {"COMMAND_LONG", 76, 152, 33, 33},
+    {"COMMAND_ACK", 77, 143, 3, 10},
     {"ATTITUDE_TARGET", 83, 22, 37, 37},
     {"HIGHRES_IMU", 105, 93, 62, 63},
     {"ACTUATOR_OUTPUT_STATUS", 375, 251, 140, 140},

@@ -45,6 +45,8 @@ inline std::uint8_t PublishedCrcExtra(std::uint32_t id) {
       return 20;  // VFR_HUD
     case 76:
       return 152;  // COMMAND_LONG
+    case 77:
+      return 143;  // COMMAND_ACK
     case 83:
       return 22;  // ATTITUDE_TARGET
     case 105:
