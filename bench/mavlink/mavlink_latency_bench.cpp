@@ -94,10 +94,10 @@ int main(int argc, char** argv) {
   boost::asio::io_context io;
   boost::asio::ip::udp::socket socket(io, boost::asio::ip::udp::v4());
   const boost::asio::ip::udp::endpoint to(boost::asio::ip::make_address(target),
-                                           static_cast<unsigned short>(port));
+                                          static_cast<unsigned short>(port));
   const odonata::mavlink::MessageDef& attitude = *odonata::mavlink::FindByName("ATTITUDE");
-  const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(1.0 / rate_hz));
+  const auto period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
   const auto frames = static_cast<long>(seconds * rate_hz);
   Clock::time_point next = Clock::now();
   for (long i = 0; i < frames; ++i) {
@@ -105,8 +105,8 @@ int main(int argc, char** argv) {
     next += period;
     odonata::mavlink::PayloadBuilder p(attitude);
     p.Set("time_boot_ms", static_cast<double>(10 * i)).Set("pitchspeed", std::sin(0.05 * i));
-    const std::string frame = odonata::mavlink::EncodeFrameV2(
-        attitude, p.bytes(), static_cast<std::uint8_t>(i), 1, 1);
+    const std::string frame =
+        odonata::mavlink::EncodeFrameV2(attitude, p.bytes(), static_cast<std::uint8_t>(i), 1, 1);
     {
       std::lock_guard<std::mutex> lock(sink.mutex);
       sink.sent.push_back(Clock::now());

@@ -17,6 +17,7 @@
 #include "sysid/model/narx_model_state.hpp"
 #include "sysid/model/signal_ranges.hpp"
 #include "sysid/online/online_identifier.hpp"
+#include "sysid/online/refit_judgements.hpp"
 #include "sysid/selection/offline_fit.hpp"
 
 namespace odonata::sysid {
