@@ -49,7 +49,7 @@ void ChainStopSignals() {
 
 }  // namespace
 
-bool BusNode::stop_requested() const { return g_stop_signal != 0 || stopping_; }
+bool BusNode::stop_requested() const { return g_stop_signal != 0 || stop_begun_; }
 
 BusNode::BusNode(const BusOptions& options)
     : options_(options),
@@ -308,10 +308,14 @@ int BusNode::Run() {
 }
 
 void BusNode::Stop(int exit_code) {
-  if (stopping_) return;
   // The worst thing the service saw stands: a SIGTERM or SHUTDOWN (code 0) after a divergence
   // (SetExitCode(3)) must not turn the run's exit into a success.
   if (exit_code_ == 0) exit_code_ = exit_code;
+  if (stopping_ || stop_begun_) return;  // a handler of the messages drained below stops too
+  stop_begun_ = true;
+  // What reached this process before the stop is handled, not closed on with the socket: a
+  // sample queued at SIGTERM is learned or counted, a message queued for the logger recorded.
+  if (receiver_) receiver_->DrainQueued(kMostDrainedAtStop);
   SetState("stopping");
   if (on_shutdown_) {
     try {

@@ -124,8 +124,11 @@ class BusNode {
   /// Runs the loop until Stop() or a signal. Returns the process exit code.
   int Run();
   /// Stops the loop; `exit_code` becomes Run()'s unless a non-zero code was set before (the
-  /// worst thing the service saw is what it exits with).
+  /// worst thing the service saw is what it exits with). Over udpm, the messages already queued
+  /// on the socket (at most kMostDrainedAtStop) reach their handlers first.
   void Stop(int exit_code = 0);
+  /// Datagrams a stop reads off the socket at most before it closes it.
+  static constexpr std::size_t kMostDrainedAtStop = 100000;
 
   /// Sets the heartbeat state, publishing a heartbeat at once when it changes.
   void SetState(const std::string& state);
@@ -256,6 +259,7 @@ class BusNode {
   static constexpr std::size_t kMaxAnswered = 32;
   int exit_code_ = 0;
   bool stopping_ = false;
+  bool stop_begun_ = false;  ///< Stop() has begun: it drains the socket before it stops
 };
 
 template <class Msg>

@@ -88,7 +88,31 @@ void UdpmReceiver::Close() {
 
 void UdpmReceiver::Drain() {
   for (int i = 0; i < kBatch; ++i) {
-    if (!socket_.is_open()) return;
+    switch (ReadOne()) {
+      case Read::kClosed:
+        return;
+      case Read::kEmpty:
+        // Empty (or an error that is the kernel's business; the socket stays usable): wait for
+        // the next datagram.
+        Wait();
+        return;
+      case Read::kDatagram:
+        break;
+    }
+  }
+  // More may be waiting: read on after whatever else is ready (timers, signals).
+  boost::asio::post(socket_.get_executor(), [this] { Drain(); });
+}
+
+std::size_t UdpmReceiver::DrainQueued(std::size_t most) {
+  std::size_t read = 0;
+  while (read < most && ReadOne() == Read::kDatagram) ++read;
+  return read;
+}
+
+UdpmReceiver::Read UdpmReceiver::ReadOne() {
+  while (true) {
+    if (!socket_.is_open()) return Read::kClosed;
     sockaddr_storage from{};
     iovec iov{buffer_.data(), buffer_.size()};
     alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(uint32_t))];
@@ -102,15 +126,12 @@ void UdpmReceiver::Drain() {
     const ssize_t n = recvmsg(socket_.native_handle(), &msg, MSG_DONTWAIT);
     if (n < 0) {
       if (errno == EINTR) continue;
-      // EAGAIN: empty, so wait for the next datagram. Anything else (ENOMEM, a pending ICMP
-      // error) is the kernel's business; the socket stays usable, so wait too.
-      Wait();
-      return;
+      return Read::kEmpty;
     }
     ++datagrams_;
     if ((msg.msg_flags & MSG_TRUNC) != 0) {
       problem_(true, "a datagram larger than 64 kB (not LCM's format)");
-      continue;
+      return Read::kDatagram;
     }
     int64_t utime = 0;
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
@@ -158,9 +179,8 @@ void UdpmReceiver::Drain() {
         problem_(false, r.problem);
         break;
     }
+    return Read::kDatagram;
   }
-  // More may be waiting: read on after whatever else is ready (timers, signals).
-  boost::asio::post(socket_.get_executor(), [this] { Drain(); });
 }
 
 }  // namespace odonata::bus

@@ -44,14 +44,21 @@ class UdpmReceiver {
   int64_t kernel_dropped() const { return kernel_dropped_; }
   /// Stops receiving (the loop's pending read is cancelled).
   void Close();
+  /// Reads and delivers, now, the datagrams already queued on the socket, at most `most` of them
+  /// (a flood must not hold a stop forever); returns how many were read. A stopping service
+  /// handles what reached it before the stop instead of closing the socket on it.
+  std::size_t DrainQueued(std::size_t most);
   /// Has the kernel drop LC02 datagrams on other channels than `channels` (udpm_channel_filter),
   /// and every LC03 fragment unless `fragments`; empty: receive everything. Returns false when the
   /// names cannot be filtered (then nothing is).
   bool Filter(const std::optional<std::vector<std::string>>& channels, bool fragments = true);
 
  private:
+  enum class Read : std::uint8_t { kDatagram, kEmpty, kClosed };
   void Wait();
   void Drain();
+  /// Reads one datagram, if one is queued, and delivers what it completes.
+  Read ReadOne();
 
   boost::asio::ip::udp::socket socket_;
   Deliver deliver_;

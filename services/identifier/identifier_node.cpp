@@ -92,6 +92,16 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                });
   }
   bus_.OnShutdown([this] {
+    // Every sample up to the newest heard is learned or counted (the socket was drained first:
+    // BusNode::Stop): what a run's accounting adds up.
+    if (config_.source == SampleSource::kSignals)
+      std::fprintf(stderr,
+                   "[%s] samples: newest seq %lld; %lld taken (%lld learned, the rest filled "
+                   "the lags), %lld lost on the way (gaps), %lld not learned\n",
+                   config_.instance.c_str(), static_cast<long long>(stream_.newest_signals()),
+                   static_cast<long long>(samples_taken_),
+                   static_cast<long long>(core_.samples_learned()),
+                   static_cast<long long>(bus_.stats().gaps), static_cast<long long>(not_learned_));
     if (started_) PublishSnapshot();  // the next instance resumes from exactly here
     if (!save_model_path_.empty()) SaveModel(save_model_path_);
   });
@@ -236,6 +246,7 @@ void IdentifierNode::Handle(const std::vector<SampleStream::Event>& events) {
 }
 
 void IdentifierNode::Learn(const sysid::Sample& sample) {
+  ++samples_taken_;
   sysid::PushResult result;
   const auto report = core_.Push(sample, &result);
   RefitLanded();
