@@ -13,6 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model.hpp"
 
 #ifdef ODONATA_HAVE_FUZZYLITE
@@ -189,7 +190,7 @@ void BM_OfflineFitThroughput(benchmark::State& state) {
   int rules = 0;
   for (auto _ : state) {
     odonata::sysid::NarxModel m(spec, cfg);
-    m.Train(s, odonata::sysid::TrainOptions{});
+    Train(m, s, odonata::sysid::TrainOptions{});
     rules = m.total_rules();
   }
   state.SetItemsProcessed(state.iterations() * n);

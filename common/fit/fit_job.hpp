@@ -13,6 +13,7 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "io/csv_table.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/model/series_from_table.hpp"
 #include "sysid/online/scheduled_refitter.hpp"

@@ -10,6 +10,7 @@
 
 #include "fit/fit_job.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/online/online_identifier.hpp"
 #include "sysid/selection/model_selection.hpp"

@@ -4,6 +4,7 @@
 // exercised (Octave, fuzzylite and the .fis import must all apply them).
 
 #include "../sysid/narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model.hpp"
 
 namespace odonata::model_export::testing {
@@ -16,7 +17,7 @@ inline sysid::NarxModel TrainedNarendraModel(
   sysid::NarxModel m(sysid::testing::NarendraSpec(), cfg);
   sysid::TrainOptions o;
   o.epochs = 2;
-  m.Train(sysid::testing::NarendraTrain(2000), o);
+  Train(m, sysid::testing::NarendraTrain(2000), o);
   if (uneven_output_widths) {
     auto& rb = m.mutable_model(0).mutable_rule_base();
     for (int j = 0; j < rb.rules(); ++j) rb.set_output_width(j, 0.6 + 0.05 * (j % 9));

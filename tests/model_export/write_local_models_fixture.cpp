@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../sysid/narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/local_dynamics.hpp"
 #include "sysid/model/narx_model.hpp"
 
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
   sysid::NarxModel m(spec, cfg);
   sysid::TrainOptions o;
   o.epochs = 2;
-  m.Train(sysid::testing::NarendraTrain(2000), o);
+  Train(m, sysid::testing::NarendraTrain(2000), o);
   m.Save(dir + "/model.json");
   nlohmann::json expected = nlohmann::json::array();
   for (int j = 0; j < m.model(0).rules(); ++j) {

@@ -17,6 +17,7 @@
 
 #include "../sysid/narendra_series.hpp"
 #include "fuzzy/fuzzy_model_state.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::model_messages {
@@ -33,7 +34,7 @@ sysid::NarxModel Trained(fuzzy::ConsequentKind kind) {
   sysid::TrainOptions options;
   options.epochs = 2;
   options.fit_envelope = true;  // where its data end crosses with it (docs/identifier.md §7.3)
-  model.Train(sysid::testing::NarendraTrain(800), options);
+  Train(model, sysid::testing::NarendraTrain(800), options);
   return model;
 }
 

@@ -1,12 +1,11 @@
-// NarxModel::Train, the offline estimation of a NARX model (docs/identifier.md §3): one-step
-// passes that grow and tune the rules, least squares on the consequents, then iRprop− on the
-// multiple-shooting simulation error (simulation_error_training). Here, with the estimators, so
-// that the model (sysid/model/) knows nothing of how it is estimated and no include runs back.
+// The offline estimation of a NARX model (narx_training.hpp). Here, with the estimators, so that
+// the model (sysid/model/) knows nothing of how it is estimated and no include runs back.
 
 #include <algorithm>
 #include <cmath>
 
 #include "metrics/accuracy.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/rprop.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/free_run.hpp"
@@ -31,26 +30,30 @@ struct RpropState {
 };
 }  // namespace
 
-TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
-  const RegressionData d = BuildRegression(spec_, train);
-  if (options.fit_scaling) scaling_ = Scaling::FromData(d.x, d.y);
-  if (options.detect_output_limits) limits_ = OutputLimits::Detect(train.outputs);
+TrainReport Train(NarxModel& model, const Series& train, const TrainOptions& options) {
+  return NarxTrainer::Train(model, train, options);
+}
+
+TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const TrainOptions& options) {
+  const RegressionData d = BuildRegression(model.spec_, train);
+  if (options.fit_scaling) model.scaling_ = Scaling::FromData(d.x, d.y);
+  if (options.detect_output_limits) model.limits_ = OutputLimits::Detect(train.outputs);
   // The envelope is the trained model's: while it trains, every prediction is the rules' own.
-  envelope_ = DataEnvelope{};
+  model.envelope_ = DataEnvelope{};
   const Eigen::Index rows = d.x.rows();
-  const Eigen::MatrixXd xs = scaling_.ScaleRegressorRows(d.x);
-  const Eigen::MatrixXd ys = scaling_.ScaleOutputRows(d.y);
+  const Eigen::MatrixXd xs = model.scaling_.ScaleRegressorRows(d.x);
+  const Eigen::MatrixXd ys = model.scaling_.ScaleOutputRows(d.y);
   // Training loss (scaled units, summed over outputs) and one-step FIT, mean over outputs.
   auto evaluate = [&](double* fit) {
     double loss = 0.0, fit_sum = 0.0;
-    for (int o = 0; o < outputs(); ++o) {
-      const auto& m = models_[static_cast<std::size_t>(o)];
+    for (int o = 0; o < model.outputs(); ++o) {
+      const auto& m = model.models_[static_cast<std::size_t>(o)];
       Eigen::VectorXd yhat(rows);
       for (Eigen::Index r = 0; r < rows; ++r) yhat(r) = m.Predict(xs.row(r).transpose());
       loss += (yhat - ys.col(o)).squaredNorm();
       fit_sum += metrics::Score(ys.col(o), yhat).fit_percent;
     }
-    *fit = fit_sum / outputs();
+    *fit = fit_sum / model.outputs();
     return std::isfinite(loss) ? loss : std::numeric_limits<double>::infinity();
   };
   TrainReport report;
@@ -61,7 +64,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
   int best_holdout_epoch = 0;
   std::vector<fuzzy::FuzzyModel> kept_holdout;  // the parameters of the best hold-out epoch
   int since_improvement = 0;
-  std::vector<RpropState> rprop(static_cast<std::size_t>(outputs()));
+  std::vector<RpropState> rprop(static_cast<std::size_t>(model.outputs()));
   for (int epoch = 0; epoch < options.epochs; ++epoch) {
     if (options.cancel && options.cancel->load()) throw TrainingCancelled();
     fuzzy::LearnMode mode =
@@ -70,17 +73,17 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     // consequent update would only pull them away from the optimum just solved.
     if (epoch > 0 && options.refine_least_squares) mode = fuzzy::LearnMode::kTunePremises;
     std::vector<fuzzy::FuzzyModel> before;
-    if (epoch > 0) before = models_;
+    if (epoch > 0) before = model.models_;
     if (epoch > 0 && options.refine_least_squares) {
       // The hybrid rule's premise half, offline: one batch-gradient step per pass with a
       // per-parameter step size (iRprop−, Igel & Hüsken 2000), then the least-squares solve.
-      for (int o = 0; o < outputs(); ++o) {
-        auto& m = models_[static_cast<std::size_t>(o)];
+      for (int o = 0; o < model.outputs(); ++o) {
+        auto& m = model.models_[static_cast<std::size_t>(o)];
         auto& st = rprop[static_cast<std::size_t>(o)];
         const int r = m.rules();
-        if (!st.centres.Matches(r, spec_.size())) st.Reset(r, spec_.size());
-        Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, spec_.size());
-        Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, spec_.size());
+        if (!st.centres.Matches(r, model.spec_.size())) st.Reset(r, model.spec_.size());
+        Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, model.spec_.size());
+        Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, model.spec_.size());
         for (Eigen::Index k = 0; k < rows; ++k) {
           m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k, o), &gc, &gs);
           if (options.progress && (k % 1024 == 0 || k + 1 == rows))
@@ -91,8 +94,8 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     } else {
       for (Eigen::Index r = 0; r < rows; ++r) {
         const Eigen::VectorXd x = xs.row(r).transpose();
-        for (int o = 0; o < outputs(); ++o)
-          models_[static_cast<std::size_t>(o)].Learn(x, ys(r, o), mode, rate_scale);
+        for (int o = 0; o < model.outputs(); ++o)
+          model.models_[static_cast<std::size_t>(o)].Learn(x, ys(r, o), mode, rate_scale);
         if (options.progress && (r % 1024 == 0 || r + 1 == rows))
           options.progress(epoch, r + 1, rows);
       }
@@ -101,12 +104,12 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       // A rule grown on a few samples (an outlier, a transient) cannot be estimated from them;
       // on a short noisy record it fits their noise. It goes before the solve.
       if (mode == fuzzy::LearnMode::kGrowAndTune) {
-        report.rules_grown = total_rules();
-        for (auto& m : models_) m.PruneUnsupported(xs, options.min_rule_support);
+        report.rules_grown = model.total_rules();
+        for (auto& m : model.models_) m.PruneUnsupported(xs, options.min_rule_support);
       }
-      for (int o = 0; o < outputs(); ++o)
-        models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge,
-                                                               options.deviation_ridge);
+      for (int o = 0; o < model.outputs(); ++o)
+        model.models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge,
+                                                                     options.deviation_ridge);
     }
     EpochRecord rec;
     rec.epoch = epoch + 1;
@@ -114,7 +117,7 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
     const double loss = evaluate(&rec.train_fit);
     if (epoch > 0 && !(loss <= best_loss)) {
       // Backtracking: undo the pass and retry with half the premise step.
-      models_ = std::move(before);
+      model.models_ = std::move(before);
       rec.accepted = false;
       rate_scale *= 0.5;
       for (auto& st : rprop) st.Backtrack();
@@ -124,18 +127,18 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       best_fit = rec.train_fit;
       if (epoch > 0) rate_scale *= 1.1;
     }
-    rec.rules = total_rules();
+    rec.rules = model.total_rules();
     if (rec.accepted) report.kept_epoch = rec.epoch;
     if (options.holdout != nullptr) {
       rec.holdout_ndei = options.holdout_horizon > 0
-                             ? NdeiAhead(*options.holdout, options.holdout_horizon)
-                             : Ndei(*options.holdout, options.holdout_free_run);
+                             ? model.NdeiAhead(*options.holdout, options.holdout_horizon)
+                             : model.Ndei(*options.holdout, options.holdout_free_run);
       if (rec.accepted && rec.holdout_ndei < best_holdout &&
           (std::isinf(options.holdout_one_step_bound) ||
-           Ndei(*options.holdout, false) <= options.holdout_one_step_bound)) {
+           model.Ndei(*options.holdout, false) <= options.holdout_one_step_bound)) {
         best_holdout = rec.holdout_ndei;
         best_holdout_epoch = rec.epoch;
-        kept_holdout = models_;
+        kept_holdout = model.models_;
         since_improvement = 0;
       } else {
         ++since_improvement;
@@ -146,10 +149,10 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       break;
   }
   if (options.holdout != nullptr && !kept_holdout.empty()) {
-    models_ = std::move(kept_holdout);
+    model.models_ = std::move(kept_holdout);
     report.kept_epoch = best_holdout_epoch;
   }
-  if (!options.simulation.empty() && spec_.output_lags > 0) {
+  if (!options.simulation.empty() && model.spec_.output_lags > 0) {
     SimulationTrainOptions so;
     so.stages = options.simulation;
     if (options.cancel)
@@ -161,9 +164,9 @@ TrainReport NarxModel::Train(const Series& train, const TrainOptions& options) {
       so.holdout_horizon = options.holdout_horizon;
       so.one_step_bound = options.holdout_one_step_bound;
     }
-    report.simulation = TrainOnSimulationError(*this, train, so).kept;
+    report.simulation = TrainOnSimulationError(model, train, so).kept;
   }
-  if (options.fit_envelope) envelope_ = DataEnvelope::Fit(models_, xs, ys);
+  if (options.fit_envelope) model.envelope_ = DataEnvelope::Fit(model.models_, xs, ys);
   return report;
 }
 

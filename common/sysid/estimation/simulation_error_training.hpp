@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {

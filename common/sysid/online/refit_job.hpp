@@ -16,6 +16,7 @@
 
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/estimation/consequent_tracker.hpp"
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/model/sample.hpp"
 #include "sysid/selection/model_selection.hpp"

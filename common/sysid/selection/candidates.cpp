@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/selection/model_selection.hpp"
 #include "sysid/selection/selection_steps.hpp"
 
@@ -75,7 +76,7 @@ NarxModel TrainCandidate(const SelectionContext& ctx, const Candidate& c, const 
   t.patience = holdout != nullptr ? ctx.options.patience : 0;
   t.simulation.clear();
   if (with_simulation) t.simulation = c.simulation;
-  const TrainReport r = model.Train(fit, t);
+  const TrainReport r = Train(model, fit, t);
   if (report) *report = r;
   return model;
 }

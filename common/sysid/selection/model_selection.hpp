@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {

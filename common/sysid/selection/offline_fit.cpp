@@ -1,4 +1,5 @@
 #include "sysid/selection/offline_fit.hpp"
+#include "sysid/estimation/narx_training.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,11 +61,11 @@ OfflineFit FitOffline(
     grow.epochs = 1;
     grow.simulation.clear();
     grow.progress = nullptr;
-    model.Train(*searched, grow);
+    Train(model, *searched, grow);
     topt.fit_scaling = false;
     topt.grow_rules = false;
   }
-  TrainReport report = model.Train(series, topt);
+  TrainReport report = Train(model, series, topt);
   if (sel && sel->free_run_criterion) {
     // The candidates were checked at rest on what they trained on; the final model trained on
     // more (every row, its rules grown on the blocks) and may not be the same dynamical system.
@@ -94,7 +95,7 @@ OfflineFit FitOffline(
         TrainOptions t = topt;
         t.grow_rules = true;
         again.SetScaling(model.scaling());
-        TrainReport r = again.Train(series, t);
+        TrainReport r = Train(again, series, t);
         if (!restless(again, "rules grown on every row")) {
           model = std::move(again);
           report = std::move(r);
@@ -122,7 +123,7 @@ OfflineFit FitOffline(
         adopt(*linear);
         model = NarxModel(spec, cfg);
         if (options.scaling) model.SetScaling(*options.scaling);
-        report = model.Train(series, topt);
+        report = Train(model, series, topt);
       }
     }
   }

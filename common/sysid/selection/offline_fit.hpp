@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "fuzzy/fuzzy_model.hpp"
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/selection/model_selection.hpp"
 #include "sysid/selection/search_subsample.hpp"

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "sysid/estimation/train_options.hpp"
 #include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {

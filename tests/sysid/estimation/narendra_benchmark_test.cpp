@@ -6,6 +6,7 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"
 #include "sysid/model/narx_model.hpp"
@@ -26,7 +27,7 @@ Scores Fit(fuzzy::ConsequentKind kind, double threshold, double kappa, int epoch
   NarxModel m(testing::NarendraSpec(), cfg);
   TrainOptions o;
   o.epochs = epochs;
-  m.Train(testing::NarendraTrain(), o);
+  Train(m, testing::NarendraTrain(), o);
   const Series v = testing::NarendraValidate();
   const Predictor p = [&](const Eigen::VectorXd& x) { return m.Predict(x); };
   const Eigen::VectorXd y = v.outputs.col(0).tail(v.samples() - 1);

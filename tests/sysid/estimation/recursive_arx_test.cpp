@@ -4,6 +4,7 @@
 
 #include "narendra_series.hpp"
 #include "sysid/estimation/consequent_tracker.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/recursive_arx.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/signal_ranges.hpp"
@@ -86,7 +87,7 @@ TEST(ConsequentTracker, ContinuesTheLeastSquaresProblemOfTheRefit) {
   NarxModel model(testing::NarendraSpec(), cfg);
   TrainOptions o;
   o.epochs = 3;
-  model.Train(all, o);
+  Train(model, all, o);
   ASSERT_GE(model.model(0).rules(), 3);
   const auto part = [&](Eigen::Index from, Eigen::Index rows) {
     Series s;

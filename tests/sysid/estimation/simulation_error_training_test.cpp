@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/arx_model.hpp"
 
 namespace odonata::sysid {
@@ -51,7 +52,7 @@ NarxModel Trained(const RegressorSpec& spec, const Series& s, double threshold) 
   NarxModel m(spec, cfg);
   TrainOptions t;
   t.epochs = 3;
-  m.Train(s, t);
+  Train(m, s, t);
   return m;
 }
 
@@ -62,7 +63,7 @@ NarxModel LeastSquaresLinear(const RegressorSpec& spec, const Series& s) {
   cfg.entropy.max_rules = 1;
   cfg.entropy.threshold = 0.0;
   NarxModel m(spec, cfg);
-  m.Train(s, TrainOptions{});
+  Train(m, s, TrainOptions{});
   return m;
 }
 
@@ -77,7 +78,7 @@ TEST(SimulationErrorTraining, GradientMatchesFiniteDifferences) {
     NarxModel m(spec, cfg);
     TrainOptions t;
     t.epochs = 2;
-    m.Train(s, t);
+    Train(m, s, t);
     ASSERT_GE(m.total_rules(), 2);
     SimulationGradient g;
     const int horizon = 7;  // several windows, one of them short
@@ -173,7 +174,7 @@ TEST(SimulationErrorTraining, OutputNoiseBiasesOneStepTrainingButNotSimulationTr
   NarxModel one_step(spec, cfg);
   TrainOptions t;
   t.epochs = 3;
-  one_step.Train(noisy, t);
+  Train(one_step, noisy, t);
   NarxModel simulation = one_step;
   SimulationTrainOptions o;
   o.stages = {{10, 30}, {40, 30}, {160, 30}};
@@ -380,7 +381,7 @@ TEST(SimulationErrorTraining, FromTheLinearModelEveryRuleStartsAtItsOutputErrorF
   single.entropy.max_rules = 8;
   single.entropy.threshold = 0.45;
   NarxModel singleton(spec, single);
-  singleton.Train(s, TrainOptions{});
+  Train(singleton, s, TrainOptions{});
   NarxModel untouched = singleton;
   o.stages = {{160, 50, true, true}};
   TrainOnSimulationError(untouched, s, o);

@@ -8,6 +8,7 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"
@@ -42,7 +43,7 @@ NarxModel Trained(const Series& train, bool envelope) {
   TrainOptions t;
   t.epochs = 3;
   t.fit_envelope = envelope;
-  m.Train(train, t);
+  Train(m, train, t);
   return m;
 }
 
@@ -143,7 +144,7 @@ TEST(DataEnvelope, AOneRuleModelHasNone) {
   NarxModel linear(testing::NarendraSpec(), one);
   TrainOptions t;
   t.fit_envelope = true;
-  linear.Train(train, t);
+  Train(linear, train, t);
   ASSERT_EQ(linear.total_rules(), 1);
   EXPECT_FALSE(linear.envelope().any()) << "a one-rule model is linear already";
 }

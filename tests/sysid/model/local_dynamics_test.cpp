@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/rule_listing.hpp"
 
@@ -92,7 +93,7 @@ TEST(LocalDynamics, AOneRuleModelHasArxsPolesAndGains) {
   t.epochs = 1;
   t.refine_least_squares = true;  // the consequent by least squares, as ARX
   t.ridge = 0.0;                  // noiseless data: no ridge needed (ARX keeps its tiny one)
-  model.Train(data, t);
+  Train(model, data, t);
   ASSERT_EQ(model.total_rules(), 1);
   const LocalDynamics mine = LocalModels(model, 0, 0.01).at(0);
   const LocalDynamics theirs = AnalyseDynamics(spec, 0, arx_raw, 0.01);

@@ -9,6 +9,7 @@
 
 #include "metrics/accuracy.hpp"
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/free_run.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/selection/model_selection.hpp"
@@ -26,7 +27,7 @@ NarxModel TrainedModel(fuzzy::ConsequentKind kind) {
   NarxModel m(NarendraSpec(), cfg);
   TrainOptions o;
   o.epochs = 2;
-  m.Train(NarendraTrain(1500), o);
+  Train(m, NarendraTrain(1500), o);
   return m;
 }
 
@@ -45,9 +46,9 @@ TEST(NarxModel, OnlyTheFirstEpochGrowsRulesLaterOnesTune) {
     TrainOptions o;
     o.epochs = 1;
     NarxModel one(NarendraSpec(), cfg), five(NarendraSpec(), cfg);
-    one.Train(NarendraTrain(1500), o);
+    Train(one, NarendraTrain(1500), o);
     o.epochs = 5;
-    five.Train(NarendraTrain(1500), o);
+    Train(five, NarendraTrain(1500), o);
     ASSERT_GT(one.total_rules(), 1);
     EXPECT_EQ(five.total_rules(), one.total_rules());
     // …but they did tune: the parameters moved.
@@ -65,10 +66,10 @@ TEST(NarxModel, TrainingRemovesRulesTheDataCannotSupport) {
   TrainOptions demanding;
   demanding.min_rule_support = 1e6;  // no rule is supported: only the best-supported one stays
   NarxModel all(NarendraSpec(), cfg), pruned(NarendraSpec(), cfg), online(NarendraSpec(), cfg);
-  all.Train(NarendraTrain(600), keep_all);
-  pruned.Train(NarendraTrain(600), demanding);
+  Train(all, NarendraTrain(600), keep_all);
+  Train(pruned, NarendraTrain(600), demanding);
   demanding.refine_least_squares = false;
-  online.Train(NarendraTrain(600), demanding);
+  Train(online, NarendraTrain(600), demanding);
   ASSERT_GT(all.total_rules(), 2);
   EXPECT_EQ(pruned.total_rules(), 1);
   EXPECT_EQ(online.total_rules(), all.total_rules());
@@ -126,7 +127,7 @@ TEST(NarxModel, SeveralOutputsShareOneRegressor) {
   fuzzy::FuzzyModelConfig cfg;
   cfg.consequent = fuzzy::ConsequentKind::kLinear;
   NarxModel m(spec, cfg);
-  m.Train(s, TrainOptions{});
+  Train(m, s, TrainOptions{});
   EXPECT_EQ(m.outputs(), 2);
   EXPECT_EQ(m.spec().size(), 3);  // y1(k), y2(k), u(k)
   Eigen::VectorXd x(3);
@@ -166,7 +167,7 @@ TEST(NarxModel, TrainingFitNeverFallsFromOneEpochToTheNext) {
     TrainOptions o;
     o.epochs = 25;
     o.ridge = 0.0;
-    const TrainReport r = m.Train(testing::NarendraTrain(1500), o);
+    const TrainReport r = Train(m, testing::NarendraTrain(1500), o);
     ASSERT_EQ(r.epochs.size(), 25u);
     for (std::size_t k = 1; k < r.epochs.size(); ++k)
       EXPECT_GE(r.epochs[k].train_fit, r.epochs[k - 1].train_fit) << ToString(kind) << " " << k;
@@ -188,7 +189,7 @@ TEST(NarxModel, HoldoutKeepsTheBestEpoch) {
   TrainOptions o;
   o.epochs = 15;
   o.holdout = &hold;
-  const TrainReport r = m.Train(fit, o);
+  const TrainReport r = Train(m, fit, o);
   double best = std::numeric_limits<double>::infinity();
   int best_epoch = 0;
   for (const auto& e : r.epochs)
@@ -205,7 +206,7 @@ NarxModel NarendraModel() {
   NarxModel m(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{});
   TrainOptions t;
   t.epochs = 2;
-  m.Train(testing::NarendraTrain(1000), t);
+  Train(m, testing::NarendraTrain(1000), t);
   return m;
 }
 

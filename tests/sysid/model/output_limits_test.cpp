@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -99,7 +100,7 @@ TEST(OutputLimits, AModelHoldsItsFreeRunAtTheSaturationAndSavesIt) {
   cfg.entropy.threshold = 0.0;
   NarxModel m(spec, cfg);
   const Series s = Overflowing(2000);
-  m.Train(s, TrainOptions{});
+  Train(m, s, TrainOptions{});
   ASSERT_TRUE(m.limits().any());
   EXPECT_EQ(m.limits().upper(0), 10.0);
   Eigen::VectorXd x(2);
@@ -109,7 +110,7 @@ TEST(OutputLimits, AModelHoldsItsFreeRunAtTheSaturationAndSavesIt) {
   NarxModel unlimited(spec, cfg);
   TrainOptions off;
   off.detect_output_limits = false;
-  unlimited.Train(s, off);
+  Train(unlimited, s, off);
   EXPECT_FALSE(unlimited.limits().any());
   EXPECT_GT(unlimited.Predict(x)(0), 10.0);
   EXPECT_LT(m.Ndei(s, true), unlimited.Ndei(s, true)) << "held, the free run follows the tank";

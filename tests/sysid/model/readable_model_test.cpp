@@ -9,6 +9,7 @@
 #include <set>
 
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model_state.hpp"
 
 namespace odonata::sysid {
@@ -21,7 +22,7 @@ NarxModel Trained(double threshold) {
   NarxModel m(testing::NarendraSpec(), cfg);
   TrainOptions t;
   t.epochs = 2;
-  m.Train(testing::NarendraTrain(2000), t);
+  Train(m, testing::NarendraTrain(2000), t);
   return m;
 }
 

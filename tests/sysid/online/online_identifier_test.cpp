@@ -11,6 +11,7 @@
 
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"
@@ -33,7 +34,7 @@ TEST(OnlineIdentifier, ReproducesTheOfflineTrainerBitForBit) {
     TrainOptions o;
     o.refine_least_squares = false;
     o.fit_scaling = false;
-    offline.Train(train, o);
+    Train(offline, train, o);
     OnlineIdentifier online(Empty(kind, train));
     for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(train, k));
     EXPECT_EQ(online.model().ToJson().dump(), offline.ToJson().dump()) << ToString(kind);
@@ -319,7 +320,7 @@ TEST(RefitSchedule, TheIncumbentStaysOnlyWhenItBeatsTheChoiceOnTheNewestSamples)
   NarxModel incumbent = Empty(fuzzy::ConsequentKind::kLinear, series);
   TrainOptions t;
   t.fit_scaling = false;
-  incumbent.Train(SliceSeries(series, 0, 1000), t);
+  Train(incumbent, SliceSeries(series, 0, 1000), t);
   SelectionResult selection;
   selection.fit_samples = 1200;
   selection.holdout_samples = 300;
@@ -377,7 +378,7 @@ TEST(RefitSchedule, ASteadyStateRefitLandsOnlyAModelThatPassesItsSelectionsCheck
     m.SetScaling(ScalingFromRanges(m.spec(), RangesFromSeries(m.spec(), series)));
     TrainOptions t;
     t.fit_scaling = false;
-    m.Train(SliceSeries(series, 0, 200), t);
+    Train(m, SliceSeries(series, 0, 200), t);
     EXPECT_EQ(m.model(0).rules(), 1);
     const RegressionData d = BuildRegression(m.spec(), series);
     const double mean = series.outputs.col(0).mean();
@@ -411,7 +412,7 @@ TEST(RefitSchedule, ASteadyStateRefitLandsOnlyAModelThatPassesItsSelectionsCheck
   NarxModel trained = Empty(fuzzy::ConsequentKind::kLinear, series);
   TrainOptions t;
   t.fit_scaling = false;
-  trained.Train(series, t);
+  Train(trained, series, t);
   EXPECT_TRUE(SteadyStateHolds(trained, series, 0, 0.0));
 }
 
@@ -429,10 +430,10 @@ TEST(RefitSchedule, TheLinearModelLandsOnlyWhenItWinsTheNewSamples) {
   NarxModel linear = scaled(NarxModel(testing::NarendraSpec(), one_rule));
   TrainOptions t;
   t.fit_scaling = false;
-  linear.Train(series, t);
+  Train(linear, series, t);
   ASSERT_EQ(linear.total_rules(), 1);
   NarxModel fuzzy = Empty(fuzzy::ConsequentKind::kLinear, series);
-  fuzzy.Train(series, t);
+  Train(fuzzy, series, t);
   ASSERT_GT(fuzzy.total_rules(), 1);
   const double l = linear.NdeiAhead(series, 0), f = fuzzy.NdeiAhead(series, 0);
   ASSERT_LT(l, 1.0);
@@ -618,7 +619,7 @@ TEST(OnlineIdentifier, AnExpertsRulesSurviveTheRefitsUnlessBeaten) {
   linear.SetScaling(empty.scaling());
   TrainOptions t;
   t.fit_scaling = false;
-  linear.Train(expert_data, t);
+  Train(linear, expert_data, t);
   ASSERT_EQ(linear.total_rules(), 1);
   OnlineIdentifier replaced(linear, refit);
   replaced.KeepExpertRules();
@@ -817,7 +818,7 @@ TEST(OnlineIdentifier, AFrozenModelsFreeRunIsOdonataFitsFreeRun) {
   model.SetScaling(ScalingFromRanges(spec, RangesFromSeries(spec, train)));
   TrainOptions o;
   o.epochs = 2;
-  model.Train(train, o);
+  Train(model, train, o);
   const Series run = testing::NarendraTrain(600);
   const Predictor predict = [&model](const Eigen::VectorXd& x) { return model.Predict(x); };
   const Eigen::MatrixXd offline = SimulateFreeRun(spec, run, predict);

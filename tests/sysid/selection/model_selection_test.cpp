@@ -11,6 +11,7 @@
 
 #include "fuzzy/entropy_rule_generator.hpp"
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/selection/model_selection.hpp"
 
@@ -602,7 +603,7 @@ TEST(ModelSelection, RestartsFromTheSamePremisesAreOneCandidate) {
     c.threshold = threshold;
     c.kappa = 1.0;
     NarxModel m(testing::NarendraSpec(), CandidateConfig(fuzzy::FuzzyModelConfig{}, c));
-    m.Train(s, TrainOptions{});
+    Train(m, s, TrainOptions{});
     return m;
   };
   const NarxModel a = trained(ThresholdForRadius(1.1));

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "narendra_series.hpp"
+#include "sysid/estimation/narx_training.hpp"
 #include "sysid/selection/model_selection.hpp"
 #include "sysid/selection/offline_fit.hpp"
 
@@ -103,7 +104,7 @@ TEST(SearchSubsample, TheFinalModelKeepsTheRuleBaseGrownOnTheBlocks) {
   grown.FitScaling(train);
   TrainOptions one;
   one.fit_scaling = false;
-  grown.Train(SubsampleForSearch(train, o.search_budget), one);
+  Train(grown, SubsampleForSearch(train, o.search_budget), one);
   ASSERT_GT(fit.model.total_rules(), 1) << "the fuzzy setting is chosen on this plant";
   EXPECT_EQ(fit.model.total_rules(), grown.total_rules());
   // Searching every row instead is still possible (budget 0), and sees all of them.
