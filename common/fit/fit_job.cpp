@@ -356,9 +356,13 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     readable = ScoreReadable(o, *model, d, sample_time_s, per, d.warnings);
     ScoreBaselines(o, *model, d, per, report);
   }
-  for (std::size_t k = 0; k < n_outputs; ++k)
+  for (std::size_t k = 0; k < n_outputs; ++k) {
     PutRuleDescriptions(*model, static_cast<int>(k), readable ? &*readable : nullptr, sample_time_s,
                         per[k]);
+    if (d.train)
+      PutUncertainty(*model, static_cast<int>(k), readable ? &*readable : nullptr, *d.train,
+                     sample_time_s, per[k]);
+  }
   // The first output at the top level, as a one-output report always had it.
   for (const char* key :
        {"train", "validate", "baselines", "rule_text", "local_models", "readable"})

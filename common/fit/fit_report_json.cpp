@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "io/json_number.hpp"
+#include "sysid/estimation/local_model_uncertainty.hpp"
 #include "sysid/model/local_dynamics.hpp"
 #include "sysid/model/readable_model.hpp"
 #include "sysid/model/rule_listing.hpp"
@@ -165,6 +166,23 @@ void PutRuleDescriptions(const sysid::NarxModel& model, int k, const sysid::Read
   if (const auto global = sysid::GlobalLinearModel(model, k))
     per_output["global_linear"] =
         sysid::ToJson(sysid::AnalyseDynamics(spec, k, *global, sample_time_s), sample_time_s);
+}
+
+void PutUncertainty(const sysid::NarxModel& model, int k, const sysid::ReadableModel* readable,
+                    const sysid::Series& train, double sample_time_s, nlohmann::json& per_output) {
+  const auto full = sysid::LocalModelUncertainty(model, k, train, sample_time_s);
+  if (per_output.contains("local_models"))
+    for (std::size_t j = 0; j < full.size() && j < per_output["local_models"].size(); ++j)
+      per_output["local_models"][j]["uncertainty"] = sysid::ToJson(full[j], sample_time_s);
+  if (!readable || !per_output.contains("readable")) return;
+  const sysid::NarxModel& rm = readable->model;
+  const auto mine = sysid::LocalModelUncertainty(rm, k, train, sample_time_s);
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t j = 0; j < mine.size(); ++j)
+    lines.push_back("rule " + std::to_string(j + 1) + ": " +
+                    sysid::DescribeWithUncertainty(rm.spec(), k, rm, static_cast<int>(j), mine[j],
+                                                   sample_time_s));
+  per_output["readable"]["uncertainty"] = lines;
 }
 
 }  // namespace odonata::fit

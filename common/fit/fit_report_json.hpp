@@ -41,5 +41,10 @@ void PutModelSettings(const FitJobOptions& o, const sysid::NarxModel& model,
 /// model (docs/identifier.md §7.4, §7.5); time constants in seconds when sample_time_s > 0.
 void PutRuleDescriptions(const sysid::NarxModel& model, int k, const sysid::ReadableModel* readable,
                          double sample_time_s, nlohmann::json& per_output);
+/// Each rule's parameter uncertainty (sysid/estimation/local_model_uncertainty.hpp) from the
+/// training series: "uncertainty" in every local_models entry, and the readable form's rules
+/// with their standard errors in readable.uncertainty (sentences).
+void PutUncertainty(const sysid::NarxModel& model, int k, const sysid::ReadableModel* readable,
+                    const sysid::Series& train, double sample_time_s, nlohmann::json& per_output);
 
 }  // namespace odonata::fit

@@ -166,6 +166,12 @@ void FormatRules(std::ostream& out, const nlohmann::json& b, RulesShown rules_sh
     out << "\n  rules, readable form (" << rd["rules"].get<int>() << " of " << b["rules"].get<int>()
         << "; --full-rules for every rule):\n";
     for (const auto& s : rd["text"]) out << "    " << s.get<std::string>() << "\n";
+    if (rd.contains("uncertainty") && !rd["uncertainty"].empty()) {
+      // Weighted least squares on the training rows each rule fires on: the consequents' own
+      // noise, not the simulation-error stages' shift nor a flight unlike the training one.
+      out << "  local models, ± one standard error (training rows each rule fires on):\n";
+      for (const auto& s : rd["uncertainty"]) out << "    " << s.get<std::string>() << "\n";
+    }
     return;
   }
   out << "\n  rules:\n";

@@ -358,6 +358,11 @@ TEST(FitCli, SmallMistakesGetTheirFix) {
   const nlohmann::json j = nlohmann::json::parse(ms.out);
   EXPECT_NEAR(j["data"][file]["rate_hz"].get<double>(), 100.0, 1e-6) << ms.out;
   EXPECT_TRUE(j["local_models"][0].contains("time_constants_s")) << j["local_models"][0].dump();
+  // Each rule's parameter uncertainty beside it, in the same time unit (issue 60 point 2).
+  const nlohmann::json& u = j["local_models"][0]["uncertainty"];
+  EXPECT_TRUE(u.contains("time_constants_se_s")) << u.dump();
+  EXPECT_TRUE(u.contains("dc_gain_se") && u["dc_gain_se"].contains("u")) << u.dump();
+  EXPECT_GT(u["effective_rows"].get<double>(), 0.0) << u.dump();
   // A mistyped option is answered with the one meant.
   const ProcessResult typo = Exec("--train " + file + " --output m2 --inptu u");
   EXPECT_EQ(typo.status, 2);

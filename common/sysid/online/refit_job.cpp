@@ -10,28 +10,6 @@
 namespace odonata::sysid {
 namespace {
 
-// The selection's linear candidate, if it had one.
-std::optional<Candidate> LinearCandidate(const SelectionResult& selection) {
-  const auto linear = std::find_if(selection.candidates.begin(), selection.candidates.end(),
-                                   [](const Candidate& c) { return c.linear; });
-  if (linear == selection.candidates.end()) return std::nullopt;
-  return *linear;
-}
-
-// The rest deviation a model is held to: the free-run criterion's linear candidate's (NaN: none).
-double LinearRest(const SelectionResult& selection) {
-  const std::optional<Candidate> linear = LinearCandidate(selection);
-  return selection.free_run_criterion && linear ? linear->rest_deviation
-                                                : std::numeric_limits<double>::quiet_NaN();
-}
-
-// The linear candidate beside a fuzzy choice, to train with each refit; none when the choice is
-// the linear model.
-std::optional<Candidate> LinearBeside(const SelectionResult& selection) {
-  if (selection.candidates[selection.chosen].linear) return std::nullopt;
-  return LinearCandidate(selection);
-}
-
 // odonata-fit's defaults, with the regressors in the identifier's declared envelope and the
 // outputs standardised on the samples kept, as odonata-fit standardises them. Regressors scaled
 // to a partial buffer's own range spread the rules over what has been seen so far (a 200-sample

@@ -4,12 +4,22 @@
 // expert's rules against the choice, the linear model against the fuzzy one on the samples that
 // came in while the refit ran.
 
+#include <optional>
+
 #include "sysid/model/narx_model.hpp"
 #include "sysid/model/regressor_spec.hpp"
 #include "sysid/model/sample.hpp"
 #include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {
+
+/// The selection's linear candidate, if it had one.
+std::optional<Candidate> LinearCandidate(const SelectionResult& selection);
+/// The rest deviation a model is held to: the free-run criterion's linear candidate's (NaN: none).
+double LinearRest(const SelectionResult& selection);
+/// The linear candidate beside a fuzzy choice, to train with each refit; none when the choice is
+/// the linear model.
+std::optional<Candidate> LinearBeside(const SelectionResult& selection);
 
 /// A selecting refit keeps the model the last refit landed (the incumbent) when, on the refit's
 /// hold-out slice — its newest samples, unseen by both — the incumbent beats the candidate the
