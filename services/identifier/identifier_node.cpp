@@ -93,13 +93,15 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
   }
   bus_.OnShutdown([this] {
     // Every sample up to the newest heard is learned or counted (the socket was drained first:
-    // BusNode::Stop): what a run's accounting adds up.
+    // BusNode::Stop): newest + 1 = (resumed through + 1) + taken + lost + not learned, the
+    // samples through a resumed snapshot being its predecessor's.
     if (config_.source == SampleSource::kSignals)
       std::fprintf(stderr,
-                   "[%s] samples: newest seq %lld; %lld taken (%lld learned, the rest filled "
-                   "the lags), %lld lost on the way (gaps), %lld not learned\n",
+                   "[%s] samples: newest seq %lld; resumed through seq %lld; %lld taken (%lld "
+                   "learned, the rest filled the lags), %lld lost on the way (gaps), %lld not "
+                   "learned\n",
                    config_.instance.c_str(), static_cast<long long>(stream_.newest_signals()),
-                   static_cast<long long>(samples_taken_),
+                   static_cast<long long>(resumed_through_), static_cast<long long>(samples_taken_),
                    static_cast<long long>(core_.samples_learned()),
                    static_cast<long long>(bus_.stats().gaps), static_cast<long long>(not_learned_));
     if (started_) PublishSnapshot();  // the next instance resumes from exactly here
@@ -151,6 +153,7 @@ void IdentifierNode::OnSnapshot(const odonata::model_snapshot_t& msg) {
   if (msg.samples_learned < 0) throw std::invalid_argument("snapshot with a negative sample count");
   core_.ReplaceModel(std::move(model), msg.samples_learned,
                      std::max<int64_t>(-1, msg.learned_through));
+  resumed_through_ = std::max<int64_t>(-1, msg.learned_through);
   if (msg.learning == 0) core_.Freeze();  // frozen before it stopped: frozen again
   StartLearning(
       "from the bus snapshot after " + std::to_string(msg.samples_learned) + " learned samples" +

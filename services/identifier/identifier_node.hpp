@@ -89,8 +89,9 @@ class IdentifierNode {
   // kMostWaiting the oldest go, each counted as not learned.
   std::deque<SampleStream::Event> waiting_;
   static constexpr std::size_t kMostWaiting = 100000;  // 1000 s at 100 Hz
-  int64_t samples_taken_ = 0;  // samples handed to the learner (learned, or filling its lags)
-  int64_t not_learned_ = 0;    // samples that came in and were never learned (the bound above)
+  int64_t resumed_through_ = -1;  // the snapshot resumed had learned through this seq
+  int64_t samples_taken_ = 0;     // samples handed to the learner (learned, or filling its lags)
+  int64_t not_learned_ = 0;       // samples that came in and were never learned (the bound above)
   int64_t prediction_seq_ = 0;
   int64_t already_learned_ = 0;      ///< samples refused as learned before a resume, as last said
   int64_t missed_on_resume_ = 0;     ///< samples missed while down, as last said

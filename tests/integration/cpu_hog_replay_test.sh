@@ -55,12 +55,12 @@ kill "${HOGS[@]}" 2>/dev/null || true
 import json, re, sys
 out, stop_s = sys.argv[1], sys.argv[2]
 ident = open(out + '/ident.log').read()
-m = re.search(r'samples: newest seq (-?\d+); (\d+) taken \((\d+) learned[^)]*\), (\d+) lost on the way \(gaps\), (\d+) not learned', ident)
+m = re.search(r'samples: newest seq (-?\d+); resumed through seq (-?\d+); (\d+) taken \((\d+) learned[^)]*\), (\d+) lost on the way \(gaps\), (\d+) not learned', ident)
 assert m, 'no accounting line in the identifier\'s log:\n' + ident[-2000:]
-newest, taken, learned, lost, not_learned = (int(x) for x in m.groups())
+newest, resumed, taken, learned, lost, not_learned = (int(x) for x in m.groups())
 replay = json.load(open(out + '/replay.json'))
 sent = replay['samples_sent'] if 'samples_sent' in replay else replay['sent']
-assert taken + lost + not_learned == newest + 1, (
+assert resumed + 1 + taken + lost + not_learned == newest + 1, (
     'identifier: %d taken + %d lost + %d not learned != newest seq %d + 1' % (taken, lost, not_learned, newest))
 assert learned <= taken
 assert newest + 1 <= sent, (newest, sent)
