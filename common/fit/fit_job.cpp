@@ -5,6 +5,7 @@
 #include "fit/fit_scoring.hpp"
 #include "fit/fit_tracking.hpp"
 #include "fit/fit_verdict.hpp"
+#include "fit/prediction_intervals.hpp"
 #include "io/atomic_file.hpp"
 
 #include <algorithm>
@@ -43,6 +44,10 @@ namespace {
 // The records a job reads, what was bridged or cut in them, and the warnings so far.
 struct JobData {
   std::optional<sysid::Series> train, validate;
+  // The selection's chosen candidate and the rows it was judged on, never trained on: what the
+  // prediction intervals are calibrated on (prediction_intervals.hpp).
+  std::optional<sysid::NarxModel> calibration_model;
+  std::optional<sysid::Series> calibration;
   nlohmann::json files = nlohmann::json::object();  // per file: rate, bridged gaps, segments
   nlohmann::json warnings = nlohmann::json::array();
 };
@@ -138,6 +143,13 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
   if (fit.selection) {
     report["selection"] = SelectionToJson(fit, fo.selection, o.select_csv, d.train->samples());
     for (const auto& w : fit.selection->warnings) d.warnings.push_back(w);
+  }
+  if (fit.selection && fit.selection->chosen_model && fit.selection->holdout_samples > 0) {
+    d.calibration_model = fit.selection->chosen_model;
+    const Eigen::Index rows = d.train->samples();
+    const Eigen::Index held = std::min(rows, fit.selection->holdout_samples);
+    d.calibration =
+        select_series ? *select_series : sysid::SliceSeries(*d.train, rows - held, held);
   }
   cfg = fit.config;
   topt.epochs = fit.train.epochs;
@@ -345,7 +357,18 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   std::vector<nlohmann::json> per(n_outputs, nlohmann::json::object());
   const sysid::Predictor predict = [&model](const Eigen::VectorXd& x) { return model->Predict(x); };
   if (d.train) Put(per, Evaluate(spec, *d.train, predict, o.horizon), "", "train");
-  if (d.validate) Put(per, Evaluate(spec, *d.validate, predict, o.horizon), "", "validate");
+  if (d.validate) {
+    std::vector<nlohmann::json> blocks = Evaluate(spec, *d.validate, predict, o.horizon);
+    if (d.calibration_model) {
+      const sysid::Predictor candidate = [&d](const Eigen::VectorXd& x) {
+        return d.calibration_model->Predict(x);
+      };
+      const IntervalWidths widths =
+          CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level);
+      ScoreIntervals(spec, *d.validate, predict, o.horizon, widths, blocks);
+    }
+    Put(per, blocks, "", "validate");
+  }
   // Time constants in seconds when the training data's rate is known (a time column or a ULog).
   double sample_time_s = 0;
   if (!o.train_csv.empty() && d.files.contains(o.train_csv) &&

@@ -90,6 +90,8 @@ struct FitJobOptions {
   /// K > 1: also score K steps ahead (k_step in the report), and choose by it unless the
   /// selection criterion says otherwise.
   int horizon = 0;
+  /// The prediction intervals' level (prediction_intervals.hpp), in (0, 1).
+  double interval_level = 0.9;
   std::string ranges;       ///< optional: declared signal ranges (JSON) fix the scaling
   std::string save_ranges;  ///< optional: write the training data's ranges (JSON)
   /// Optional: write an odonata-identifier configuration with the chosen settings (JSON).

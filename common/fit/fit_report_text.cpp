@@ -125,6 +125,33 @@ void FormatSelection(std::ostream& out, const nlohmann::json& sel, int final_rul
   FormatLinearChecks(out, sel);
 }
 
+// The validation's prediction intervals (prediction_intervals.hpp): coverage and mean width per
+// mode, beside the FIT above.
+void FormatIntervals(std::ostream& out, const nlohmann::json& b) {
+  if (!b.contains("validate")) return;
+  bool header = false;
+  char line[256];
+  for (const char* mode : {"one_step", "k_step", "free_run"}) {
+    const auto& v = b["validate"];
+    if (!v.contains(mode) || !v[mode].contains("interval")) continue;
+    const auto& i = v[mode]["interval"];
+    if (!header) {
+      std::snprintf(line, sizeof line,
+                    "\n  %.0f %% prediction intervals (split-conformal, %ld hold-out targets):\n",
+                    100.0 * i["level"].get<double>(), i["calibration_rows"].get<long>());
+      out << line;
+      header = true;
+    }
+    if (i["mean_width"].is_null())
+      std::snprintf(line, sizeof line, "  validate   %-10s covers %6.2f %%, unbounded\n", mode,
+                    100.0 * i["coverage"].get<double>());
+    else
+      std::snprintf(line, sizeof line, "  validate   %-10s covers %6.2f %%, mean width %.4g\n",
+                    mode, 100.0 * i["coverage"].get<double>(), i["mean_width"].get<double>());
+    out << line;
+  }
+}
+
 // One output's scores: the model's, then each baseline's, per data set and mode.
 void FormatScores(std::ostream& out, const nlohmann::json& b) {
   const auto row = [&out](const char* data, const char* model, const nlohmann::json& block) {
@@ -155,6 +182,7 @@ void FormatScores(std::ostream& out, const nlohmann::json& b) {
     if (base.contains("readable") && base["readable"].contains(data))
       row(data, "readable", base["readable"][data]);
   }
+  FormatIntervals(out, b);
 }
 
 // The readable form by default (the full one when there is none), the full one on request.

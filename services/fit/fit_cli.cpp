@@ -219,6 +219,11 @@ void AddSelectionOptions(CLI::App* app, FitCli& c, FitJobOptions* o) {
   app->add_option("--select-thresholds", o->selection.thresholds, "H̄ values to try")
       ->delimiter(',');
   app->add_option("--select-kappas", o->selection.kappas, "kappa values to try")->delimiter(',');
+  app->add_option("--interval-level", o->interval_level,
+                  "the prediction intervals' level, printed with their coverage and width on "
+                  "the validation file (split-conformal on the selection's hold-out)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 0.999));
   app->add_option("--threads", o->selection.threads,
                   "threads for the candidates' independent trainings (0: every core); the model "
                   "is the same whatever the count")

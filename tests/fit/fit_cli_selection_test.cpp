@@ -85,6 +85,16 @@ TEST(FitCli, SelectionNeverReadsTheValidationFile) {
   EXPECT_EQ(ja["selection"], jb["selection"]);
   EXPECT_EQ(ja["rule_text"], jb["rule_text"]);
   EXPECT_EQ(ja["train"], jb["train"]);
+  // The validation's prediction intervals, calibrated on the selection's hold-out (never on the
+  // validation file): each mode scored holds its level, coverage and mean width (issue 60).
+  for (const char* mode : {"one_step", "free_run"}) {
+    const nlohmann::json& i = ja["validate"][mode]["interval"];
+    EXPECT_EQ(i["level"].get<double>(), 0.9) << mode;
+    EXPECT_GE(i["coverage"].get<double>(), 0.0) << mode;
+    EXPECT_LE(i["coverage"].get<double>(), 1.0) << mode;
+    EXPECT_GT(i["calibration_rows"].get<long>(), 0) << mode;
+    EXPECT_EQ(i["calibration_rows"], jb["validate"][mode]["interval"]["calibration_rows"]);
+  }
 }
 
 // Chosen K steps ahead, the report gives the one-step bound and which candidates it put out; the

@@ -1,0 +1,83 @@
+#include "fit/prediction_intervals.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace odonata::fit {
+namespace {
+
+// The predictions of each mode odonata-fit scores, by name, and the targets.
+std::map<std::string, Eigen::MatrixXd> ModePredictions(const sysid::RegressorSpec& spec,
+                                                       const sysid::Series& s,
+                                                       const sysid::Predictor& predict,
+                                                       int horizon) {
+  std::map<std::string, Eigen::MatrixXd> modes;
+  modes["one_step"] = sysid::PredictOneStep(spec, s, predict);
+  if (spec.output_lags > 0) {
+    bool diverged = false;
+    modes["free_run"] = sysid::SimulateFreeRun(spec, s, predict, &diverged);
+    if (horizon > 1) modes["k_step"] = sysid::PredictAhead(spec, s, predict, horizon, &diverged);
+  }
+  return modes;
+}
+
+// The ⌈(n + 1)·level⌉-th smallest |e| of the finite residuals; +∞ past the n-th.
+double ConformalHalfWidth(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat, double level) {
+  std::vector<double> e;
+  e.reserve(static_cast<std::size_t>(y.size()));
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(yhat(r)) && std::isfinite(y(r))) e.push_back(std::abs(y(r) - yhat(r)));
+  const auto n = static_cast<double>(e.size());
+  const auto k = static_cast<std::size_t>(std::ceil((n + 1.0) * level));
+  if (e.empty() || k > e.size()) return std::numeric_limits<double>::infinity();
+  std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k - 1), e.end());
+  return e[k - 1];
+}
+
+}  // namespace
+
+IntervalWidths CalibrateIntervals(const sysid::RegressorSpec& spec,
+                                  const sysid::Series& calibration, const sysid::Predictor& predict,
+                                  int horizon, double level) {
+  if (!(level > 0.0 && level < 1.0))
+    throw std::invalid_argument("the interval's level must be in (0, 1), not " +
+                                std::to_string(level));
+  IntervalWidths w;
+  w.level = level;
+  const Eigen::MatrixXd y = sysid::Targets(spec, calibration);
+  w.calibration_rows = y.rows();
+  for (const auto& [mode, yhat] : ModePredictions(spec, calibration, predict, horizon)) {
+    Eigen::VectorXd half(y.cols());
+    for (Eigen::Index o = 0; o < y.cols(); ++o)
+      half(o) = ConformalHalfWidth(y.col(o), yhat.col(o), level);
+    w.half_width[mode] = half;
+  }
+  return w;
+}
+
+void ScoreIntervals(const sysid::RegressorSpec& spec, const sysid::Series& s,
+                    const sysid::Predictor& predict, int horizon, const IntervalWidths& widths,
+                    std::vector<nlohmann::json>& blocks) {
+  const Eigen::MatrixXd y = sysid::Targets(spec, s);
+  for (const auto& [mode, yhat] : ModePredictions(spec, s, predict, horizon)) {
+    const auto half = widths.half_width.find(mode);
+    if (half == widths.half_width.end()) continue;
+    for (Eigen::Index o = 0; o < y.cols() && o < static_cast<Eigen::Index>(blocks.size()); ++o) {
+      nlohmann::json& block = blocks[static_cast<std::size_t>(o)];
+      if (!block.contains(mode)) continue;
+      const double h = half->second(o);
+      Eigen::Index covered = 0;
+      for (Eigen::Index r = 0; r < y.rows(); ++r)
+        if (std::isfinite(yhat(r, o)) && std::abs(y(r, o) - yhat(r, o)) <= h) ++covered;
+      block[mode]["interval"] = {
+          {"level", widths.level},
+          {"coverage", y.rows() > 0 ? static_cast<double>(covered) / y.rows() : 0.0},
+          {"mean_width", std::isfinite(h) ? nlohmann::json(2.0 * h) : nlohmann::json()},
+          {"calibration_rows", widths.calibration_rows}};
+    }
+  }
+}
+
+}  // namespace odonata::fit
