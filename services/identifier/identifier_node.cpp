@@ -92,18 +92,7 @@ IdentifierNode::IdentifierNode(bus::BusNode& bus, IdentifierConfig config,
                });
   }
   bus_.OnShutdown([this] {
-    // Every sample up to the newest heard is learned or counted (the socket was drained first:
-    // BusNode::Stop): newest + 1 = (resumed through + 1) + taken + lost + not learned, the
-    // samples through a resumed snapshot being its predecessor's.
-    if (config_.source == SampleSource::kSignals)
-      std::fprintf(stderr,
-                   "[%s] samples: newest seq %lld; resumed through seq %lld; %lld taken (%lld "
-                   "learned, the rest filled the lags), %lld lost on the way (gaps), %lld not "
-                   "learned\n",
-                   config_.instance.c_str(), static_cast<long long>(stream_.newest_signals()),
-                   static_cast<long long>(resumed_through_), static_cast<long long>(samples_taken_),
-                   static_cast<long long>(core_.samples_learned()),
-                   static_cast<long long>(bus_.stats().gaps), static_cast<long long>(not_learned_));
+    PrintSampleAccounting();
     if (started_) PublishSnapshot();  // the next instance resumes from exactly here
     if (!save_model_path_.empty()) SaveModel(save_model_path_);
   });

@@ -67,6 +67,8 @@ class IdentifierNode {
   // `seq` is the sample just handled, answered even when it was a resend.
   void AcknowledgeSignals(int64_t seq = -1);
   void Learn(const sysid::Sample& sample);
+  /// At the stop: the samples heard, taken, lost and not learned, adding up to the newest seq.
+  void PrintSampleAccounting() const;
   void PublishSnapshot();
   // A non-finite prediction at `sample`: error state, exit code, the last good model back.
   void Diverged(int64_t sample);
