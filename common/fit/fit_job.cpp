@@ -48,6 +48,7 @@ struct JobData {
   // prediction intervals are calibrated on (prediction_intervals.hpp).
   std::optional<sysid::NarxModel> calibration_model;
   std::optional<sysid::Series> calibration;
+  std::optional<IntervalWidths> widths;             // calibrated on them
   nlohmann::json files = nlohmann::json::object();  // per file: rate, bridged gaps, segments
   nlohmann::json warnings = nlohmann::json::array();
 };
@@ -258,7 +259,8 @@ void ScoreBaselines(const FitJobOptions& o, const sysid::NarxModel& model, JobDa
     };
     std::vector<std::pair<std::string, const sysid::Series*>> sets{{"train", &*d.train}};
     if (d.validate) sets.emplace_back("validate", &*d.validate);
-    WritePredictions(o.predictions, spec, sets, predict, arx_predict, o.horizon);
+    WritePredictions(o.predictions, spec, sets, predict, arx_predict, o.horizon,
+                     d.widths ? &*d.widths : nullptr);
     report["predictions_file"] = o.predictions;
   }
 }
@@ -357,16 +359,15 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
   std::vector<nlohmann::json> per(n_outputs, nlohmann::json::object());
   const sysid::Predictor predict = [&model](const Eigen::VectorXd& x) { return model->Predict(x); };
   if (d.train) Put(per, Evaluate(spec, *d.train, predict, o.horizon), "", "train");
+  if (d.calibration_model) {
+    const sysid::Predictor candidate = [&d](const Eigen::VectorXd& x) {
+      return d.calibration_model->Predict(x);
+    };
+    d.widths = CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level);
+  }
   if (d.validate) {
     std::vector<nlohmann::json> blocks = Evaluate(spec, *d.validate, predict, o.horizon);
-    if (d.calibration_model) {
-      const sysid::Predictor candidate = [&d](const Eigen::VectorXd& x) {
-        return d.calibration_model->Predict(x);
-      };
-      const IntervalWidths widths =
-          CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level);
-      ScoreIntervals(spec, *d.validate, predict, o.horizon, widths, blocks);
-    }
+    if (d.widths) ScoreIntervals(spec, *d.validate, predict, o.horizon, *d.widths, blocks);
     Put(per, blocks, "", "validate");
   }
   // Time constants in seconds when the training data's rate is known (a time column or a ULog).

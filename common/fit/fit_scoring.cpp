@@ -197,9 +197,18 @@ std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec
 /// the measured outputs before it.
 void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
-                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon) {
+                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon,
+                      const IntervalWidths* widths) {
   const auto no = spec.outputs.size();
   const bool ahead = horizon > 1 && spec.output_lags > 0;
+  // The modes whose intervals are written, in column order, and each one's half widths.
+  std::vector<std::pair<std::string, const Eigen::VectorXd*>> bands;
+  if (widths)
+    for (const char* mode : {"one_step", "free_run", "k_step"}) {
+      const auto it = widths->half_width.find(mode);
+      if (it != widths->half_width.end() && (std::string(mode) != "k_step" || ahead))
+        bands.emplace_back(mode, &it->second);
+    }
   std::vector<std::string> header{"set", "sample"};
   for (const auto& name : spec.outputs) {
     const std::string sfx = no > 1 ? "_" + name : "";
@@ -208,6 +217,10 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
       header.push_back(c + sfx);
     if (ahead)
       for (const char* c : {"fuzzy_k_step", "arx_k_step"}) header.push_back(c + sfx);
+    for (const auto& band : bands) {
+      header.push_back("fuzzy_" + band.first + "_lower" + sfx);
+      header.push_back("fuzzy_" + band.first + "_upper" + sfx);
+    }
   }
   io::CsvWriter out(path, header);
   double set_index = 0;
@@ -229,6 +242,13 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
         if (ahead) {
           row.push_back(fk(r, o));
           row.push_back(ak(r, o));
+        }
+        for (const auto& [mode, half] : bands) {
+          const double centre = mode == "one_step"   ? f1(r, o)
+                                : mode == "free_run" ? fr(r, o)
+                                                     : fk(r, o);
+          row.push_back(centre - (*half)(o));
+          row.push_back(centre + (*half)(o));
         }
       }
       out.WriteRow(row);

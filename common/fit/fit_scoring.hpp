@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/fit_job.hpp"
+#include "fit/prediction_intervals.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/free_run.hpp"
@@ -36,9 +37,11 @@ std::vector<nlohmann::json> EvaluatePersistence(const sysid::RegressorSpec& spec
 /// Writes sample-by-sample predictions of the model and of ARX, both modes, for each data set.
 /// One output keeps the plain column names; several get one set of columns per output (_NAME).
 /// With a horizon K (> 1), fuzzy_k_step and arx_k_step follow: each a free run of K samples from
-/// the measured outputs before it.
+/// the measured outputs before it. With `widths`, each fuzzy mode's interval follows the output's
+/// columns: fuzzy_one_step_lower, fuzzy_one_step_upper, … (prediction_intervals.hpp).
 void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const std::vector<std::pair<std::string, const sysid::Series*>>& sets,
-                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon);
+                      const sysid::Predictor& fuzzy, const sysid::Predictor& arx, int horizon,
+                      const IntervalWidths* widths = nullptr);
 
 }  // namespace odonata::fit

@@ -97,6 +97,40 @@ TEST(FitCli, SelectionNeverReadsTheValidationFile) {
   }
 }
 
+// The predictions file carries each mode's interval, and its coverage is the report's.
+TEST(FitCli, PredictionsFileHoldsTheIntervalsTheReportScores) {
+  const std::string out = Dir() + "/pred_intervals.csv";
+  const ProcessResult r = Exec("--train " + ShortTrain() +
+                                   " --output y --input u --consequent linear --select-kappas 1 "
+                                   "--select-thresholds 0.45 --max-epochs 3 --json --validate " +
+                                   Example("validate.csv") + " --predictions " + out,
+                               false);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::ifstream in(out);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header,
+            "set,sample,measured,fuzzy_one_step,fuzzy_free_run,arx_one_step,arx_free_run,"
+            "fuzzy_one_step_lower,fuzzy_one_step_upper,fuzzy_free_run_lower,fuzzy_free_run_upper");
+  long validate = 0, covered = 0;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::size_t pos = 0;
+    for (int c = 0; c < 9; ++c) {
+      const std::size_t next = line.find(',', pos);
+      v.push_back(std::stod(line.substr(pos, next - pos)));
+      pos = next + 1;
+    }
+    if (v[0] != 1.0) continue;
+    ++validate;
+    if (v[7] <= v[2] && v[2] <= v[8]) ++covered;
+  }
+  ASSERT_GT(validate, 0);
+  EXPECT_NEAR(static_cast<double>(covered) / static_cast<double>(validate),
+              j["validate"]["one_step"]["interval"]["coverage"].get<double>(), 1e-12);
+}
+
 // Chosen K steps ahead, the report gives the one-step bound and which candidates it put out; the
 // model kept is within it. In free run: none.
 TEST(FitCli, KStepsAheadTheReportGivesTheOneStepBound) {
