@@ -8,6 +8,7 @@
 #include <boost/asio/write.hpp>
 
 #include "bus/socket_buffer.hpp"
+#include "odonata/control_t.hpp"
 #include "odonata/signals_t.hpp"
 
 namespace odonata::mavlink_service {
@@ -78,6 +79,26 @@ MavlinkNode::MavlinkNode(bus::BusNode& bus, mavlink::BridgeOptions bridge,
   }
   bus_.SetState("waiting");
   bus_.Every(std::chrono::seconds(1), [this] { Tick(); });
+  // GET answers with the counts, SHUTDOWN stops it as SIGTERM does (its summary still printed).
+  bus_.Subscribe<odonata::control_t>(bus_.channels().control, [this](const odonata::control_t& m) {
+    if (!bus_.AcceptControl(m)) return;
+    const mavlink::DecoderCounters& c = core_.counters();
+    const std::vector<std::pair<std::string, double>> params{
+        {"frames", static_cast<double>(c.frames_ok)},
+        {"frames_dropped", static_cast<double>(c.dropped() + core_.bridge_dropped())},
+        {"frames_lost", static_cast<double>(core_.sequences().lost())},
+        {"published", static_cast<double>(published_)},
+        {"gap_samples", static_cast<double>(core_.gap_samples())},
+        {"rate_hz", core_.rate_hz()}};
+    if (m.command == odonata::control_t::SHUTDOWN) {
+      bus_.ReplyControl(m, true, "stopping", params);
+      bus_.Stop(0);
+    } else if (m.command == odonata::control_t::GET) {
+      bus_.ReplyControl(m, true, core_.rate_note(), params);
+    } else {
+      bus_.RejectUnsupported(m);
+    }
+  });
   bus_.OnShutdown([this] {
     if (udp_) udp_->close();
     if (serial_) serial_->close();

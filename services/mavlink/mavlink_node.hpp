@@ -3,7 +3,8 @@
 // listens on, or a telemetry radio's serial port — onto the bus as VEHICLE_SIGNALS, the fields a
 // user names on one grid (mavlink/bridge_core.hpp does all of that; this file only moves bytes).
 //
-// Inputs:  MAVLink 1 and 2 frames (UDP datagrams, or a serial byte stream)
+// Inputs:  MAVLink 1 and 2 frames (UDP datagrams, or a serial byte stream); ODONATA_CONTROL (GET
+//          answers with the counts, SHUTDOWN stops it)
 // Outputs: VEHICLE_SIGNALS (signals_t: seq = the grid index k, so a grid sample with a gap is not
 //          sent and its consumers count it missing); with --request-rate, COMMAND_LONG frames to
 //          the vehicle (rate_request.hpp); nothing else is ever sent to it.

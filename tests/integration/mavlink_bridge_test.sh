@@ -51,6 +51,10 @@ run() {
   wait_up "$URL" logger identifier mavlink
   $VEHICLE "$TLOG" --seconds $SECONDS_SENT --report "$OUT/$name/vehicle.json" "${vehicle[@]}" \
     >"$OUT/$name/vehicle.log" 2>&1 || fail "the vehicle ($name): $(cat "$OUT/$name/vehicle.log")"
+  # Asked on the bus, the bridge answers with its counts.
+  "$CONTROL" get --target mavlink --lcm-url "$URL" >"$OUT/$name/get.out" 2>&1 ||
+    fail "the bridge did not answer get: $(cat "$OUT/$name/get.out")"
+  grep -q "frames=" "$OUT/$name/get.out" || fail "get: $(cat "$OUT/$name/get.out")"
   eval "stop_clean \$PID_bridge_$name bridge; stop_clean \$PID_ident_$name identifier"
   eval "stop_clean \$PID_monitor_$name monitor; stop_clean \$PID_logger_$name logger"
   "$LOGGER" export "$OUT/$name"/log.* --signals -o "$OUT/$name/live.csv" \
