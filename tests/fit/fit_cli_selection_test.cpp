@@ -115,13 +115,7 @@ TEST(FitCli, PredictionsFileHoldsTheIntervalsTheReportScores) {
             "fuzzy_one_step_lower,fuzzy_one_step_upper,fuzzy_free_run_lower,fuzzy_free_run_upper");
   long validate = 0, covered = 0;
   while (std::getline(in, line)) {
-    std::vector<double> v;
-    std::size_t pos = 0;
-    for (int c = 0; c < 9; ++c) {
-      const std::size_t next = line.find(',', pos);
-      v.push_back(std::stod(line.substr(pos, next - pos)));
-      pos = next + 1;
-    }
+    const std::vector<double> v = CsvNumbers(line, 9);
     if (v[0] != 1.0) continue;
     ++validate;
     if (v[7] <= v[2] && v[2] <= v[8]) ++covered;

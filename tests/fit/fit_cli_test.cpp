@@ -210,13 +210,7 @@ TEST(FitCli, PredictionsFileHoldsMeasuredFuzzyAndArxInBothModes) {
   long rows = 0;
   while (std::getline(in, line)) {
     ++rows;
-    std::vector<double> v;
-    std::size_t pos = 0;
-    for (int c = 0; c < 7; ++c) {
-      const std::size_t next = line.find(',', pos);
-      v.push_back(std::stod(line.substr(pos, next - pos)));
-      pos = next + 1;
-    }
+    const std::vector<double> v = CsvNumbers(line, 7);
     if (v[0] == 1.0) {
       y.push_back(v[2]);
       yh.push_back(v[3]);

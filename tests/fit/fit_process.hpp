@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -62,5 +63,17 @@ inline std::string TrainHead(int rows) {
 // cost for the tests about the CLI's contract rather than its accuracy (each whole-file selection
 // took 1–2 minutes under the sanitizers).
 inline std::string ShortTrain() { return TrainHead(1000); }
+
+/// The first `n` numbers of a line of a predictions file (comma-separated).
+inline std::vector<double> CsvNumbers(const std::string& line, int n) {
+  std::vector<double> v;
+  std::size_t pos = 0;
+  for (int c = 0; c < n; ++c) {
+    const std::size_t next = line.find(',', pos);
+    v.push_back(std::stod(line.substr(pos, next - pos)));
+    pos = next + 1;
+  }
+  return v;
+}
 
 }  // namespace odonata::fit_process
