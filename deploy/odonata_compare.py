@@ -71,6 +71,19 @@ def scores(report, output):
     return out
 
 
+def interval_label(report, output, set_name, mode):
+    """The prediction interval's legend: its level, and on the validation file its coverage
+    (odonata-fit's validate.<mode>.interval); None when odonata-fit gave none."""
+    block = report.get("per_output", {}).get(output, report)
+    interval = block.get("validate", {}).get(mode, {}).get("interval")
+    if not interval:
+        return None
+    text = f"{100 * interval['level']:.0f} % interval"
+    if set_name == "validate":
+        text += f" (covers {100 * interval['coverage']:.1f} %)"
+    return text
+
+
 def draw(plt, pred, report, output, several, horizon, path, only_modes=None, only_sets=None, labels=None):
     """One figure: a row per mode; columns the training file, its fastest stretch, the validation
     file and its fastest stretch. Returns the legend of every panel, as text (what the user reads without the PNG).
@@ -115,6 +128,12 @@ def draw(plt, pred, report, output, several, horizon, path, only_modes=None, onl
                 panel.append(f"{label} ({text})")
             ax.plot(t, y, "k", lw=0.8, label="measured")
             panel.append("measured")
+            band = interval_label(report, output, set_name, mode)
+            if band and f"fuzzy_{mode}_lower{sfx}" in pred:
+                lower = [pred[f"fuzzy_{mode}_lower{sfx}"][i] for i in idx]
+                upper = [pred[f"fuzzy_{mode}_upper{sfx}"][i] for i in idx]
+                ax.fill_between(t, lower, upper, color=FUZZY, alpha=0.18, lw=0, label=band)
+                panel.append(band)
             ax.set_ylim(window[0], window[1])
             ax.set_title(panel[0].rstrip(":"), fontsize=9)
             ax.legend(fontsize=7, loc="upper right")

@@ -20,6 +20,14 @@ for what in "training file, one step" "training file (fastest stretch), 5 steps 
   "validation file, free run" "validation file (fastest stretch), one step"; do
   grep -qF "$what" "$out/stdout" || { cat "$out/stdout"; fail "no panel '$what'"; }
 done
+# With a selection, odonata-fit calibrates prediction intervals: each panel draws the band, the
+# validation's with the coverage odonata-fit reports (issue 60).
+"$src/deploy/odonata-compare" --fit "$fit" --plot "$out/band.png" --train "$ex/train.csv" \
+  --validate "$ex/validate.csv" --output y --input u --consequent linear --select-kappas 1 \
+  --select-thresholds 0.45 --max-epochs 3 >"$out/band.out" 2>"$out/band.err" ||
+  { cat "$out/band.err"; fail "odonata-compare with a selection failed"; }
+grep -q "validation file, one step:.*| measured | 90 % interval (covers [0-9.]* %)" "$out/band.out" ||
+  { cat "$out/band.out"; fail "no interval band with its coverage on the validation panels"; }
 # Bad input ends in odonata-fit's own message and exit code; no --train is refused.
 if "$src/deploy/odonata-compare" --fit "$fit" --plot "$out/x.png" --train "$ex/train.csv" \
   --output nosuch --input u >"$out/bad" 2>&1; then fail "a missing column was accepted"; fi
