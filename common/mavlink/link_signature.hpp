@@ -30,4 +30,16 @@ std::array<std::uint8_t, 6> LinkSignature(const LinkKey& key, std::string_view s
 /// The decoder's check of a signed frame under `key` (FrameDecoder::SignatureCheck).
 FrameDecoder::SignatureCheck SignatureCheckFor(const LinkKey& key);
 
+/// 10 µs units since 2015-01-01 00:00 UTC: a signature's timestamp, from the system clock.
+std::uint64_t SigningTimestampNow();
+
+/// `frame`, an unsigned MAVLink 2 frame of a message the table knows, signed under `key`: the
+/// incompat flag set, the checksum made again over it, then link id, the 48-bit timestamp and the
+/// signature. A vehicle that enforces signing takes only such frames; each timestamp must be
+/// newer than the link's last (the caller keeps them increasing).
+/// @throws std::invalid_argument for a frame that is no whole unsigned MAVLink 2 frame of a
+///   known message.
+std::string SignFrameV2(std::string_view frame, const LinkKey& key, std::uint8_t link_id,
+                        std::uint64_t timestamp_10us);
+
 }  // namespace odonata::mavlink

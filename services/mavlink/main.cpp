@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--signing-key", key_path,
                  "the link's MAVLink 2 signing key (a file of 64 hex digits; from a passphrase: "
-                 "printf %s PASS | sha256sum): signed frames are checked with it and unsigned "
-                 "frames dropped, both counted");
+                 "printf %s PASS | sha256sum): signed frames are checked with it, unsigned "
+                 "frames dropped, both counted, and --request-rate's commands signed with it");
   app.add_option("--source", o.source, "signals_t.source, the vehicle's name")
       ->capture_default_str();
   app.add_option("--summary-json", summary_json,
@@ -123,8 +123,8 @@ int main(int argc, char** argv) {
     for (const std::string& r : requests)
       o.requests.push_back(odonata::mavlink::ParseRateRequest(r));
     if (!key_path.empty()) {
-      bridge.signature_check =
-          odonata::mavlink::SignatureCheckFor(odonata::mavlink::ReadLinkKey(key_path));
+      o.signing_key = odonata::mavlink::ReadLinkKey(key_path);
+      bridge.signature_check = odonata::mavlink::SignatureCheckFor(*o.signing_key);
       bridge.unsigned_frames = odonata::mavlink::UnsignedFrames::kRefuse;
     }
     odonata::bus::BusNode bus(bus_options.ToBusOptions("odonata-mavlink"));

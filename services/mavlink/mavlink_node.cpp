@@ -1,5 +1,6 @@
 #include "mavlink_node.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <utility>
 
@@ -222,7 +223,14 @@ void MavlinkNode::Tick() {
 }
 
 void MavlinkNode::SendRequests(double now_s) {
-  for (const std::string& frame : requester_.Due(now_s)) SendToVehicle(frame);
+  for (const std::string& frame : requester_.Due(now_s)) {
+    if (!options_.signing_key) {
+      SendToVehicle(frame);
+      continue;
+    }
+    last_signing_timestamp_ = std::max(mavlink::SigningTimestampNow(), last_signing_timestamp_ + 1);
+    SendToVehicle(mavlink::SignFrameV2(frame, *options_.signing_key, 0, last_signing_timestamp_));
+  }
 }
 
 void MavlinkNode::SendToVehicle(const std::string& frame) {

@@ -29,6 +29,7 @@
 
 #include "bus/bus_node.hpp"
 #include "mavlink/bridge_core.hpp"
+#include "mavlink/link_signature.hpp"
 #include "mavlink/rate_request.hpp"
 
 namespace odonata::mavlink_service {
@@ -58,6 +59,9 @@ struct MavlinkNodeOptions {
   std::string source = "mavlink";  ///< signals_t.source
   std::vector<mavlink::RateRequest> requests;
   std::uint8_t target_system = 1, target_component = 1;  ///< whom --request-rate asks
+  /// The link's key (--signing-key): what is sent to the vehicle is signed with it, as a vehicle
+  /// that enforces signing requires.
+  std::optional<mavlink::LinkKey> signing_key;
 };
 
 class MavlinkNode {
@@ -103,7 +107,8 @@ class MavlinkNode {
   std::optional<std::uint64_t> first_stamp_us_;  // kTlogRecord: the time base
   std::vector<std::string> silent_;              // the last Silent() reported
   bool rate_said_ = false;
-  std::set<std::string> warned_senders_;  // "ATTITUDE@2:1" said once
+  std::uint64_t last_signing_timestamp_ = 0;  // each signed frame's newer than the last
+  std::set<std::string> warned_senders_;      // "ATTITUDE@2:1" said once
 };
 
 }  // namespace odonata::mavlink_service

@@ -100,6 +100,31 @@ TEST(LinkSignature, TheLinksKeyPassesItsFramesAndRefusesOthers) {
   EXPECT_EQ(check.counters().bad_signature, 1u);
 }
 
+TEST(LinkSignature, FramesSignedHerePassTheLinksCheckAndNoOther) {
+  LinkKey key{};
+  key[3] = 0x42;
+  LinkKey other = key;
+  other[3] = 0x43;
+  const std::string plain =
+      EncodeFrameV2(*FindByName("COMMAND_LONG"), SetMessageIntervalPayload(1, 1, 30, 10000.0), 9);
+  const std::string a = SignFrameV2(plain, key, 2, 1000);
+  const std::string b = SignFrameV2(plain, key, 2, 1001);
+  EXPECT_EQ(a.size(), plain.size() + kSignatureSize);
+  EXPECT_NE(a, b);  // the timestamp is signed
+  FrameDecoder right(SignatureCheckFor(key));
+  const std::vector<Frame> frames = DecodeAll(a + b, right);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_TRUE(frames[0].is_signed());
+  EXPECT_EQ(Field(frames[0], *FindField(*frames[0].message, "param2")), 10000.0);
+  EXPECT_EQ(right.counters().signed_frames, 2u);
+  FrameDecoder wrong(SignatureCheckFor(other));
+  EXPECT_TRUE(DecodeAll(a, wrong).empty());
+  EXPECT_EQ(wrong.counters().bad_signature, 1u);
+  EXPECT_THROW(SignFrameV2(a, key, 2, 1002), std::invalid_argument);  // signed already
+  EXPECT_THROW(SignFrameV2(plain.substr(0, 12), key, 2, 1002), std::invalid_argument);
+  EXPECT_GT(SigningTimestampNow(), std::uint64_t{1} << 40);  // years past 2015, in 10 µs
+}
+
 TEST(LinkSignature, KeyFilesAreReadOrRefusedWithTheReason) {
   const auto dir = std::filesystem::temp_directory_path() / "odonata_link_key_test";
   std::filesystem::create_directories(dir);
