@@ -180,10 +180,6 @@ TEST(DataflashRealFiles, ArduPlaneCutsAndFlipsReadCleanly) {
   ExpectCutsAndFlipsReadCleanly(FileBytes(kArduplanePath));
 }
 
-#else
-
-TEST(DataflashRealFiles, ArduPlaneLog) { GTEST_SKIP() << "no shared/ardupilot at configure time"; }
-
 #endif
 
 #ifdef ODONATA_MAVLINK_DIR
@@ -240,10 +236,6 @@ TEST(DataflashRealFiles, ArduSubLogReadsCompletelyWithUnits) {
 TEST(DataflashRealFiles, ArduSubCutsAndFlipsReadCleanly) {
   ExpectCutsAndFlipsReadCleanly(FileBytes(kArdusubPath));
 }
-
-#else
-
-TEST(DataflashRealFiles, ArduSubLog) { GTEST_SKIP() << "no shared/mavlink at configure time"; }
 
 #endif
 

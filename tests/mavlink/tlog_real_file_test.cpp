@@ -271,10 +271,6 @@ TEST(TlogRealFile, CutsAndFlippedBytesReadCleanly) {
   EXPECT_THROW(Read(std::string(ODONATA_MAVLINK_DIR) + "/ardusub_small.BIN"), TlogError);
 }
 
-#else
-
-TEST(TlogRealFile, ArduSubLog) { GTEST_SKIP() << "no shared/mavlink at configure time"; }
-
 #endif
 
 }  // namespace
