@@ -47,7 +47,7 @@ RateRequester::RateRequester(std::vector<RateRequest> requests, std::uint8_t tar
   for (RateRequest& r : requests) pending_.push_back(Pending{std::move(r)});
 }
 
-void RateRequester::Observe(const Frame& frame, double /*now_s*/) {
+void RateRequester::Observe(const Frame& frame) {
   if (frame.sysid != target_system_ || frame.compid != target_component_) return;
   target_heard_ = true;
   if (frame.message == nullptr || frame.message->name != "COMMAND_ACK") return;

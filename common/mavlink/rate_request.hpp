@@ -42,7 +42,7 @@ class RateRequester {
                 std::uint8_t target_component);
 
   /// A frame heard: from the target, it may be the first (commands become due) or an answer.
-  void Observe(const Frame& frame, double now_s);
+  void Observe(const Frame& frame);
   /// The frames to send now (each a whole MAVLink 2 frame), and when they were sent.
   std::vector<std::string> Due(double now_s);
 

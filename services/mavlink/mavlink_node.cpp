@@ -32,7 +32,7 @@ MavlinkNode::MavlinkNode(bus::BusNode& bus, mavlink::BridgeOptions bridge,
       options_(std::move(options)),
       core_([&] {
         // The requester sees every frame first: it learns there that the vehicle is heard.
-        bridge.on_frame = [this](const mavlink::Frame& f) { requester_.Observe(f, Now()); };
+        bridge.on_frame = [this](const mavlink::Frame& f) { requester_.Observe(f); };
         return std::move(bridge);
       }()),
       requester_(options_.requests, options_.target_system, options_.target_component),

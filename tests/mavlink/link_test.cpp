@@ -204,16 +204,16 @@ std::string AckFrame(std::uint16_t command, std::uint8_t result) {
 TEST(RateRequester, SendsOnceHeardResendsUntilAnsweredAndGivesUp) {
   RateRequester r({ParseRateRequest("ATTITUDE=50"), ParseRateRequest("HIGHRES_IMU=200")}, 1, 1);
   EXPECT_TRUE(r.Due(0.0).empty()) << "sent before the vehicle was heard";
-  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f, 2, 1)), 0.1);
+  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f, 2, 1)));
   EXPECT_TRUE(r.Due(0.1).empty()) << "another vehicle is not the target";
-  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f, 1, 1)), 0.2);
+  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f, 1, 1)));
   const std::vector<std::string> first = r.Due(0.2);
   ASSERT_EQ(first.size(), 2u);
   const Frame sent = HeardFrame(first[0]);
   EXPECT_EQ(Field(sent, *FindField(*sent.message, "param2")), 20000.0);
   EXPECT_TRUE(r.Due(0.3).empty()) << "resent before kResendS";
   // The first request is answered (acks answer in the order sent); the second is not.
-  r.Observe(HeardFrame(AckFrame(kCmdSetMessageInterval, 0)), 0.5);
+  r.Observe(HeardFrame(AckFrame(kCmdSetMessageInterval, 0)));
   const std::vector<std::string> again = r.Due(0.2 + kResendS);
   ASSERT_EQ(again.size(), 1u);
   EXPECT_EQ(Field(HeardFrame(again[0]), *FindField(*FindByName("COMMAND_LONG"), "param1")), 105.0);
@@ -227,10 +227,10 @@ TEST(RateRequester, SendsOnceHeardResendsUntilAnsweredAndGivesUp) {
 
 TEST(RateRequester, ARefusalIsSaidWithItsResult) {
   RateRequester r({ParseRateRequest("ATTITUDE=50")}, 1, 1);
-  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f)), 0.0);
+  r.Observe(HeardFrame(test_support::AttitudeFrame(0, 0, 0.0f, 0.0f)));
   ASSERT_EQ(r.Due(0.0).size(), 1u);
-  r.Observe(HeardFrame(AckFrame(400, 0)), 0.1);  // another command's answer
-  r.Observe(HeardFrame(AckFrame(kCmdSetMessageInterval, 4)), 0.2);
+  r.Observe(HeardFrame(AckFrame(400, 0)));  // another command's answer
+  r.Observe(HeardFrame(AckFrame(kCmdSetMessageInterval, 4)));
   EXPECT_EQ(r.Status()[0], "ATTITUDE at 50 Hz: refused (MAV_RESULT 4)");
   EXPECT_TRUE(r.Due(10.0).empty());
 }
