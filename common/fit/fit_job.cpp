@@ -366,9 +366,8 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     d.widths = CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level);
   }
   if (d.validate) {
-    std::vector<nlohmann::json> blocks = Evaluate(spec, *d.validate, predict, o.horizon);
-    if (d.widths) ScoreIntervals(spec, *d.validate, predict, o.horizon, *d.widths, blocks);
-    Put(per, blocks, "", "validate");
+    Put(per, Evaluate(spec, *d.validate, predict, o.horizon, d.widths ? &*d.widths : nullptr), "",
+        "validate");
   }
   // Time constants in seconds when the training data's rate is known (a time column or a ULog).
   double sample_time_s = 0;

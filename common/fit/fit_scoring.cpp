@@ -123,7 +123,8 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
 
 /// Scores a predictor on a series in both modes, one block per output.
 std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                                     const sysid::Predictor& predict, int horizon) {
+                                     const sysid::Predictor& predict, int horizon,
+                                     const IntervalWidths* widths) {
   const Eigen::MatrixXd y = sysid::Targets(spec, s);
   const Eigen::MatrixXd one = sysid::PredictOneStep(spec, s, predict);
   bool diverged = false;
@@ -145,6 +146,16 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
       j["k_step"] = metrics::ScoreToJson(metrics::Score(y.col(o), k_step.col(o)));
       j["k_step"]["horizon"] = horizon;
       if (ahead_diverged) j["k_step"]["diverged"] = true;
+    }
+    if (widths) {
+      for (const auto& [mode, yhat] :
+           {std::pair<const char*, const Eigen::MatrixXd*>{"one_step", &one},
+            {"free_run", &sim},
+            {"k_step", &k_step}}) {
+        const auto half = widths->half_width.find(mode);
+        if (j.contains(mode) && half != widths->half_width.end())
+          j[mode]["interval"] = IntervalScore(y.col(o), yhat->col(o), half->second(o), *widths);
+      }
     }
     out.push_back(j);
   }

@@ -25,9 +25,11 @@ sysid::Series LoadSeries(const std::string& path, const FitJobOptions& o,
                          const sysid::RegressorSpec& spec, nlohmann::json* data,
                          nlohmann::json* warnings);
 
-/// Scores a predictor on a series in both modes, one block per output.
+/// Scores a predictor on a series in both modes, one block per output; with `widths`, each mode
+/// they calibrate gets its prediction interval's score (IntervalScore) from the same predictions.
 std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                                     const sysid::Predictor& predict, int horizon);
+                                     const sysid::Predictor& predict, int horizon,
+                                     const IntervalWidths* widths = nullptr);
 
 /// Persistence ŷ(t) = y(t−1) one step ahead, y(t−K) K steps ahead (horizon K > 1); free run
 /// holds the last measured value before each segment's first target. One block per output.

@@ -57,27 +57,17 @@ IntervalWidths CalibrateIntervals(const sysid::RegressorSpec& spec,
   return w;
 }
 
-void ScoreIntervals(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                    const sysid::Predictor& predict, int horizon, const IntervalWidths& widths,
-                    std::vector<nlohmann::json>& blocks) {
-  const Eigen::MatrixXd y = sysid::Targets(spec, s);
-  for (const auto& [mode, yhat] : ModePredictions(spec, s, predict, horizon)) {
-    const auto half = widths.half_width.find(mode);
-    if (half == widths.half_width.end()) continue;
-    for (Eigen::Index o = 0; o < y.cols() && o < static_cast<Eigen::Index>(blocks.size()); ++o) {
-      nlohmann::json& block = blocks[static_cast<std::size_t>(o)];
-      if (!block.contains(mode)) continue;
-      const double h = half->second(o);
-      Eigen::Index covered = 0;
-      for (Eigen::Index r = 0; r < y.rows(); ++r)
-        if (std::isfinite(yhat(r, o)) && std::abs(y(r, o) - yhat(r, o)) <= h) ++covered;
-      block[mode]["interval"] = {
-          {"level", widths.level},
-          {"coverage", y.rows() > 0 ? static_cast<double>(covered) / y.rows() : 0.0},
-          {"mean_width", std::isfinite(h) ? nlohmann::json(2.0 * h) : nlohmann::json()},
+nlohmann::json IntervalScore(const Eigen::Ref<const Eigen::VectorXd>& y,
+                             const Eigen::Ref<const Eigen::VectorXd>& yhat, double half_width,
+                             const IntervalWidths& widths) {
+  Eigen::Index covered = 0;
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(yhat(r)) && std::abs(y(r) - yhat(r)) <= half_width) ++covered;
+  return {{"level", widths.level},
+          {"coverage", y.size() > 0 ? static_cast<double>(covered) / y.size() : 0.0},
+          {"mean_width",
+           std::isfinite(half_width) ? nlohmann::json(2.0 * half_width) : nlohmann::json()},
           {"calibration_rows", widths.calibration_rows}};
-    }
-  }
 }
 
 }  // namespace odonata::fit

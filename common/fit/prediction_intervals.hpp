@@ -39,11 +39,11 @@ IntervalWidths CalibrateIntervals(const sysid::RegressorSpec& spec,
                                   const sysid::Series& calibration, const sysid::Predictor& predict,
                                   int horizon, double level);
 
-/// Adds "interval": {level, coverage, mean_width, calibration_rows} to each mode of Evaluate's
-/// blocks (one per output) for `predict` on `s`: the share of targets within ŷ ± half width, and
-/// the interval's mean width (raw units). A prediction that is not finite is not covered.
-void ScoreIntervals(const sysid::RegressorSpec& spec, const sysid::Series& s,
-                    const sysid::Predictor& predict, int horizon, const IntervalWidths& widths,
-                    std::vector<nlohmann::json>& blocks);
+/// {level, coverage, mean_width, calibration_rows} of the interval ŷ ± `half_width` around one
+/// output's predictions in one mode (Evaluate's "interval"): the share of targets within it, and
+/// its mean width (raw units). A prediction that is not finite is not covered.
+nlohmann::json IntervalScore(const Eigen::Ref<const Eigen::VectorXd>& y,
+                             const Eigen::Ref<const Eigen::VectorXd>& yhat, double half_width,
+                             const IntervalWidths& widths);
 
 }  // namespace odonata::fit

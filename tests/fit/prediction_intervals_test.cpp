@@ -1,8 +1,8 @@
-// Split-conformal prediction intervals (fit/prediction_intervals.hpp; issue 60 point 1): with the
-// true model of a noisy linear plant as the predictor, intervals calibrated on one stretch cover
-// about their level on another (exchangeable) stretch, one step ahead, K steps ahead and in free
-// run; the half width is the ⌈(n+1)·level⌉-th smallest |residual|; a level outside (0, 1) is
-// refused.
+// Split-conformal prediction intervals (fit/prediction_intervals.hpp; issue 60 point 1), scored by
+// Evaluate as odonata-fit scores the validation file: with the true model of a noisy linear plant
+// as the predictor, intervals calibrated on one stretch cover about their level on another
+// (exchangeable) stretch, one step ahead, K steps ahead and in free run; the half width is the
+// ⌈(n+1)·level⌉-th smallest |residual|; a level outside (0, 1) is refused.
 #include "fit/prediction_intervals.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,8 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+
+#include "fit/fit_scoring.hpp"
 
 namespace odonata::fit {
 namespace {
@@ -46,9 +48,7 @@ const sysid::Predictor kTrue = [](const Eigen::VectorXd& x) {
 TEST(PredictionIntervals, CalibratedOnOneStretchTheyCoverTheirLevelOnAnother) {
   const IntervalWidths w = CalibrateIntervals(Spec(), Plant(1, 3000), kTrue, 5, 0.9);
   ASSERT_EQ(w.calibration_rows, 2999);
-  std::vector<nlohmann::json> blocks(1);
-  for (const char* mode : {"one_step", "k_step", "free_run"}) blocks[0][mode] = {{"fit", 0.0}};
-  ScoreIntervals(Spec(), Plant(2, 3000), kTrue, 5, w, blocks);
+  const std::vector<nlohmann::json> blocks = Evaluate(Spec(), Plant(2, 3000), kTrue, 5, &w);
   for (const char* mode : {"one_step", "k_step", "free_run"}) {
     SCOPED_TRACE(mode);
     const nlohmann::json& i = blocks[0][mode]["interval"];
