@@ -15,10 +15,7 @@ namespace {
 constexpr std::size_t kMaxTlogNotes = 100;
 
 std::uint64_t TlogTimeAt(std::string_view bytes, std::size_t pos) {
-  std::uint64_t t = 0;
-  for (std::size_t i = 0; i < kTlogTimestampSize; ++i)
-    t = (t << 8) | static_cast<std::uint8_t>(bytes[pos + i]);
-  return t;
+  return TlogStampAt(bytes.data() + pos);
 }
 
 bool PlausibleTlogTime(std::uint64_t t_us) {

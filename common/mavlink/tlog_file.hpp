@@ -113,6 +113,22 @@ struct TlogFile {
   std::size_t FrameCount(std::string_view message) const;
 };
 
+/// The record timestamp whose kTlogTimestampSize big-endian bytes start at `p`, in µs.
+inline std::uint64_t TlogStampAt(const char* p) {
+  std::uint64_t t = 0;
+  for (std::size_t i = 0; i < kTlogTimestampSize; ++i)
+    t = (t << 8) | static_cast<std::uint8_t>(p[i]);
+  return t;
+}
+
+/// Seconds from `zero_us` to `t_us` (negative before it): the exact difference of microseconds,
+/// divided once. Every reading of a .tlog's times uses it (tlog_signals, odonata-mavlink
+/// --udp-stamped), so that they agree to the last bit.
+inline double TlogSeconds(std::uint64_t t_us, std::uint64_t zero_us) {
+  return t_us >= zero_us ? static_cast<double>(t_us - zero_us) / 1e6
+                         : -static_cast<double>(zero_us - t_us) / 1e6;
+}
+
 /// Whether `head` (the first bytes of a file, 9 or more) starts a telemetry log: a big-endian
 /// timestamp between 2000 and 2100, then a MAVLink start byte (0xFD or 0xFE) at byte 8. Content,
 /// not the file's name.

@@ -92,8 +92,7 @@ TlogSeriesTimes KeptFrames(const TlogFile& file, const MessageSeries& s) {
     last_us = t_us;
     out.frames.push_back(i);
     // The difference is exact (below 2^53 µs for any two dates 2000..2100); dividing rounds once.
-    out.t_s.push_back(t_us >= zero_us ? static_cast<double>(t_us - zero_us) / 1e6
-                                      : -static_cast<double>(zero_us - t_us) / 1e6);
+    out.t_s.push_back(TlogSeconds(t_us, zero_us));
   }
   return out;
 }

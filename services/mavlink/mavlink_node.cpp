@@ -9,6 +9,7 @@
 #include <boost/asio/write.hpp>
 
 #include "bus/socket_buffer.hpp"
+#include "mavlink/tlog_file.hpp"
 #include "odonata/control_t.hpp"
 #include "odonata/signals_t.hpp"
 
@@ -141,21 +142,16 @@ void MavlinkNode::ReadSerial() {
 }
 
 void MavlinkNode::OnStampedDatagram(std::size_t size) {
-  constexpr std::size_t kStampBytes = 8;
+  constexpr std::size_t kStampBytes = mavlink::kTlogTimestampSize;
   if (size < kStampBytes) {
     ++short_datagrams_;
     bus_.Report("datagram", "a datagram of " + std::to_string(size) +
                                 " bytes holds no .tlog record stamp: dropped");
     return;
   }
-  std::uint64_t stamp_us = 0;
-  for (std::size_t i = 0; i < kStampBytes; ++i)
-    stamp_us = stamp_us << 8 | static_cast<std::uint8_t>(buffer_[i]);
+  const std::uint64_t stamp_us = mavlink::TlogStampAt(buffer_.data());
   if (!first_stamp_us_) first_stamp_us_ = stamp_us;
-  // tlog_signals' arithmetic: an exact difference of microseconds, divided once.
-  const std::uint64_t zero_us = *first_stamp_us_;
-  const double t_s = stamp_us >= zero_us ? static_cast<double>(stamp_us - zero_us) / 1e6
-                                         : -static_cast<double>(zero_us - stamp_us) / 1e6;
+  const double t_s = mavlink::TlogSeconds(stamp_us, *first_stamp_us_);
   OnBytes(buffer_.data() + kStampBytes, size - kStampBytes, BytesEnd::kDatagramEnds, t_s);
 }
 
