@@ -360,6 +360,7 @@ void BusNode::PublishHeartbeat() {
   hb.skipped = stats_.skipped;
   hb.repeated = stats_.repeated;
   hb.last_error = stats_.last_error;
+  hb.detail = stats_.detail;
   Publish(options_.channels.heartbeat, hb);
 }
 

@@ -17,6 +17,7 @@ struct ServiceStats {
   int64_t skipped = 0;        ///< real time: commands superseded before any sample applied them
   int64_t repeated = 0;       ///< real time: extra samples applying an already applied command
   std::string last_error;
+  std::string detail;  ///< what the service would tell its operator now (heartbeat_t::detail)
 
   /// Records a problem: sets last_error, and prints "[service] kind: message" to stderr the first
   /// time a problem of this shape is seen (the kind and the message with its numbers blanked:

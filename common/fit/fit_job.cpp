@@ -347,7 +347,7 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     refit.horizon = o.horizon;
     sysid::OnlineReplay replay = sysid::LearnOnline(sysid::NarxModel(spec, cfg), refit, *d.train,
                                                     declared, !o.replay_unfrozen);
-    report["refits"] = RefitsToJson(replay);
+    report["refits"] = RefitsToJson(replay, spec);
     model.emplace(std::move(replay.model));
   } else if (!model) {
     model.emplace(TrainOffline(o, spec, search, declared, cfg, topt, d, bar, report));

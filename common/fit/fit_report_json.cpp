@@ -112,13 +112,20 @@ nlohmann::json EpochHistoryToJson(const sysid::TrainReport& report) {
   return hist;
 }
 
-nlohmann::json RefitsToJson(const sysid::OnlineReplay& replay) {
+nlohmann::json RefitsToJson(const sysid::OnlineReplay& replay, const sysid::RegressorSpec& spec) {
+  nlohmann::json seen = nlohmann::json::array();
+  for (std::size_t o = 0; o < replay.settling.size() && o < spec.outputs.size(); ++o) {
+    seen.push_back({{"output", spec.outputs[o]},
+                    {"state", sysid::SettlingStateName(replay.settling[o].state)},
+                    {"sentence", replay.settling[o].sentence}});
+  }
   return {{"landed", replay.refits},
           {"failed", replay.failed_refits},
           {"samples_learned", replay.samples_learned},
           {"incumbents_kept", replay.incumbents_kept},
           {"steady_state_refused", replay.steady_state_refused},
-          {"linear_landed", replay.linear_landed}};
+          {"linear_landed", replay.linear_landed},
+          {"seen_enough", seen}};
 }
 
 void PutModelSettings(const FitJobOptions& o, const sysid::NarxModel& model,

@@ -31,7 +31,7 @@ nlohmann::json SelectionToJson(const sysid::OfflineFit& fit, const sysid::Select
 nlohmann::json EpochHistoryToJson(const sysid::TrainReport& report);
 
 /// What the replayed online identifier's refits did (FitJobOptions::refit).
-nlohmann::json RefitsToJson(const sysid::OnlineReplay& replay);
+nlohmann::json RefitsToJson(const sysid::OnlineReplay& replay, const sysid::RegressorSpec& spec);
 
 /// The model's structure and learner settings at the report's top level.
 void PutModelSettings(const FitJobOptions& o, const sysid::NarxModel& model,

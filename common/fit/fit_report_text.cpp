@@ -25,6 +25,9 @@ void FormatHeader(std::ostream& out, const nlohmann::json& r) {
         << " kept the last refit's model, " << f["steady_state_refused"].get<long>()
         << " steady-state models refused by their checks, " << f["linear_landed"].get<long>()
         << " landed the linear model, which won on the samples since they began)\n";
+    for (const auto& s : f.value("seen_enough", nlohmann::json::array()))
+      out << "  seen enough? " << s["output"].get<std::string>() << ": "
+          << s["sentence"].get<std::string>() << "\n";
   }
 }
 

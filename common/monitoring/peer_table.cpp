@@ -60,6 +60,7 @@ nlohmann::json PeerTable::Summary() const {
     j[instance] = {{"service", h.service},  {"state", h.state}, {"decode_errors", h.decode_errors},
                    {"dropped", h.dropped},  {"gaps", h.gaps},   {"skipped", h.skipped},
                    {"repeated", h.repeated}};
+    if (!h.detail.empty()) j[instance]["detail"] = h.detail;
   }
   return j;
 }

@@ -18,6 +18,8 @@ namespace odonata::monitoring {
 struct Heartbeat {
   std::string instance, service, state;
   int64_t decode_errors = 0, dropped = 0, gaps = 0, skipped = 0, repeated = 0;
+  std::string detail =
+      {};  ///< heartbeat_t::detail: e.g. whether the identifier's model has seen enough
 };
 
 struct PeerEvent {

@@ -315,6 +315,7 @@ void IdentifierNode::Learn(const sysid::Sample& sample) {
   bus_.Publish(config_.channels.prediction,
                model_messages::ToPredictionMessage(*report, core_.model().spec().outputs,
                                                    prediction_seq_++, bus::NowUtime()));
+  ReportSettling(SettlingJudgement::kWhenDue);
   if (config_.snapshot_every_samples > 0 && report->learned &&
       core_.samples_learned() % config_.snapshot_every_samples == 0) {
     PublishSnapshot();
@@ -405,7 +406,8 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
       if (!input_problem_.empty())
         throw std::invalid_argument("input refused (" + std::to_string(inputs_refused_) +
                                     " messages): " + input_problem_);
-      return "parameters in force";
+      ReportSettling(SettlingJudgement::kNow);
+      return "parameters in force; seen enough? " + bus_.stats().detail;
     default:
       throw std::invalid_argument("unknown control command " + std::to_string(msg.command));
   }
@@ -414,26 +416,32 @@ std::string IdentifierNode::Obey(const odonata::control_t& msg) {
 std::vector<std::pair<std::string, double>> IdentifierNode::Parameters() const {
   const auto& m = core_.model();
   const auto& cfg = m.model(0).config();
-  return {{"entropy_threshold", cfg.entropy.threshold},
-          {"forgetting", cfg.forgetting},
-          {"learning", core_.learning() ? 1.0 : 0.0},
-          {"rules", static_cast<double>(m.total_rules())},
-          {"max_rules", static_cast<double>(cfg.entropy.max_rules)},
-          {"samples_learned", static_cast<double>(core_.samples_learned())},
-          {"gaps", static_cast<double>(core_.gaps())},
-          {"bridged", static_cast<double>(core_.bridged())},
-          {"not_learned", static_cast<double>(not_learned_)},
-          // Refused after a resume: the snapshot had learned them (a resend or a replay).
-          {"already_learned", static_cast<double>(core_.already_learned())},
-          // The rules it started from (a .fis or model file): refits that kept them, refined, and
-          // whether one replaced them.
-          {"expert_rules_kept", static_cast<double>(core_.experts_kept())},
-          {"expert_rules_replaced", core_.expert_replaced() ? 1.0 : 0.0},
-          // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
-          {"samples_predicted", static_cast<double>(core_.samples_predicted())},
-          {"samples_outside", static_cast<double>(core_.samples_outside())},
-          // Predictions that were not finite: each restored the last good model (Diverged).
-          {"diverged", static_cast<double>(diverged_)}};
+  auto p = std::vector<std::pair<std::string, double>>{
+      {"entropy_threshold", cfg.entropy.threshold},
+      {"forgetting", cfg.forgetting},
+      {"learning", core_.learning() ? 1.0 : 0.0},
+      {"rules", static_cast<double>(m.total_rules())},
+      {"max_rules", static_cast<double>(cfg.entropy.max_rules)},
+      {"samples_learned", static_cast<double>(core_.samples_learned())},
+      {"gaps", static_cast<double>(core_.gaps())},
+      {"bridged", static_cast<double>(core_.bridged())},
+      {"not_learned", static_cast<double>(not_learned_)},
+      // Refused after a resume: the snapshot had learned them (a resend or a replay).
+      {"already_learned", static_cast<double>(core_.already_learned())},
+      // The rules it started from (a .fis or model file): refits that kept them, refined, and
+      // whether one replaced them.
+      {"expert_rules_kept", static_cast<double>(core_.experts_kept())},
+      {"expert_rules_replaced", core_.expert_replaced() ? 1.0 : 0.0},
+      // Predictions made outside the data the model was trained on (docs/identifier.md §7.3).
+      {"samples_predicted", static_cast<double>(core_.samples_predicted())},
+      {"samples_outside", static_cast<double>(core_.samples_outside())},
+      // Predictions that were not finite: each restored the last good model (Diverged).
+      {"diverged", static_cast<double>(diverged_)}};
+  // Per output, whether the model has seen enough: 0 short of excitation, 1 still learning,
+  // 2 settled (SettlingWatch; the sentences are in GET's reason and the heartbeat's detail).
+  for (std::size_t o = 0; o < settling_.size() && o < m.spec().outputs.size(); ++o)
+    p.emplace_back("seen_enough." + m.spec().outputs[o], settling_[o]);
+  return p;
 }
 
 void IdentifierNode::RefitLanded() {

@@ -69,6 +69,14 @@ class IdentifierNode {
   void Learn(const sysid::Sample& sample);
   /// At the stop: the samples heard, taken, lost and not learned, adding up to the newest seq.
   void PrintSampleAccounting() const;
+  /// Judges whether the model has seen enough (identifier_settling.cpp): every kSettlingEvery
+  /// samples learned, or now (a GET, a freeze, a new model).
+  enum class SettlingJudgement { kWhenDue, kNow };
+  void ReportSettling(SettlingJudgement when);
+  static constexpr int64_t kSettlingEvery = 100;
+  int64_t settling_judged_at_ = 0;
+  std::vector<int> settling_said_;  ///< per output, the SettlingState last printed (−1: none)
+  std::vector<int> settling_;       ///< per output, the SettlingState last judged
   void PublishSnapshot();
   // A non-finite prediction at `sample`: error state, exit code, the last good model back.
   void Diverged(int64_t sample);

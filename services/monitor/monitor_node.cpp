@@ -118,8 +118,8 @@ void MonitorNode::OnPrediction(const odonata::prediction_t& m) {
 }
 
 void MonitorNode::OnHeartbeat(const odonata::heartbeat_t& m) {
-  const monitoring::Heartbeat hb{m.instance, m.service, m.state,   m.decode_errors,
-                                 m.dropped,  m.gaps,    m.skipped, m.repeated};
+  const monitoring::Heartbeat hb{m.instance, m.service, m.state,    m.decode_errors, m.dropped,
+                                 m.gaps,     m.skipped, m.repeated, m.detail};
   for (const auto& e : peers_.OnHeartbeat(hb, std::chrono::steady_clock::now())) {
     if (e.kind == monitoring::PeerEvent::Kind::kBack) {
       std::fprintf(stderr, "[%s] %s (%s) is back, state %s\n", bus_.options().instance.c_str(),
@@ -328,6 +328,13 @@ void MonitorNode::Print() {
                   static_cast<long long>(p.skipped), static_cast<long long>(p.repeated),
                   peer.silent ? "  SILENT" : "");
     text += line;
+    // The identifier's "seen enough" (one line per output), under its own row.
+    std::size_t from = 0;
+    while (from < p.detail.size()) {
+      const std::size_t end = std::min(p.detail.find('\n', from), p.detail.size());
+      text += "    " + p.detail.substr(from, end - from) + "\n";
+      from = end + 1;
+    }
   }
   if (options_.live_table) {
     // Move up over the previous table and redraw it in place. A line wider than the terminal

@@ -400,6 +400,12 @@ TEST_F(IdentifierNodeTest, EveryCommandIsAnsweredWithTheValueInForce) {
   EXPECT_EQ(param(*r, "rules"), node_->core().model().total_rules());
   EXPECT_EQ(param(*r, "learning"), 1.0);
   EXPECT_EQ(param(*r, "forgetting"), 1.0);
+  // Whether the model has seen enough (SettlingWatch), per output, in words and as a number: 50
+  // samples are too few for any regime to have been visited kRegimeSamples times.
+  EXPECT_NE(r->reason.find("seen enough? "), std::string::npos) << r->reason;
+  EXPECT_NE(r->reason.find("short of excitation"), std::string::npos) << r->reason;
+  for (const auto& o : node_->core().model().spec().outputs)
+    EXPECT_EQ(param(*r, "seen_enough." + o), 0.0) << o;
 
   r = ask(odonata::control_t::FREEZE, 0, "odonata-control", "id-test");
   ASSERT_NE(r, nullptr);

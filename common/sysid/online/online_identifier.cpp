@@ -24,6 +24,7 @@ void OnlineIdentifier::RestartHistory() {
 void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned,
                                     int64_t learned_through) {
   model_ = std::move(model);
+  settling_.Clear();
   arx_ = RecursiveArx(model_.scaling());
   samples_learned_ = samples_learned;
   refitter_.Clear();  // rows learned by the model that is gone
@@ -57,9 +58,13 @@ void OnlineIdentifier::SetEntropyThreshold(double h) {
   for (int o = 0; o < model_.outputs(); ++o) model_.mutable_model(o).set_entropy_threshold(h);
 }
 
+void OnlineIdentifier::SettleRefit() {
+  if (refitter_.Settle(model_)) settling_.Rebuild(model_, refitter_.KeptSeries());
+}
+
 std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* result) {
   const RegressorSpec& spec = model_.spec();
-  refitter_.Settle(model_);  // a closing refit takes over before the next prediction
+  SettleRefit();  // a closing refit takes over before the next prediction
   auto set = [result](PushResult r) {
     if (result) *result = r;
   };
@@ -195,6 +200,7 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.arx_predicted = hold(arx_.Predict(x), y);
   // The baseline learns what the fuzzy model learns, and nothing when frozen (a fair validation).
   if (learning_) arx_.Update(x, s.outputs);
+  if (learning_) settling_.Observe(model_, x, s.outputs, rep.predicted);
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
   // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).
@@ -211,7 +217,8 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.learned = learning_;
   if (learning_) {
     ++samples_learned_;
-    refitter_.AfterLearn(model_, samples_learned_);
+    if (refitter_.AfterLearn(model_, samples_learned_))
+      settling_.Rebuild(model_, refitter_.KeptSeries());
   }
 
   rep.next = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
@@ -258,7 +265,7 @@ OnlineReplay LearnOnline(NarxModel model, const RefitSchedule& refit, const Seri
   }
   return OnlineReplay{id.model(),           id.refits(),          id.failed_refits(),
                       id.samples_learned(), id.incumbents_kept(), id.steady_state_refused(),
-                      id.linear_landed()};
+                      id.linear_landed(),   id.Settling()};
 }
 
 }  // namespace odonata::sysid

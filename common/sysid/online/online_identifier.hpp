@@ -14,6 +14,7 @@
 #include "sysid/estimation/recursive_arx.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/online/scheduled_refitter.hpp"
+#include "sysid/online/settling_watch.hpp"
 
 namespace odonata::sysid {
 
@@ -63,12 +64,15 @@ class OnlineIdentifier {
   /// wait for it. Until then model() is the model in force before the freeze.
   void Freeze();
   /// Lands a closing refit now (waits for it): before a model is saved or published.
-  void Settle() { refitter_.Settle(model_); }
+  void Settle() { SettleRefit(); }
   void Resume() {
-    refitter_.Settle(model_);
+    SettleRefit();
     learning_ = true;
   }
   bool learning() const { return learning_; }
+  /// Whether the model has seen enough, per output (SettlingWatch): settled, still learning or
+  /// short of excitation, with the rules and regimes that say why. Judged on the samples learned.
+  std::vector<OutputSettling> Settling() const { return settling_.Judge(model_); }
   /// Forgets the history (e.g. the plant was reset: a new run); the model is kept.
   void RestartHistory();
   /// Replaces the model (a saved model or a snapshot from the bus); the history restarts and
@@ -152,6 +156,8 @@ class OnlineIdentifier {
  private:
   /// Learns and predicts `s`, the sample after the history's newest.
   std::optional<SampleReport> Step(const Sample& s);
+  /// Lands a closing refit if one is in flight; the settling watch judges its rules anew.
+  void SettleRefit();
 
   NarxModel model_;
   bool learning_ = true;
@@ -172,6 +178,7 @@ class OnlineIdentifier {
   int max_gap_ = 0;
   int ahead_horizon_ = 0;
   ScheduledRefitter refitter_;
+  SettlingWatch settling_;
 };
 
 /// odonata-fit's replay of the online identifier (docs/identifier.md §6.3): every row of `series`
@@ -186,6 +193,8 @@ struct OnlineReplay {
   int64_t incumbents_kept = 0;       ///< refits that kept the last refit's model
   int64_t steady_state_refused = 0;  ///< steady-state refits whose model failed its checks
   int64_t linear_landed = 0;  ///< refits whose fuzzy model lost to the linear one on new samples
+  /// Whether the model had seen enough at the end (OnlineIdentifier::Settling), per output.
+  std::vector<OutputSettling> settling;
 };
 /// `frozen` false replays an identifier stopped without a freeze: no closing refit, and the
 /// refit in flight never lands.
