@@ -15,6 +15,7 @@
 #include "fuzzy/fuzzy_model.hpp"
 #include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/narx_model.hpp"
+#include "sysid/online/settling_watch.hpp"
 
 #ifdef ODONATA_HAVE_FUZZYLITE
 #include <fl/Headers.h>
@@ -80,6 +81,40 @@ void BM_IdentifierStep(benchmark::State& state) {
 }
 BENCHMARK_TEMPLATE(BM_IdentifierStep, ConsequentKind::kSingleton)->Apply(StepArgs);
 BENCHMARK_TEMPLATE(BM_IdentifierStep, ConsequentKind::kLinear)->Apply(StepArgs);
+
+// What "seen enough" (SettlingWatch::Observe) adds to each learned sample, beside the step above:
+// one output whose N = 6 regressor is 3 output and 3 input lags.
+void BM_SettlingWatchObserve(benchmark::State& state) {
+  const int rules = static_cast<int>(state.range(0));
+  odonata::sysid::RegressorSpec spec;
+  spec.output_lags = 3;
+  spec.input_lags = 3;
+  spec.outputs = {"y"};
+  spec.inputs = {"u"};
+  FuzzyModelConfig cfg;
+  cfg.consequent = ConsequentKind::kLinear;
+  odonata::sysid::NarxModel model(spec, cfg);
+  odonata::sysid::Scaling scaling;
+  scaling.regressor_mid = Eigen::VectorXd::Zero(6);
+  scaling.regressor_half = Eigen::VectorXd::Ones(6);
+  scaling.output_mean = Eigen::VectorXd::Zero(1);
+  scaling.output_std = Eigen::VectorXd::Ones(1);
+  model.SetScaling(scaling);
+  model.mutable_model(0) = MakeModel(rules, 6, ConsequentKind::kLinear);
+  const auto xs = Samples(6, 1024);
+  odonata::sysid::SettlingWatch watch;
+  Eigen::VectorXd y(1), yhat(1);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& x = xs[k++ & 1023];
+    y(0) = 0.3 * x(0) - 0.2;
+    yhat(0) = 0.29 * x(0) - 0.2;
+    watch.Observe(model, x, y, yhat);
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["rules"] = rules;
+}
+BENCHMARK(BM_SettlingWatchObserve)->Arg(6)->Arg(41)->Arg(100);
 
 void BM_InferenceOdonata(benchmark::State& state) {
   const int rules = static_cast<int>(state.range(0)), inputs = static_cast<int>(state.range(1));
