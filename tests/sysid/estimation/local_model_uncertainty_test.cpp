@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
+#include "noisy_arx_plant.hpp"
 #include "sysid/estimation/narx_training.hpp"
 #include "sysid/model/local_dynamics.hpp"
 
@@ -24,27 +25,10 @@ namespace {
 constexpr double kGain = 2.5;
 const double kTau = -0.1 / std::log(0.8);
 
-RegressorSpec Spec() {
-  RegressorSpec s;
-  s.output_lags = 1;
-  s.input_lags = 1;
-  s.delay = 1;
-  s.outputs = {"pitch"};
-  s.inputs = {"servo"};
-  return s;
-}
+RegressorSpec Spec() { return testing::PitchFromServo(); }
 
 Series NoisyPlant(unsigned seed, int samples) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  std::normal_distribution<double> noise(0.0, 0.1);
-  Series s;
-  s.outputs = Eigen::MatrixXd::Zero(samples, 1);
-  s.inputs = Eigen::MatrixXd::Zero(samples, 1);
-  for (int t = 0; t < samples; ++t) s.inputs(t, 0) = level(rng);
-  for (int t = 1; t < samples; ++t)
-    s.outputs(t, 0) = 0.2 + 0.8 * s.outputs(t - 1, 0) + 0.5 * s.inputs(t - 1, 0) + noise(rng);
-  return s;
+  return testing::NoisyFirstOrderPlant(seed, samples);
 }
 
 NarxModel OneRuleLeastSquares(const Series& data) {

@@ -7,34 +7,17 @@
 
 #include <random>
 
+#include "noisy_arx_plant.hpp"
 #include "online_fixtures.hpp"
 #include "sysid/estimation/narx_training.hpp"
 
 namespace odonata::sysid {
 namespace {
 
-RegressorSpec Spec() {
-  RegressorSpec s;
-  s.output_lags = 1;
-  s.input_lags = 1;
-  s.delay = 1;
-  s.outputs = {"pitch"};
-  s.inputs = {"servo"};
-  return s;
-}
+using testing::PitchFromServo;
 
-// y(t) = 0.2 + 0.8 y(t−1) + 0.5 u(t−1) + e(t), u uniform on [lo, hi].
 Series Plant(unsigned seed, int samples, double lo, double hi) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(lo, hi);
-  std::normal_distribution<double> noise(0.0, 0.1);
-  Series s;
-  s.outputs = Eigen::MatrixXd::Zero(samples, 1);
-  s.inputs = Eigen::MatrixXd::Zero(samples, 1);
-  for (int t = 0; t < samples; ++t) s.inputs(t, 0) = level(rng);
-  for (int t = 1; t < samples; ++t)
-    s.outputs(t, 0) = 0.2 + 0.8 * s.outputs(t - 1, 0) + 0.5 * s.inputs(t - 1, 0) + noise(rng);
-  return s;
+  return testing::NoisyFirstOrderPlant(seed, samples, lo, hi);
 }
 
 // One linear rule fitted by least squares on the whole range of u (the declared range).
@@ -42,7 +25,7 @@ NarxModel OneRule() {
   fuzzy::FuzzyModelConfig cfg;
   cfg.consequent = fuzzy::ConsequentKind::kLinear;
   cfg.entropy.threshold = 0.0;
-  NarxModel model(Spec(), cfg);
+  NarxModel model(PitchFromServo(), cfg);
   TrainOptions t;
   t.epochs = 1;
   t.refine_least_squares = true;
