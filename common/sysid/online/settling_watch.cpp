@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "fuzzy/gaussian_rule_base.hpp"
 #include "sysid/model/rule_listing.hpp"
@@ -154,8 +155,12 @@ void SettlingWatch::Observe(const NarxModel& model, const Eigen::VectorXd& regre
 void SettlingWatch::Rebuild(const NarxModel& model, const Series& kept) {
   for (auto& o : outputs_) o.rules.clear();
   Fit(model);
-  if (kept.samples() <= model.spec().first_target()) return;
-  const RegressionData data = BuildRegression(model.spec(), kept);
+  RegressionData data;
+  try {
+    data = BuildRegression(model.spec(), kept);
+  } catch (const std::invalid_argument&) {
+    return;  // no complete regressor kept (a break every few samples): the rules start from none
+  }
   for (Eigen::Index r = 0; r < data.x.rows(); ++r) {
     const Eigen::VectorXd x = data.x.row(r).transpose();
     Accumulate(model, x, data.y.row(r).transpose(), model.Predict(x), false);

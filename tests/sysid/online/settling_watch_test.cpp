@@ -110,6 +110,18 @@ TEST(SettlingWatch, ANoisierPlantStaysLearningLonger) {
             3.0 * quiet.Judge(model)[0].rules[0].standard_error);
 }
 
+TEST(SettlingWatch, ARefitOnTooFewSamplesForARegressorStartsItsRulesFromNone) {
+  // A landing whose archive holds no complete regressor (breaks everywhere) must not throw out of
+  // the identifier's sample step: its rules are judged from the samples that come next.
+  const NarxModel model = OneRule();
+  SettlingWatch w;
+  Watch(w, model, Plant(6, 300, -1.0, 1.0));
+  Series kept = Plant(7, 1, -1.0, 1.0);
+  EXPECT_NO_THROW(w.Rebuild(model, kept));
+  EXPECT_EQ(w.Judge(model)[0].rules.at(0).samples, 0.0);
+  EXPECT_EQ(w.Judge(model)[0].rules.at(0).state, SettlingState::kShortOfExcitation);
+}
+
 TEST(SettlingWatch, TheIdentifierJudgesWhatItLearnsAndForgetsOnAReplacedModel) {
   using testing::Empty;
   using testing::Row;
