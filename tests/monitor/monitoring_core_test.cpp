@@ -225,5 +225,19 @@ TEST(PeerTable, ForgetsTheLeastRecentlyHeardPastItsBound) {
   EXPECT_EQ(peers.peers().count("p265"), 1u);
 }
 
+TEST(PeerTable, TheSummaryKeepsWhatAServiceToldItsOperator) {
+  // The identifier's "seen enough" (heartbeat_t::detail) goes into the monitor's summary, so a
+  // run can be read after the flight; a service with nothing to tell adds no key.
+  PeerTable peers;
+  const auto t0 = PeerTable::Clock::time_point{};
+  Heartbeat id{"id-1", "odonata-identifier", "running"};
+  id.detail = "roll_rad: settled";
+  peers.OnHeartbeat(id, t0);
+  peers.OnHeartbeat({"plant-1", "odonata-plant", "running"}, t0);
+  const nlohmann::json j = peers.Summary();
+  EXPECT_EQ(j["id-1"]["detail"], "roll_rad: settled");
+  EXPECT_FALSE(j["plant-1"].contains("detail"));
+}
+
 }  // namespace
 }  // namespace odonata::monitoring
