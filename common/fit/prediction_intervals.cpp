@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "metrics/conformal.hpp"
+
 namespace odonata::fit {
 namespace {
 
@@ -23,17 +25,13 @@ std::map<std::string, Eigen::MatrixXd> ModePredictions(const sysid::RegressorSpe
   return modes;
 }
 
-// The ⌈(n + 1)·level⌉-th smallest |e| of the finite residuals; +∞ past the n-th.
+// The conformal half width of the finite residuals (metrics/conformal.hpp).
 double ConformalHalfWidth(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat, double level) {
   std::vector<double> e;
   e.reserve(static_cast<std::size_t>(y.size()));
   for (Eigen::Index r = 0; r < y.size(); ++r)
     if (std::isfinite(yhat(r)) && std::isfinite(y(r))) e.push_back(std::abs(y(r) - yhat(r)));
-  const auto n = static_cast<double>(e.size());
-  const auto k = static_cast<std::size_t>(std::ceil((n + 1.0) * level));
-  if (e.empty() || k > e.size()) return std::numeric_limits<double>::infinity();
-  std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k - 1), e.end());
-  return e[k - 1];
+  return metrics::ConformalHalfWidth(e, level);
 }
 
 }  // namespace

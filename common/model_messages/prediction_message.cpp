@@ -1,5 +1,7 @@
 #include "model_messages/prediction_message.hpp"
 
+#include <cmath>
+
 #include "contract/precondition.hpp"
 
 namespace odonata::model_messages {
@@ -25,13 +27,23 @@ odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
     p.arx_free_run.push_back(report.arx_free_run(o));
     p.linear_share.push_back(o < report.linear_share.size() ? report.linear_share(o) : 0.0);
   }
+  // +∞ (too few residuals yet) travels as −1: receivers drop messages carrying non-finite values.
+  const auto width = [](const Eigen::VectorXd& w, Eigen::Index o) {
+    return o < w.size() && std::isfinite(w(o)) ? w(o) : -1.0;
+  };
+  p.interval_level = report.interval_level;
+  for (Eigen::Index o = 0; o < report.measured.size(); ++o)
+    p.half_width.push_back(width(report.half_width, o));
+  p.num_intervals = static_cast<int32_t>(p.half_width.size());
   p.learning = report.learned ? 1 : 0;
   p.horizon = report.ahead.size() > 0 ? report.horizon : 0;
   p.num_ahead = p.horizon > 0 ? p.num_outputs : 0;
   for (Eigen::Index o = 0; o < report.ahead.size() && p.horizon > 0; ++o) {
     p.ahead.push_back(report.ahead(o));
     p.arx_ahead.push_back(report.arx_ahead(o));
+    p.ahead_half_width.push_back(width(report.ahead_half_width, o));
   }
+  p.num_ahead_intervals = static_cast<int32_t>(p.ahead_half_width.size());
   return p;
 }
 

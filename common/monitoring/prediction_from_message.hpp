@@ -22,6 +22,9 @@ inline Prediction PredictionFromMessage(const odonata::prediction_t& m) {
   p.horizon = m.horizon;
   p.ahead = m.ahead;
   p.arx_ahead = m.arx_ahead;
+  p.interval_level = m.interval_level;
+  p.half_width = m.half_width;
+  p.ahead_half_width = m.ahead_half_width;
   return p;
 }
 

@@ -20,6 +20,10 @@ nlohmann::json PredictorScores::ToJson(int horizon) const {
   return s;
 }
 
+nlohmann::json IntervalTally::ToJson() const {
+  return {{"coverage", coverage()}, {"mean_width", mean_width()}, {"samples", scored}};
+}
+
 std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   const std::size_t n = p.names.size();
   if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
@@ -35,6 +39,13 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
       p.arx_ahead.size() != (ahead && arx ? n : 0) || (!ahead && !p.ahead.empty()))
     throw std::invalid_argument("prediction's K-step arrays disagree with its horizon " +
                                 std::to_string(p.horizon));
+  if ((!p.half_width.empty() && p.half_width.size() != n) ||
+      (!p.ahead_half_width.empty() && p.ahead_half_width.size() != (ahead ? n : 0)))
+    throw std::invalid_argument("prediction's interval arrays disagree with num_outputs");
+  for (const double h : p.half_width)
+    if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
+  for (const double h : p.ahead_half_width)
+    if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
   const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
   if (!leap.empty()) throw std::invalid_argument(leap);
   if (last_sample_ >= 0 && p.sample == last_sample_) {
@@ -92,6 +103,17 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     out.fuzzy.one_step.Add(y, p.predicted[o]);
     out.fuzzy.free_run.Add(y, p.free_run[o]);
     out.rules = p.rules[o];
+    if (o < p.half_width.size()) {
+      // A level changed within a run (a reconfigured identifier): its tallies start again.
+      if (out.interval_level != p.interval_level) {
+        out.one_step_interval = {};
+        out.ahead_interval = {};
+        out.interval_level = p.interval_level;
+      }
+      out.one_step_interval.Add(y, p.predicted[o], p.half_width[o]);
+      if (o < p.ahead_half_width.size())
+        out.ahead_interval.Add(y, p.ahead[o], p.ahead_half_width[o]);
+    }
     if (o < p.linear_share.size() && p.linear_share[o] > 0.0) ++out.outside;
     if (ahead) {
       // A horizon changed within a run (a reconfigured identifier): its K-step scores start again.
@@ -184,6 +206,10 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
     out["samples_outside"] = o.outside;
     out["alarm_events"] = o.alarm_events;
     out["alarmed"] = o.alarm.alarmed();
+    if (o.interval_level > 0.0) {
+      out["interval"] = {{"level", o.interval_level}, {"one_step", o.one_step_interval.ToJson()}};
+      if (o.ahead_interval.scored > 0) out["interval"]["k_step"] = o.ahead_interval.ToJson();
+    }
     if (o.has_arx()) {
       out["arx"] = o.arx.ToJson(o.horizon);
       out["behind_arx"] = o.behind_arx;

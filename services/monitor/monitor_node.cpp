@@ -317,6 +317,21 @@ void MonitorNode::Print() {
     const double arx_free = o.arx.free_run.window.Get().fit_percent;
     row(false, "free run", o.fuzzy.free_run, o.arx.free_run,
         arx && !metrics::FitDiverges(arx_free) && free <= arx_free);
+    // The identifier's intervals: how often the measurement fell within them, and how wide.
+    if (o.one_step_interval.scored > 0) {
+      const auto tally = [](const char* mode, const monitoring::IntervalTally& t) {
+        char cell[80];
+        std::snprintf(cell, sizeof cell, "%s in %.1f%% (width %.3g)", mode, 100.0 * t.coverage(),
+                      t.mean_width());
+        return std::string(cell);
+      };
+      std::string s = tally("1 step", o.one_step_interval);
+      if (o.ahead_interval.scored > 0)
+        s += ", " + tally((std::to_string(o.horizon) + " steps").c_str(), o.ahead_interval);
+      std::snprintf(line, sizeof line, "%-9s %.0f%% interval: %s\n", "", 100.0 * o.interval_level,
+                    s.c_str());
+      text += line;
+    }
   }
   for (const auto& [instance, peer] : peers_.peers()) {
     const monitoring::Heartbeat& p = peer.last;

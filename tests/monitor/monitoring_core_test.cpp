@@ -28,6 +28,33 @@ Prediction WithAhead(int64_t k, double y, double ahead, double arx_ahead) {
   return {k, {"y"}, {y}, {y}, {y}, {3}, {y}, {y}, 50, {ahead}, {arx_ahead}, {}};
 }
 
+// Issue 60, the live side: the share of measurements within the identifier's interval and its
+// mean width, one step and K steps ahead, counted only where the interval was known (not −1).
+TEST(PredictionScoreboard, TalliesHowOftenTheMeasurementFellWithinTheInterval) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  for (int64_t k = 0; k < 10; ++k) {
+    Prediction p = WithAhead(k, 1.0, k % 2 == 0 ? 1.05 : 1.5, 1.0);
+    p.interval_level = 0.9;
+    p.half_width = {k < 2 ? -1.0 : 0.1};  // the first two: not known yet
+    p.ahead_half_width = {0.1};           // ahead: 1.05 within ±0.1, 1.5 not
+    board.Add(p);
+  }
+  const auto& o = board.output("y");
+  EXPECT_EQ(o.one_step_interval.scored, 8);
+  EXPECT_EQ(o.one_step_interval.covered, 8);  // one step ahead is exact (WithAhead)
+  EXPECT_DOUBLE_EQ(o.one_step_interval.mean_width(), 0.2);
+  EXPECT_EQ(o.ahead_interval.scored, 10);
+  EXPECT_EQ(o.ahead_interval.covered, 5);
+  const auto s = board.Summary()["outputs"]["y"]["interval"];
+  EXPECT_EQ(s["level"], 0.9);
+  EXPECT_DOUBLE_EQ(s["k_step"]["coverage"].get<double>(), 0.5);
+  EXPECT_EQ(s["one_step"]["samples"], 8);
+  // A NaN width is a bad prediction, refused whole.
+  Prediction bad = WithAhead(10, 1.0, 1.0, 1.0);
+  bad.half_width = {std::nan("")};
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+}
+
 // Over a full window the fuzzy model is scored against the live ARX on the same samples: the
 // operator hears once when it stops beating linear and once when it beats it again.
 TEST(PredictionScoreboard, SaysWhenTheFuzzyModelDoesNotBeatTheLiveArx) {

@@ -25,6 +25,7 @@ void OnlineIdentifier::ReplaceModel(NarxModel model, int64_t samples_learned,
                                     int64_t learned_through) {
   model_ = std::move(model);
   settling_.Clear();
+  intervals_.Clear();
   arx_ = RecursiveArx(model_.scaling());
   samples_learned_ = samples_learned;
   refitter_.Clear();  // rows learned by the model that is gone
@@ -201,6 +202,15 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   // The baseline learns what the fuzzy model learns, and nothing when frozen (a fair validation).
   if (learning_) arx_.Update(x, s.outputs);
   if (learning_) settling_.Observe(model_, x, s.outputs, rep.predicted);
+  // The intervals of sample k come from earlier samples' residuals; then k's own joins them.
+  const auto widths = [no](const Eigen::VectorXd& w) {
+    return w.size() == no ? w
+                          : Eigen::VectorXd::Constant(no, std::numeric_limits<double>::infinity());
+  };
+  rep.interval_level = intervals_.level();
+  rep.half_width = widths(intervals_.one_step());
+  if (rep.ahead.size() > 0) rep.ahead_half_width = widths(intervals_.ahead());
+  if (learning_) intervals_.Add(s.outputs, rep.predicted, rep.ahead);
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
   // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).

@@ -13,6 +13,7 @@
 
 #include "sysid/estimation/recursive_arx.hpp"
 #include "sysid/model/narx_model.hpp"
+#include "sysid/online/live_intervals.hpp"
 #include "sysid/online/scheduled_refitter.hpp"
 #include "sysid/online/settling_watch.hpp"
 
@@ -40,6 +41,11 @@ struct SampleReport {
   /// Per output, the share of the model's global linear model in `predicted`: 0 when the
   /// regressor lies within the data the model was trained on, up to 1 beyond it (DataEnvelope).
   Eigen::VectorXd linear_share;
+  /// Per output, the half width h of the interval ŷ ± h around `predicted` and around `ahead`
+  /// (LiveIntervals, at `interval_level`): from the model's residuals on earlier samples it
+  /// learned; +∞ while it has too few. `ahead_half_width` is empty without a horizon.
+  Eigen::VectorXd half_width, ahead_half_width;
+  double interval_level = 0.0;
 };
 
 /// kBridged: a short gap before the sample was filled by interpolation (OnlineIdentifier::
@@ -179,6 +185,7 @@ class OnlineIdentifier {
   int ahead_horizon_ = 0;
   ScheduledRefitter refitter_;
   SettlingWatch settling_;
+  LiveIntervals intervals_;
 };
 
 /// odonata-fit's replay of the online identifier (docs/identifier.md §6.3): every row of `series`
