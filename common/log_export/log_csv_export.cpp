@@ -316,6 +316,12 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
                        return p.horizon == horizon && p.ahead.size() == p.names.size() &&
                               p.arx_ahead.size() == p.names.size();
                      });
+  // The identifier's interval half widths (−1: not known yet), likewise when every prediction
+  // carries them.
+  const bool widths = std::all_of(all.begin(), all.end(), [&](const auto& p) {
+    return p.half_width.size() == p.names.size() &&
+           (!ahead || p.ahead_half_width.size() == p.names.size());
+  });
   std::vector<std::string> header{"run", "sample", "learning"};
   for (const auto& name : all.front().names) {
     for (const char* f : {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy",
@@ -325,6 +331,8 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
       header.push_back(name + "_ahead_" + std::to_string(horizon));
       header.push_back(name + "_arx_ahead_" + std::to_string(horizon));
     }
+    if (widths) header.push_back(name + "_half_width");
+    if (widths && ahead) header.push_back(name + "_ahead_half_width_" + std::to_string(horizon));
   }
   io::CsvWriter out(csv_path, header);
   int run = 0;
@@ -345,6 +353,8 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
         row.push_back(p.ahead[o]);
         row.push_back(p.arx_ahead[o]);
       }
+      if (widths) row.push_back(p.half_width[o]);
+      if (widths && ahead) row.push_back(p.ahead_half_width[o]);
     }
     out.WriteRow(row);
     ++rows;

@@ -53,7 +53,17 @@ def fit(col):
 for mine, col in ((out["ahead"], "ahead_" + k), (out["arx"]["ahead"], "arx_ahead_" + k)):
     assert mine["samples"] == len(rows), (mine["samples"], len(rows))
     assert abs(mine["fit"] - fit(col)) < 1e-6, (col, mine["fit"], fit(col))
-print("%d steps ahead %.2f %% against the live ARX %.2f %%" % (int(k), out["ahead"]["fit"], out["arx"]["ahead"]["fit"]))
+# The live intervals (issue 60): the monitor's coverage is that of the logged widths.
+iv = out["interval"]
+for mode, pcol, wcol in (("one_step", "predicted", "half_width"),
+                         ("k_step", "ahead_" + k, "ahead_half_width_" + k)):
+    known = [r for r in rows if float(r["vz_mps_" + wcol]) >= 0]
+    cov = sum(abs(float(r["vz_mps_" + pcol]) - float(r["vz_mps_measured"]))
+              <= float(r["vz_mps_" + wcol]) for r in known) / len(known)
+    assert iv[mode]["samples"] == len(known), (mode, iv[mode]["samples"], len(known))
+    assert abs(iv[mode]["coverage"] - cov) <= 1.0 / len(known), (mode, iv[mode]["coverage"], cov)
+print("%d steps ahead %.2f %% against the live ARX %.2f %%, 90 %% interval covers %.1f %%" % (
+    int(k), out["ahead"]["fit"], out["arx"]["ahead"]["fit"], 100 * iv["k_step"]["coverage"]))
 PYEOF
 ) || fail "the monitor's K-step scores are not those of the logged predictions"
 rules=$(json_get "$OUT/model.json" "len(j['models'][0]['rules'])")
