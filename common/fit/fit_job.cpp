@@ -24,6 +24,7 @@
 #include "metrics/accuracy_json.hpp"
 #include "metrics/running_accuracy.hpp"
 #include "records/record_file.hpp"
+#include "sysid/estimation/local_model_uncertainty.hpp"
 #include "sysid/model/arx_model.hpp"
 #include "sysid/model/excitation.hpp"
 #include "sysid/model/free_run.hpp"
@@ -405,7 +406,10 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     report["config_file"] = o.save_config;
   }
   if (!o.save_model.empty()) {
-    model->Save(o.save_model, sample_time_s);
+    // Each rule's parameter covariance from the training data, for odonata-export's local models.
+    const nlohmann::json covariance =
+        d.train ? sysid::LocalCovariancesToJson(*model, *d.train, sample_time_s) : nlohmann::json();
+    model->Save(o.save_model, sample_time_s, &covariance);
     report["model_file"] = o.save_model;
   }
   if (!o.plot_dir.empty() && (d.validate || d.train)) {

@@ -33,10 +33,31 @@ std::string OctaveString(const std::string& text) {
   return s + "'";
 }
 
+// Rule j's covariance from the model file's "local_model_covariance", as an Octave literal: [] when
+// absent or not a p × p matrix of numbers.
+std::string RuleCovariance(const nlohmann::json& all, const std::string& output, int rule,
+                           std::size_t p) {
+  if (!all.is_object() || !all.contains(output) || !all[output].is_array() ||
+      static_cast<std::size_t>(rule) >= all[output].size())
+    return "[]";
+  const auto& rows = all[output][static_cast<std::size_t>(rule)];
+  if (!rows.is_array() || rows.size() != p) return "[]";
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p));
+  for (std::size_t r = 0; r < p; ++r) {
+    if (!rows[r].is_array() || rows[r].size() != p) return "[]";
+    for (std::size_t c = 0; c < p; ++c) {
+      if (!rows[r][c].is_number()) return "[]";
+      m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = rows[r][c].get<double>();
+    }
+  }
+  return OctaveMatrix(m);
+}
+
 }  // namespace
 
 std::string OctaveLocalModels(const sysid::NarxModel& model, const std::vector<int>& outputs,
-                              double sample_time_s, const std::string& source) {
+                              double sample_time_s, const std::string& source,
+                              const nlohmann::json& covariance) {
   std::ostringstream o;
   o << "% Each rule's linear local model of " << source << " as a discrete state-space model\n"
     << "% (odonata-export --local-models): x(t+1) = A x(t) + B v(t), y(t) = C x(t) + D v(t) + "
@@ -44,11 +65,19 @@ std::string OctaveLocalModels(const sysid::NarxModel& model, const std::vector<i
     << "% v the signals named in `signals`, about rest; time in "
     << (sample_time_s > 0 ? "seconds" : "samples (Ts = 1: no sample time given)") << ".\n"
     << "% Run it (source or run) to get local_models(k).sys, an octave-control ss object.\n"
+    << "% covariance: the rule's parameter covariance (raw units) in the order `parameters` "
+       "names,\n"
+    << "% from its training data (odonata-fit --save-model); [] where the file holds none.\n"
     << "pkg load control\n"
     << "local_models = struct('output', {}, 'rule', {}, 'A', {}, 'B', {}, 'C', {}, 'D', {}, "
-       "'Ts', {}, 'offset', {}, 'signals', {}, 'sys', {});\n"
+       "'Ts', {}, 'offset', {}, 'signals', {}, 'sys', {}, 'parameters', {}, 'covariance', {});\n"
     << "Ts = " << ExactNumber(sample_time_s > 0 ? sample_time_s : 1.0) << ";\n";
+  std::string parameters = "{'1'";
+  for (const auto& r : model.spec().RegressorNames()) parameters += ", " + OctaveString(r);
+  parameters += "}";
+  const std::size_t p = model.spec().RegressorNames().size() + 1;
   for (const int out : outputs) {
+    const std::string& name = model.spec().outputs[static_cast<std::size_t>(out)];
     for (int j = 0; j < model.model(out).rules(); ++j) {
       const auto ss = sysid::StateSpace(model.spec(), out, sysid::RuleLinearModel(model, out, j));
       std::string signals = "{";
@@ -67,7 +96,9 @@ std::string OctaveLocalModels(const sysid::NarxModel& model, const std::vector<i
         << "local_models(k).offset = " << ExactNumber(ss.offset) << ";\n"
         << "local_models(k).signals = " << signals << ";\n"
         << "local_models(k).sys = ss(local_models(k).A, local_models(k).B, local_models(k).C, "
-           "local_models(k).D, Ts);\n";
+           "local_models(k).D, Ts);\n"
+        << "local_models(k).parameters = " << parameters << ";\n"
+        << "local_models(k).covariance = " << RuleCovariance(covariance, name, j, p) << ";\n";
     }
   }
   return o.str();

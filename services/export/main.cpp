@@ -107,9 +107,14 @@ int main(int argc, char** argv) {
         std::cerr << "odonata-export: warning: " << model_path
                   << " holds no sample time: the local models' Ts is 1 (time in samples); give "
                      "--sample-time SECONDS\n";
-      odonata::io::WriteFileAtomically(local_models, odonata::model_export::OctaveLocalModels(
-                                                         model, chosen, sample_time_s, model_path));
-      std::cout << "wrote " << local_models << " (each rule's state-space model, octave-control)\n";
+      const auto covariance = odonata::sysid::NarxModel::SavedLocalCovariance(model_path);
+      odonata::io::WriteFileAtomically(
+          local_models, odonata::model_export::OctaveLocalModels(model, chosen, sample_time_s,
+                                                                 model_path, covariance));
+      std::cout << "wrote " << local_models << " (each rule's state-space model, octave-control"
+                << (covariance.is_null() ? "; no parameter covariance in the model file"
+                                         : ", with its parameter covariance")
+                << ")\n";
     }
   } catch (const std::exception& e) {
     std::cerr << "odonata-export: " << e.what() << "\n";

@@ -71,6 +71,36 @@ if !(worst <= 1e-9)
 end
 OCTAVE
 octave-cli --no-window-system -q "$dir/check_ts.m"
+# Each rule's parameter covariance (issue 60 point 2), as odonata-fit --save-model keeps it beside
+# the model ("local_model_covariance"): Octave gets it to 1e-15, p × p in the order `parameters`
+# names ("1" and the regressor); a rule the file holds none for gets [].
+python3 -c "
+import json
+m = json.load(open('$dir/model.json'))
+r = m['regressor']
+p = 1 + len(r['outputs']) * r['output_lags'] + len(r['inputs']) * r['input_lags']
+cov = [[(i + 1) * 0.1 + (0.01 / 3 if i != j else 0.0) for j in range(p)] for i in range(p)]
+cov = [[cov[max(i, j)][min(i, j)] for j in range(p)] for i in range(p)]
+m['local_model_covariance'] = {r['outputs'][0]: [cov]}
+json.dump(m, open('$dir/model_cov.json', 'w'))
+json.dump(cov, open('$dir/cov.json', 'w'))"
+"$exporter" "$dir/model_cov.json" --local-models "$dir/local_cov.m" >"$dir/cov.out"
+grep -q "with its parameter covariance" "$dir/cov.out" || { echo "FAIL: $(cat "$dir/cov.out")"; exit 1; }
+cat >"$dir/check_cov.m" <<OCTAVE
+run('$dir/local_cov.m');
+want = jsondecode(fileread('$dir/cov.json'));
+m = local_models(1);
+assert(isequal(size(m.covariance), size(want)), 'covariance %dx%d', rows(m.covariance), columns(m.covariance));
+% To the last bit or two: Octave's number literal and its jsondecode may round a 17-digit decimal
+% apart by one unit in the last place.
+assert(max(abs(m.covariance(:) - want(:))) <= 1e-15, 'the covariance differs: %.17g', max(abs(m.covariance(:) - want(:))));
+assert(numel(m.parameters) == rows(want) && strcmp(m.parameters{1}, '1'), 'parameters');
+if numel(local_models) > 1
+  assert(isempty(local_models(2).covariance), 'rule 2 has no covariance in the file');
+end
+printf('octave: rule 1 covariance %dx%d to 1e-15, parameters %s ... %s\n', rows(want), columns(want), m.parameters{1}, m.parameters{end});
+OCTAVE
+octave-cli --no-window-system -q "$dir/check_cov.m"
 "$exporter" "$dir/model.json" --local-models "$dir/local_samples.m" 2>"$dir/warn.txt" >/dev/null
 grep -q "holds no sample time" "$dir/warn.txt" || { echo "FAIL: no warning for a model without a sample time"; exit 1; }
 # The .fis says the sample time too (a comment before [System], as its first line already is).

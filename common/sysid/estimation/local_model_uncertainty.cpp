@@ -140,6 +140,22 @@ nlohmann::json ToJson(const LocalUncertainty& u, double sample_time_s) {
           {"parameter_covariance", cov}};
 }
 
+nlohmann::json LocalCovariancesToJson(const NarxModel& model, const Series& train,
+                                      double sample_time_s) {
+  nlohmann::json all = nlohmann::json::object();
+  for (int o = 0; o < model.outputs(); ++o) {
+    const auto rules = LocalModelUncertainty(model, o, train, sample_time_s);
+    if (rules.empty()) continue;
+    nlohmann::json per_rule = nlohmann::json::array();
+    for (const auto& u : rules) {
+      const nlohmann::json j = ToJson(u, sample_time_s)["parameter_covariance"];
+      per_rule.push_back(j.empty() ? nlohmann::json() : j);
+    }
+    all[model.spec().outputs[static_cast<std::size_t>(o)]] = per_rule;
+  }
+  return all.empty() ? nlohmann::json() : all;
+}
+
 std::string DescribeWithUncertainty(const RegressorSpec& spec, int output, const NarxModel& model,
                                     int rule, const LocalUncertainty& u, double sample_time_s) {
   const LocalDynamics d =

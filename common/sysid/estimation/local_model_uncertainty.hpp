@@ -51,6 +51,12 @@ std::vector<LocalUncertainty> LocalModelUncertainty(const NarxModel& model, int 
 /// {input: se}, "parameter_covariance": [[…]…]} (NaN as null).
 nlohmann::json ToJson(const LocalUncertainty& u, double sample_time_s);
 
+/// Every output's rules' parameter covariances, as a model file keeps them beside the model
+/// (NarxModel::Save): {output: [per rule, the raw [constant; coefficients] covariance as rows, or
+/// null where the rule stands for fewer rows than parameters]}; null without linear consequents.
+nlohmann::json LocalCovariancesToJson(const NarxModel& model, const Series& train,
+                                      double sample_time_s);
+
 /// "τ 0.42 ± 0.03 s, gain 31 ± 2 from m2": the slowest pole's time constant and the gains with
 /// their standard errors, as DescribeDynamics says them without.
 std::string DescribeWithUncertainty(const RegressorSpec& spec, int output, const NarxModel& model,

@@ -265,9 +265,24 @@ double NarxModel::SavedSampleTime(const std::string& path) {
   }
 }
 
-void NarxModel::Save(const std::string& path, double sample_time_s) const {
+nlohmann::json NarxModel::SavedLocalCovariance(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const auto it = j.find("local_model_covariance");
+    return it == j.end() || !it->is_object() ? nlohmann::json() : *it;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+void NarxModel::Save(const std::string& path, double sample_time_s,
+                     const nlohmann::json* local_model_covariance) const {
   nlohmann::json j = ToJson();
   if (std::isfinite(sample_time_s) && sample_time_s > 0) j["sample_time_s"] = sample_time_s;
+  if (local_model_covariance && !local_model_covariance->is_null())
+    j["local_model_covariance"] = *local_model_covariance;
   // A model its own reader refuses is not written: a learner that diverged wrote NaN as null,
   // which no program could read back, over the last good file.
   try {

@@ -86,8 +86,14 @@ class NarxModel {
   /// @throws std::runtime_error naming what is wrong.
   static NarxModel FromJson(const nlohmann::json& j);
   /// Writes the model; a known sample time (seconds, > 0) goes with it as "sample_time_s", so
-  /// that what reads the file (odonata-export's local models) keeps time in seconds.
-  void Save(const std::string& path, double sample_time_s = 0.0) const;
+  /// that what reads the file (odonata-export's local models) keeps time in seconds. Each rule's
+  /// parameter covariance, when the writer knows it (odonata-fit, from its training data;
+  /// LocalCovariancesToJson), goes with it as "local_model_covariance": the model never reads it.
+  void Save(const std::string& path, double sample_time_s = 0.0,
+            const nlohmann::json* local_model_covariance = nullptr) const;
+  /// The "local_model_covariance" a model file was saved with (null: none).
+  /// @throws std::runtime_error naming the file when it cannot be read.
+  static nlohmann::json SavedLocalCovariance(const std::string& path);
   /// @throws std::runtime_error naming the file and the problem.
   static NarxModel Load(const std::string& path);
   /// The sample time a model file was saved with (seconds; 0: not known).

@@ -105,6 +105,25 @@ TEST(LocalModelUncertainty, SentenceAndJsonCarryTheStandardErrors) {
   EXPECT_EQ(j["parameter_covariance"].size(), 3u);
 }
 
+TEST(LocalModelUncertainty, AModelFileKeepsTheCovarianceBesideTheModel) {
+  // What odonata-fit --save-model writes for odonata-export's local models: per output and rule
+  // the covariance LocalModelUncertainty gives, read back as it was; the model loads as before.
+  const Series data = NoisyPlant(11, 400);
+  const NarxModel model = OneRuleLeastSquares(data);
+  const nlohmann::json cov = LocalCovariancesToJson(model, data, 0.1);
+  const LocalUncertainty u = LocalModelUncertainty(model, 0, data, 0.1).at(0);
+  ASSERT_EQ(cov["pitch"].size(), 1u);
+  ASSERT_EQ(cov["pitch"][0].size(), 3u);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(cov["pitch"][0][r][c].get<double>(), u.covariance(r, c));
+  const std::string path = ::testing::TempDir() + "/model_with_covariance.json";
+  model.Save(path, 0.1, &cov);
+  EXPECT_EQ(NarxModel::SavedLocalCovariance(path), cov);
+  EXPECT_EQ(NarxModel::Load(path).ToJson(), model.ToJson());
+  model.Save(path, 0.1);  // without: none kept
+  EXPECT_TRUE(NarxModel::SavedLocalCovariance(path).is_null());
+}
+
 TEST(LocalModelUncertainty, SingletonRulesHaveNoLocalModelToBeUnsureOf) {
   const Series data = NoisyPlant(5, 300);
   fuzzy::FuzzyModelConfig cfg;
