@@ -199,6 +199,32 @@ def fit_arx(y, u, ny, nu):
     return (lambda X: np.column_stack([np.ones(len(X)), X]) @ theta), f"{len(theta)} terms"
 
 
+def arx_interval(y, u, yt, ut, ny, nu, horizon, level=0.9):
+    """ARX's own 90 % interval, as odonata-fit calibrates its own (docs/identifier.md §7.6): fitted
+    on the training file's first 80 %, the ⌈(n + 1)·level⌉-th smallest |residual| on the last 20 %,
+    one step and in the reported mode; then the ARX fitted on all of it, scored on the test file:
+    {mode: {coverage, mean_width}}."""
+    cut = int(0.8 * len(y))
+    held, _ = fit_arx(y[:cut], u[:cut], ny, nu)
+    full, _ = fit_arx(y, u, ny, nu)
+    first = max(ny, nu)
+
+    def predictions(predict, yy, uu, mode):
+        if mode == "one_step":
+            x, _, _ = regressors(yy, uu, ny, nu)
+            return predict(x)
+        return simulate(predict, yy, uu, ny, nu, horizon if mode == "k_step" else 0)
+
+    out = {}
+    for mode in ("one_step", "k_step" if horizon else "free_run"):
+        e = np.sort(np.abs(y[cut:][first:] - predictions(held, y[cut:], u[cut:], mode)))
+        k = int(np.ceil((len(e) + 1) * level))
+        h = float(e[k - 1]) if k <= len(e) else float("inf")
+        covered = np.abs(yt[first:] - predictions(full, yt, ut, mode)) <= h
+        out[mode] = {"coverage": float(np.mean(covered)), "mean_width": 2 * h}
+    return out
+
+
 # The online identifier's learner with its default configuration, replayed over the training file
 # in order (odonata-fit --refit-*: the same OnlineIdentifier class, its default refits, frozen at
 # the end as a run is): what odonata-identifier learns live from the same samples. A record scored
@@ -239,6 +265,9 @@ def odonata(fit_exe, train, test, test_y, output, inputs, ny, nu, horizon, extra
     v = j["validate"]
     out = {"one_step": v["one_step"], "free_run": v["free_run"], "size": f"{j['rules']} rules",
            "seconds": secs}
+    # The 90 % intervals (issue 60), where odonata-fit scored them.
+    out["interval"] = {m: v[m]["interval"] for m in ("one_step", "k_step", "free_run")
+                       if m in v and "interval" in v[m]}
     if horizon:
         out["k_step"] = v["k_step"]
     # The readable form (--rules): its size and its score in the reported mode, beside the model's.
@@ -323,6 +352,7 @@ def main():
         row["models"]["odonata online (identifier defaults)"] = odonata(
             args.fit, train, test, yt, out, ins, ny, nu, horizon, ONLINE)
         row["models"]["ARX"] = peer(lambda: fit_arx(y, u, ny, nu), y, u, yt, ut, ny, nu, horizon)
+        row["models"]["ARX"]["interval"] = arx_interval(y, u, yt, ut, ny, nu, horizon)
         if not args.no_peers:
             for d in (2, 3):
                 row["models"][f"FROLS degree {d}"] = peer(lambda d=d: fit_frols(y, u, ny, nu, d, horizon),
@@ -368,6 +398,20 @@ def main():
             rd = r["readable"]
             print(f"| {row['record']} | {r['size']} | {rd['rules']}{' (linear)' if rd['linear'] else ''} | "
                   f"{rd['full_fit']:.1f} | {rd['fit']:.1f} |")
+    # The 90 % intervals on the test file (issue 60: 85–95 % one step and in the reported mode),
+    # odonata-fit's beside ARX's own, each calibrated on data it did not train on.
+    print("\n| record | mode | odonata: covers % (mean width) | ARX: covers % (mean width) |")
+    print("|---|---|---|---|")
+    for row in results:
+        mine = row["models"]["odonata defaults"].get("interval", {})
+        arx = row["models"]["ARX"]["interval"]
+        for mode in ("one_step", "k_step", "free_run"):
+            if mode not in arx:
+                continue
+            a = f"{100 * arx[mode]['coverage']:.1f} ({arx[mode]['mean_width']:.4g})"
+            m = (f"{100 * mine[mode]['coverage']:.1f} ({mine[mode]['mean_width']:.4g})"
+                 if mode in mine else "–")
+            print(f"| {row['record']} | {mode.replace('_', ' ')} | {m} | {a} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)
