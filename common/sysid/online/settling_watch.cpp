@@ -63,13 +63,17 @@ const char* SettlingStateName(SettlingState s) {
 }
 
 void SettlingWatch::Clear() {
+  regressor_size_ = -1;
   outputs_.clear();
   watched_.clear();
   observed_ = 0;
 }
 
 void SettlingWatch::Fit(const NarxModel& model) {
-  if (outputs_.size() != static_cast<std::size_t>(model.outputs())) {
+  // Another shape of model (other outputs or lags, without a Clear): everything starts again.
+  if (outputs_.size() != static_cast<std::size_t>(model.outputs()) ||
+      regressor_size_ != model.spec().size()) {
+    regressor_size_ = model.spec().size();
     outputs_.assign(static_cast<std::size_t>(model.outputs()), OutputStats{});
     watched_ = NewestLags(model.spec());
     band_counts_.assign(3 * watched_.size(), 0);

@@ -108,6 +108,7 @@ class SettlingWatch {
   void UpdateStandardErrors(const NarxModel& model);
 
   std::vector<OutputStats> outputs_;
+  int regressor_size_ = -1;           // of the model the statistics are for
   std::vector<int> watched_;          // regressor index of each signal's newest lag
   std::vector<int64_t> band_counts_;  // 3 per watched regressor: samples in low, medium, high
   std::vector<double> band_mid_, band_half_;  // each watched regressor's range, as first scaled

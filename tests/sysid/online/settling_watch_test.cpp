@@ -122,6 +122,32 @@ TEST(SettlingWatch, ARefitOnTooFewSamplesForARegressorStartsItsRulesFromNone) {
   EXPECT_EQ(w.Judge(model)[0].rules.at(0).state, SettlingState::kShortOfExcitation);
 }
 
+TEST(SettlingWatch, AModelOfAnotherShapeStartsItsJudgementAgain) {
+  // Lags changed under it without a Clear: the regimes are those of the new regressor, never an
+  // index of the old one read past the new one's end.
+  const NarxModel one = OneRule();
+  SettlingWatch w;
+  Watch(w, one, Plant(8, 200, -1.0, 1.0));
+  RegressorSpec wider = PitchFromServo();
+  wider.output_lags = 3;
+  wider.input_lags = 3;
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  NarxModel other(wider, cfg);
+  TrainOptions t;
+  t.epochs = 1;
+  t.detect_output_limits = false;
+  const Series data = Plant(9, 300, -1.0, 1.0);
+  Train(other, data, t);
+  Watch(w, other, data);
+  const OutputSettling j = w.Judge(other)[0];
+  ASSERT_EQ(j.regimes.size(), 6u);
+  EXPECT_EQ(j.regimes[0].signal, "servo(k)");
+  int64_t visits = 0;
+  for (const auto& g : j.regimes) visits += g.samples;
+  EXPECT_EQ(visits, 2 * (300 - 3));  // the new model's samples only, each in one third per signal
+}
+
 TEST(SettlingWatch, TheIdentifierJudgesWhatItLearnsAndForgetsOnAReplacedModel) {
   using testing::Empty;
   using testing::Row;
