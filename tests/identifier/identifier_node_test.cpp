@@ -439,6 +439,30 @@ TEST_F(IdentifierNodeTest, EveryCommandIsAnsweredWithTheValueInForce) {
   EXPECT_TRUE(bus_->io().stopped());
 }
 
+TEST_F(IdentifierNodeTest, ASavedModelKeepsEachRulesCovarianceOnTheSamplesItKept) {
+  // Issue 60 point 2, online: SAVE_MODEL writes each rule's parameter covariance, estimated on the
+  // samples kept for the refits, beside the model, for odonata-export's local models.
+  IdentifierConfig c = Config();
+  c.model.consequent = fuzzy::ConsequentKind::kLinear;
+  Start(std::nullopt, c);
+  Run(0, 300);
+  Control(odonata::control_t::SAVE_MODEL, 0, "linear.json");
+  const auto cov = sysid::NarxModel::SavedLocalCovariance(models_dir_ + "/linear.json");
+  ASSERT_TRUE(cov.is_object()) << cov.dump();
+  for (const auto& out : c.spec.outputs) {
+    const auto& model = node_->core().model();
+    const int o = out == "roll_rad" ? 0 : 1;
+    ASSERT_EQ(cov[out].size(), static_cast<std::size_t>(model.model(o).rules())) << out;
+    int with = 0;
+    for (const auto& rule : cov[out]) {
+      if (rule.is_null()) continue;
+      EXPECT_EQ(rule.size(), 4u) << out;  // [1, roll, pitch, u]
+      ++with;
+    }
+    EXPECT_GT(with, 0) << out;
+  }
+}
+
 TEST_F(IdentifierNodeTest, StartsFromASavedModelAndLearnsOnFromIt) {
   Start();
   Run(0, 120);

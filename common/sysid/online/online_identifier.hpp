@@ -110,6 +110,9 @@ class OnlineIdentifier {
   void SetForgetting(double lambda);
 
   const NarxModel& model() const { return model_; }
+  /// The samples it keeps for its refits (ScheduledRefitter::KeptSeries): with none scheduled,
+  /// none. What a saved model's parameter covariance is estimated on.
+  Series KeptSeries() const { return refitter_.KeptSeries(); }
   /// The live ARX baseline: learns while the identifier learns, freezes with it, and starts
   /// again from nothing when the model is replaced (it is not part of a snapshot).
   const RecursiveArx& arx() const { return arx_; }
