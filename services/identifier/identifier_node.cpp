@@ -12,7 +12,6 @@
 #include "model_messages/prediction_message.hpp"
 #include "odonata/prediction_t.hpp"
 #include "snapshot_admission.hpp"
-#include "sysid/estimation/local_model_uncertainty.hpp"
 
 namespace odonata::identifier {
 
@@ -486,23 +485,6 @@ void IdentifierNode::PublishSnapshot() {
   s.learning = core_.learning() ? 1 : 0;
   s.instance = config_.instance;
   bus_.Publish(config_.channels.model, s);
-}
-
-void IdentifierNode::SaveModel(const std::string& path) {
-  if (path.empty()) throw std::invalid_argument("SAVE_MODEL without a path (and no --save-model)");
-  core_.Settle();  // a closing refit after a freeze is the model to save (waits for it)
-  RefitLanded();
-  // Each rule's parameter covariance on the samples kept for the refits (odonata-export's local
-  // models take it); none when it keeps none or too few for a regressor.
-  nlohmann::json covariance;
-  try {
-    covariance = sysid::LocalCovariancesToJson(core_.model(), core_.KeptSeries(), 0.0);
-  } catch (const std::invalid_argument&) {
-  }
-  core_.model().Save(path, 0.0, &covariance);
-  std::fprintf(stderr, "[%s] model saved to %s (%d rules, %lld samples learned)\n",
-               config_.instance.c_str(), path.c_str(), core_.model().total_rules(),
-               static_cast<long long>(core_.samples_learned()));
 }
 
 }  // namespace odonata::identifier
