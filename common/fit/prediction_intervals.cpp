@@ -58,14 +58,13 @@ IntervalWidths CalibrateIntervals(const sysid::RegressorSpec& spec,
 nlohmann::json IntervalScore(const Eigen::Ref<const Eigen::VectorXd>& y,
                              const Eigen::Ref<const Eigen::VectorXd>& yhat, double half_width,
                              const IntervalWidths& widths) {
-  Eigen::Index covered = 0;
-  for (Eigen::Index r = 0; r < y.size(); ++r)
-    if (std::isfinite(yhat(r)) && std::abs(y(r) - yhat(r)) <= half_width) ++covered;
-  return {{"level", widths.level},
-          {"coverage", y.size() > 0 ? static_cast<double>(covered) / y.size() : 0.0},
-          {"mean_width",
-           std::isfinite(half_width) ? nlohmann::json(2.0 * half_width) : nlohmann::json()},
-          {"calibration_rows", widths.calibration_rows}};
+  metrics::IntervalTally tally;
+  for (Eigen::Index r = 0; r < y.size(); ++r) tally.Add(y(r), yhat(r), half_width);
+  nlohmann::json j = tally.ToJson();
+  j.erase("samples");
+  j["level"] = widths.level;
+  j["calibration_rows"] = widths.calibration_rows;
+  return j;
 }
 
 }  // namespace odonata::fit

@@ -20,10 +20,6 @@ nlohmann::json PredictorScores::ToJson(int horizon) const {
   return s;
 }
 
-nlohmann::json IntervalTally::ToJson() const {
-  return {{"coverage", coverage()}, {"mean_width", mean_width()}, {"samples", scored}};
-}
-
 std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   const std::size_t n = p.names.size();
   if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
@@ -42,10 +38,9 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
   if ((!p.half_width.empty() && p.half_width.size() != n) ||
       (!p.ahead_half_width.empty() && p.ahead_half_width.size() != (ahead ? n : 0)))
     throw std::invalid_argument("prediction's interval arrays disagree with num_outputs");
-  for (const double h : p.half_width)
-    if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
-  for (const double h : p.ahead_half_width)
-    if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
+  for (const auto* widths : {&p.half_width, &p.ahead_half_width})
+    for (const double h : *widths)
+      if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
   const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
   if (!leap.empty()) throw std::invalid_argument(leap);
   if (last_sample_ >= 0 && p.sample == last_sample_) {

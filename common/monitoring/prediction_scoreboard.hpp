@@ -4,7 +4,6 @@
 // (metrics/accuracy_alarm.hpp) and the low-FIT warning. Add() returns what the operator should
 // be told, so the shell only prints and publishes, like pipeline::LockstepSequencer's actions.
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -14,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "metrics/accuracy_alarm.hpp"
+#include "metrics/conformal.hpp"
 #include "metrics/running_accuracy.hpp"
 #include "sequence/sequence_window.hpp"
 
@@ -40,23 +40,6 @@ struct Prediction {
   /// empty when not carried.
   double interval_level = 0.0;
   std::vector<double> half_width = {}, ahead_half_width = {};
-};
-
-/// How often the measured value fell within the identifier's interval, and its mean width
-/// (2 × half width, raw units), over the samples whose interval was known.
-struct IntervalTally {
-  int64_t scored = 0, covered = 0;
-  double width_sum = 0.0;
-  void Add(double measured, double predicted, double half_width) {
-    if (!(half_width >= 0.0)) return;  // not known yet
-    ++scored;
-    if (std::abs(measured - predicted) <= half_width) ++covered;
-    width_sum += 2.0 * half_width;
-  }
-  double coverage() const { return scored > 0 ? static_cast<double>(covered) / scored : 0.0; }
-  double mean_width() const { return scored > 0 ? width_sum / static_cast<double>(scored) : 0.0; }
-  /// {coverage, mean_width, samples}
-  nlohmann::json ToJson() const;
 };
 
 struct ScoreboardOptions {
@@ -135,7 +118,7 @@ class PredictionScoreboard {
     int rules = 0;
     bool warned = false;
     double interval_level = 0.0;  ///< of the intervals tallied (0: none carried)
-    IntervalTally one_step_interval, ahead_interval;
+    metrics::IntervalTally one_step_interval, ahead_interval;
     Output(std::size_t w, const metrics::AccuracyAlarmOptions& a) : fuzzy(w), arx(w), alarm(a) {}
     bool has_arx() const { return arx.one_step.scored(); }
     bool has_ahead() const { return fuzzy.ahead.scored(); }

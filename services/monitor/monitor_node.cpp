@@ -319,7 +319,7 @@ void MonitorNode::Print() {
         arx && !metrics::FitDiverges(arx_free) && free <= arx_free);
     // The identifier's intervals: how often the measurement fell within them, and how wide.
     if (o.one_step_interval.scored > 0) {
-      const auto tally = [](const char* mode, const monitoring::IntervalTally& t) {
+      const auto tally = [](const char* mode, const metrics::IntervalTally& t) {
         char cell[80];
         std::snprintf(cell, sizeof cell, "%s in %.1f%% (width %.3g)", mode, 100.0 * t.coverage(),
                       t.mean_width());
