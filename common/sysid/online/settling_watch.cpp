@@ -62,12 +62,7 @@ const char* SettlingStateName(SettlingState s) {
   return "?";
 }
 
-void SettlingWatch::Clear() {
-  regressor_size_ = -1;
-  outputs_.clear();
-  watched_.clear();
-  observed_ = 0;
-}
+void SettlingWatch::Clear() { *this = SettlingWatch(); }
 
 void SettlingWatch::Fit(const NarxModel& model) {
   // Another shape of model (other outputs or lags, without a Clear): everything starts again.
@@ -106,23 +101,22 @@ void SettlingWatch::Fit(const NarxModel& model) {
 void SettlingWatch::Accumulate(const NarxModel& model, const Eigen::VectorXd& regressor,
                                const Eigen::VectorXd& measured, const Eigen::VectorXd& predicted,
                                bool count_regimes) {
-  const Eigen::VectorXd xs = model.scaling().ScaleRegressor(regressor);
+  const Eigen::VectorXd scaled = model.scaling().ScaleRegressor(regressor);
   if (count_regimes)
     for (std::size_t w = 0; w < watched_.size(); ++w) {
       const double scaled = (regressor(watched_[w]) - band_mid_[w]) / band_half_[w];
       ++band_counts_[3 * w + static_cast<std::size_t>(BandOf(scaled))];
     }
-  fuzzy::Inference inference;
   for (int o = 0; o < model.outputs(); ++o) {
     const auto& m = model.model(o);
     if (m.rules() == 0) continue;
-    m.rule_base().Evaluate(xs, &inference);
+    m.rule_base().Evaluate(scaled, &inference_);
     const double e =
         model.scaling().ScaleOutput(o, measured(o)) - model.scaling().ScaleOutput(o, predicted(o));
     if (!std::isfinite(e)) continue;
     auto& rules = outputs_[static_cast<std::size_t>(o)].rules;
     for (int j = 0; j < m.rules(); ++j) {
-      const double w = inference.normalized(j);
+      const double w = inference_.normalized(j);
       if (!(w >= kNegligibleFiring)) continue;
       auto& s = rules[static_cast<std::size_t>(j)];
       s.samples += w;

@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "fuzzy/gaussian_rule_base.hpp"
 #include "sysid/model/narx_model.hpp"
 
 namespace odonata::sysid {
@@ -113,6 +114,8 @@ class SettlingWatch {
   std::vector<int64_t> band_counts_;  // 3 per watched regressor: samples in low, medium, high
   std::vector<double> band_mid_, band_half_;  // each watched regressor's range, as first scaled
   int64_t observed_ = 0;
+  // The firing strengths' scratch, reused per sample and output as the fuzzy layer reuses its own.
+  fuzzy::Inference inference_;
 };
 
 }  // namespace odonata::sysid
