@@ -251,30 +251,34 @@ bool NarxModel::Readable() const {
   }
 }
 
-double NarxModel::SavedSampleTime(const std::string& path) {
+namespace {
+
+// What a model file keeps beside the model under `key` (null when absent): one reading for the
+// sample time and the covariance, which the model itself never reads.
+nlohmann::json SavedBesideTheModel(const std::string& path, const char* key) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");
   try {
     const nlohmann::json j = nlohmann::json::parse(in);
-    const auto it = j.find("sample_time_s");
-    if (it == j.end() || !it->is_number()) return 0.0;
-    const double ts = it->get<double>();
-    return std::isfinite(ts) && ts > 0 ? ts : 0.0;
+    const auto it = j.find(key);
+    return it == j.end() ? nlohmann::json() : *it;
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
 }
 
+}  // namespace
+
+double NarxModel::SavedSampleTime(const std::string& path) {
+  const nlohmann::json ts = SavedBesideTheModel(path, "sample_time_s");
+  if (!ts.is_number()) return 0.0;
+  const double v = ts.get<double>();
+  return std::isfinite(v) && v > 0 ? v : 0.0;
+}
+
 nlohmann::json NarxModel::SavedLocalCovariance(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  try {
-    const nlohmann::json j = nlohmann::json::parse(in);
-    const auto it = j.find("local_model_covariance");
-    return it == j.end() || !it->is_object() ? nlohmann::json() : *it;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
+  const nlohmann::json c = SavedBesideTheModel(path, "local_model_covariance");
+  return c.is_object() ? c : nlohmann::json();
 }
 
 void NarxModel::Save(const std::string& path, double sample_time_s,
