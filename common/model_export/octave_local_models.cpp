@@ -72,10 +72,11 @@ std::string OctaveLocalModels(const sysid::NarxModel& model, const std::vector<i
     << "local_models = struct('output', {}, 'rule', {}, 'A', {}, 'B', {}, 'C', {}, 'D', {}, "
        "'Ts', {}, 'offset', {}, 'signals', {}, 'sys', {}, 'parameters', {}, 'covariance', {});\n"
     << "Ts = " << ExactNumber(sample_time_s > 0 ? sample_time_s : 1.0) << ";\n";
+  const std::vector<std::string> regressors = model.spec().RegressorNames();
   std::string parameters = "{'1'";
-  for (const auto& r : model.spec().RegressorNames()) parameters += ", " + OctaveString(r);
+  for (const auto& r : regressors) parameters += ", " + OctaveString(r);
   parameters += "}";
-  const std::size_t p = model.spec().RegressorNames().size() + 1;
+  const std::size_t p = regressors.size() + 1;
   for (const int out : outputs) {
     const std::string& name = model.spec().outputs[static_cast<std::size_t>(out)];
     for (int j = 0; j < model.model(out).rules(); ++j) {
