@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "fuzzy/blockwise_least_squares.hpp"
+#include "fuzzy/consequent_normal_equations.hpp"
 
 namespace odonata::fuzzy {
 
@@ -394,64 +394,36 @@ void FuzzyModel::DesignRow(const Eigen::Ref<const Eigen::VectorXd>& x,
 
 bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
-                                   double deviation_ridge) {
+                                   double deviation_ridge, double* residual_squares) {
   const int r = rules_.rules();
   if (r == 0 || X.rows() == 0) return false;
   const int w = consequent_->LeastSquaresWidth();
-  if (deviation_ridge > 0.0 && r > 1) return RefineAroundGlobal(X, Y, ridge, deviation_ridge);
-  const Eigen::Index m = static_cast<Eigen::Index>(r) * w;
-  // Row k of Φ is [φ_k1 z_k, …, φ_kR z_k]. Blocks several times taller than Φ is wide keep the
-  // QR's extra work for the carried R factor small.
-  const Eigen::Index block = std::max<Eigen::Index>(2048, 4 * m);
-  BlockwiseLeastSquares ls(m);
-  Eigen::MatrixXd phi_rows(std::min<Eigen::Index>(block, X.rows()), m);
+  // θ_j = g + δ_j with the deviations' ridge: Σ_j φ_j = 1, so row k is [z_k, φ_k1 z_k, …] over
+  // (g, δ_1 … δ_R), and the model becomes the global one (ARX) as the ridge grows.
+  const SharedPart shared =
+      deviation_ridge > 0.0 && r > 1 ? SharedPart::kGlobal : SharedPart::kNone;
+  ConsequentNormalEquations normal(r, w, shared);
+  // Rows in blocks: the firings and regressors of a block, not of the whole record, in memory.
+  constexpr Eigen::Index kBlockRows = 2048;
+  const Eigen::Index block = std::min(kBlockRows, X.rows());
+  Eigen::ArrayXXd phi(block, r);
+  Eigen::MatrixXd zs(block, w);
   Eigen::VectorXd z(w);
   Inference inf;
   for (Eigen::Index start = 0; start < X.rows(); start += block) {
-    const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
+    const Eigen::Index rows = std::min(block, X.rows() - start);
     for (Eigen::Index k = 0; k < rows; ++k) {
-      DesignRow(X.row(start + k).transpose(), phi_rows.row(k), &inf, &z);
+      const auto x = X.row(start + k).transpose();
+      rules_.Evaluate(x, &inf);
+      phi.row(k) = inf.normalized.transpose();
+      consequent_->LeastSquaresRow(x, z);
+      zs.row(k) = z.transpose();
     }
-    ls.AddRows(phi_rows.topRows(rows), Y.segment(start, rows));
+    normal.AddRows(phi.topRows(rows), zs.topRows(rows), Y.segment(start, rows));
   }
-  const Eigen::VectorXd theta = ls.Solve(ridge);
+  const Eigen::VectorXd theta =
+      normal.Solve(ridge, shared == SharedPart::kGlobal ? deviation_ridge : 0.0, residual_squares);
   if (!theta.allFinite()) return false;  // keep the online solution rather than install NaN
-  consequent_->SetFromLeastSquares(theta);
-  return true;
-}
-
-bool FuzzyModel::RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
-                                    double deviation_ridge) {
-  // θ_j = g + δ_j. Σ_j φ_j = 1, so row k is [z_k, φ_k1 z_k, …, φ_kR z_k] over (g, δ_1 … δ_R);
-  // the deviations' ridge enters as extra rows √(λ s) I with zero targets, s the mean squared
-  // norm of the deviation columns (as BlockwiseLeastSquares scales its own ridge).
-  const int r = rules_.rules();
-  const int w = consequent_->LeastSquaresWidth();
-  const Eigen::Index m = static_cast<Eigen::Index>(r + 1) * w;
-  const Eigen::Index block = std::max<Eigen::Index>(2048, 4 * m);
-  BlockwiseLeastSquares ls(m);
-  Eigen::MatrixXd rows_buf(std::min<Eigen::Index>(block, X.rows()), m);
-  Eigen::VectorXd z(w);
-  Inference inf;
-  double deviation_squares = 0.0;
-  for (Eigen::Index start = 0; start < X.rows(); start += block) {
-    const Eigen::Index rows = std::min<Eigen::Index>(block, X.rows() - start);
-    for (Eigen::Index k = 0; k < rows; ++k) {
-      DesignRow(X.row(start + k).transpose(), rows_buf.row(k).tail(m - w), &inf, &z);
-      rows_buf.block(k, 0, 1, w) = z.transpose();
-    }
-    deviation_squares += rows_buf.topRows(rows).rightCols(m - w).squaredNorm();
-    ls.AddRows(rows_buf.topRows(rows), Y.segment(start, rows));
-  }
-  const double scale = deviation_squares / static_cast<double>(m - w);
-  Eigen::MatrixXd penalty = Eigen::MatrixXd::Zero(m - w, m);
-  penalty.rightCols(m - w).diagonal().setConstant(std::sqrt(deviation_ridge * scale));
-  ls.AddPenalty(penalty);  // the plain ridge stays relative to the data's scale
-  const Eigen::VectorXd sol = ls.Solve(ridge);
-  if (!sol.allFinite()) return false;
-  Eigen::VectorXd theta(static_cast<Eigen::Index>(r) * w);
-  for (int j = 0; j < r; ++j) theta.segment(j * w, w) = sol.head(w) + sol.segment((j + 1) * w, w);
   consequent_->SetFromLeastSquares(theta);
   return true;
 }

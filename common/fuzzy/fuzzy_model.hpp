@@ -119,15 +119,17 @@ class FuzzyModel {
                  Eigen::VectorXd* z) const;
   /// The ANFIS forward pass: with the antecedents fixed, sets every consequent to the global
   /// ridge-regularised least-squares optimum over the rows of X (samples × inputs) and Y, solved
-  /// on the weighted design matrix Φ by blockwise QR (BlockwiseLeastSquares). `ridge` is relative
-  /// to the mean squared column norm of Φ. @return false (model unchanged) if the solve failed.
-  /// `deviation_ridge` > 0 writes each rule's consequent as one global part plus its own
+  /// by normal equations gathered from the rules that fire (ConsequentNormalEquations). `ridge` is
+  /// relative to the mean squared column norm of Φ. @return false (model unchanged) if the solve
+  /// failed. `deviation_ridge` > 0 writes each rule's consequent as one global part plus its own
   /// deviation, and puts that ridge (relative, like `ridge`) on the deviations only: a rule the
   /// data hardly supports stays near the global linear model instead of fitting noise, and the
   /// model becomes that global model (ARX) as the ridge grows (docs/identifier.md §6.1).
+  /// `residual_squares`, if given, receives the training loss Σ (ŷ − y)² the solution leaves
+  /// (from the normal equations, so the caller needs no pass of its own).
   bool RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                          const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10,
-                         double deviation_ridge = 0.0);
+                         double deviation_ridge = 0.0, double* residual_squares = nullptr);
 
   /// Removes every rule whose support — its normalised firing summed over the rows of X — is
   /// below `per_parameter` times its consequent's least-squares width (1 singleton, inputs + 1
@@ -189,9 +191,6 @@ class FuzzyModel {
   /// After EvaluateInScratch(x) gave ŷ: adds weight · ∂ŷ/∂c and weight · ∂ŷ/∂σ to gc and gs.
   void AddPremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight, double yhat,
                           Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
-  bool RefineAroundGlobal(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                          const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
-                          double deviation_ridge);
   /// Index of the least useful rule old enough to go, or −1.
   int LeastUsefulRule() const;
 

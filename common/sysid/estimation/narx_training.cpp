@@ -28,6 +28,50 @@ struct RpropState {
     sigmas.Backtrack();
   }
 };
+
+// What an epoch is judged by: the training loss (scaled units, summed over outputs) and the
+// one-step FIT (mean over outputs). From the least-squares solves' residuals when every solve gave
+// them; else by predicting every row.
+class TrainingLoss {
+ public:
+  TrainingLoss(const Eigen::MatrixXd& xs, const Eigen::MatrixXd& ys)
+      : xs_(xs), ys_(ys), spreads_(ys.cols()) {
+    for (Eigen::Index o = 0; o < ys.cols(); ++o)
+      spreads_(o) = (ys.col(o).array() - ys.col(o).mean()).matrix().norm();
+  }
+
+  double FromResiduals(const Eigen::VectorXd& squares, double* fit) const {
+    double fit_sum = 0.0;
+    for (Eigen::Index o = 0; o < squares.size(); ++o)  // metrics::Score's FIT
+      fit_sum += spreads_(o) > 0.0   ? 100.0 * (1.0 - std::sqrt(squares(o)) / spreads_(o))
+                 : squares(o) == 0.0 ? 100.0
+                                     : -std::numeric_limits<double>::infinity();
+    *fit = fit_sum / static_cast<double>(squares.size());
+    return Finite(squares.sum());
+  }
+
+  double ByPrediction(const std::vector<fuzzy::FuzzyModel>& models, double* fit) const {
+    double loss = 0.0, fit_sum = 0.0;
+    Eigen::VectorXd yhat(xs_.rows());
+    for (std::size_t o = 0; o < models.size(); ++o) {
+      for (Eigen::Index r = 0; r < xs_.rows(); ++r)
+        yhat(r) = models[o].Predict(xs_.row(r).transpose());
+      const auto col = ys_.col(static_cast<Eigen::Index>(o));
+      loss += (yhat - col).squaredNorm();
+      fit_sum += metrics::Score(col, yhat).fit_percent;
+    }
+    *fit = fit_sum / static_cast<double>(models.size());
+    return Finite(loss);
+  }
+
+ private:
+  const Eigen::MatrixXd& xs_;
+  const Eigen::MatrixXd& ys_;
+  Eigen::VectorXd spreads_;
+  static double Finite(double v) {
+    return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
+  }
+};
 }  // namespace
 
 TrainReport Train(NarxModel& model, const Series& train, const TrainOptions& options) {
@@ -43,19 +87,7 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
   const Eigen::Index rows = d.x.rows();
   const Eigen::MatrixXd xs = model.scaling_.ScaleRegressorRows(d.x);
   const Eigen::MatrixXd ys = model.scaling_.ScaleOutputRows(d.y);
-  // Training loss (scaled units, summed over outputs) and one-step FIT, mean over outputs.
-  auto evaluate = [&](double* fit) {
-    double loss = 0.0, fit_sum = 0.0;
-    for (int o = 0; o < model.outputs(); ++o) {
-      const auto& m = model.models_[static_cast<std::size_t>(o)];
-      Eigen::VectorXd yhat(rows);
-      for (Eigen::Index r = 0; r < rows; ++r) yhat(r) = m.Predict(xs.row(r).transpose());
-      loss += (yhat - ys.col(o)).squaredNorm();
-      fit_sum += metrics::Score(ys.col(o), yhat).fit_percent;
-    }
-    *fit = fit_sum / model.outputs();
-    return std::isfinite(loss) ? loss : std::numeric_limits<double>::infinity();
-  };
+  const TrainingLoss training_loss(xs, ys);
   TrainReport report;
   double rate_scale = 1.0;
   double best_loss = std::numeric_limits<double>::infinity();
@@ -100,6 +132,9 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
           options.progress(epoch, r + 1, rows);
       }
     }
+    // The solve's own residuals give the training loss; without it (or if a solve failed) a pass.
+    bool loss_solved = false;
+    Eigen::VectorXd residual_squares(model.outputs());
     if (options.refine_least_squares) {
       // A rule grown on a few samples (an outlier, a transient) cannot be estimated from them;
       // on a short noisy record it fits their noise. It goes before the solve.
@@ -107,14 +142,16 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
         report.rules_grown = model.total_rules();
         for (auto& m : model.models_) m.PruneUnsupported(xs, options.min_rule_support);
       }
+      loss_solved = true;
       for (int o = 0; o < model.outputs(); ++o)
-        model.models_[static_cast<std::size_t>(o)].RefineConsequents(xs, ys.col(o), options.ridge,
-                                                                     options.deviation_ridge);
+        loss_solved &= model.models_[static_cast<std::size_t>(o)].RefineConsequents(
+            xs, ys.col(o), options.ridge, options.deviation_ridge, &residual_squares(o));
     }
     EpochRecord rec;
     rec.epoch = epoch + 1;
     rec.rate_scale = rate_scale;
-    const double loss = evaluate(&rec.train_fit);
+    const double loss = loss_solved ? training_loss.FromResiduals(residual_squares, &rec.train_fit)
+                                    : training_loss.ByPrediction(model.models_, &rec.train_fit);
     if (epoch > 0 && !(loss <= best_loss)) {
       // Backtracking: undo the pass and retry with half the premise step.
       model.models_ = std::move(before);
