@@ -133,13 +133,17 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
     bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(total_epochs),
                (epoch + double(sample) / double(total)) / total_epochs);
   };
+  topt.simulation_progress = [&bar](int stage, long done, long all) {
+    bar.Update("simulation stage " + std::to_string(stage + 1),
+               all > 0 ? double(done) / double(all) : 1.0);
+  };
   sysid::OfflineFit fit = sysid::FitOffline(
       spec, cfg, topt, *d.train, fo,
-      [&bar](const sysid::Candidate& c, std::size_t k, std::size_t n) {
+      [&bar](const sysid::Candidate& c, double fraction) {
         char label[96];
         std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",
                       fuzzy::ToString(c.consequent), c.threshold, c.kappa, c.rules);
-        bar.Update(label, double(k) / double(n));
+        bar.Update(label, fraction);
       },
       select_series ? &*select_series : nullptr);
   if (fit.selection) {

@@ -192,9 +192,15 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
   if (!options.simulation.empty() && model.spec_.output_lags > 0) {
     SimulationTrainOptions so;
     so.stages = options.simulation;
-    if (options.cancel)
-      so.progress = [cancel = options.cancel](int, long, long) {
-        if (cancel->load()) throw TrainingCancelled();
+    std::vector<long> before(so.stages.size() + 1, 0);  // steps of the stages before each
+    for (std::size_t k = 0; k < so.stages.size(); ++k)
+      before[k + 1] = before[k] + so.stages[k].steps;
+    if (options.cancel || options.simulation_progress)
+      so.progress = [cancel = options.cancel, progress = options.simulation_progress, before](
+                        int stage, long step, long) {
+        if (cancel && cancel->load()) throw TrainingCancelled();
+        if (progress)
+          progress(stage, before[static_cast<std::size_t>(stage)] + step, before.back());
       };
     if (options.holdout != nullptr && (options.holdout_free_run || options.holdout_horizon > 1)) {
       so.holdout = options.holdout;

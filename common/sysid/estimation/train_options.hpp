@@ -87,6 +87,9 @@ struct TrainOptions {
   /// without it; the final model of a fit has it.
   bool fit_envelope = false;
   ProgressCallback progress;
+  /// The simulation-error stages after the passes: (stage, steps done, steps of every stage) —
+  /// each step about the same work (every window is simulated once a step).
+  ProgressCallback simulation_progress;
   /// When set and true, training stops by throwing TrainingCancelled at the next pass or
   /// simulation step (a refit the identifier no longer needs, at shutdown).
   const std::atomic<bool>* cancel = nullptr;

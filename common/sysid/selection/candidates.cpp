@@ -68,6 +68,7 @@ NarxModel TrainCandidate(const SelectionContext& ctx, const Candidate& c, const 
     t.fit_scaling = false;
   }
   t.progress = {};
+  t.simulation_progress = {};
   t.deviation_ridge = c.deviation_ridge;
   t.epochs = epochs;
   t.holdout = holdout;

@@ -63,6 +63,25 @@ SelectionContext MakeContext(const RegressorSpec& spec, const fuzzy::FuzzyModelC
   return ctx;
 }
 
+// Progress: each step's share of a search's time relative to the candidates' sweep (the
+// README's Narendra example profiled, docs/reference/benchmarks.md). In the sweep a candidate
+// weighs (i + 1)², i its place in the ascending H̄ grid: a higher H̄ grows more rules, and every
+// rule costs each epoch more.
+constexpr double kRidgeShare = 0.25, kShortListShare = 0.48, kFoldsShare = 0.07;
+double SweepWeight(std::size_t i) { return double(i + 1); }
+
+// The work the selection will do, in units, and each later step's planned end.
+void PlanProgress(const SelectionContext& ctx, bool with_linear, bool ridge, bool shortlist,
+                  bool folds, SelectionState& st) {
+  double sweep = with_linear ? 1.0 : 0.0;
+  for (std::size_t i = 0; i < ctx.thresholds.size(); ++i)
+    sweep += double(ctx.kinds.size() * ctx.kappas.size()) * SweepWeight(i);
+  st.ridge_mark = sweep + (ridge ? kRidgeShare * sweep : 0.0);
+  st.shortlist_mark = st.ridge_mark + (shortlist ? kShortListShare * sweep : 0.0);
+  st.folds_mark = st.shortlist_mark + (folds ? kFoldsShare * sweep : 0.0);
+  st.total = st.folds_mark;
+}
+
 // A fuzzy candidate trained for up to `epochs` on the fit slice, scored on the hold-out.
 NarxModel TrainAndScore(const SelectionContext& ctx, Candidate& c, int epochs) {
   TrainReport report;
@@ -99,8 +118,7 @@ void AddLinearCandidate(SelectionContext& ctx, SelectionState& st) {
   st.linear_index = st.result.candidates.size();
   st.result.candidates.push_back(c);
   st.models.push_back(model);
-  ++st.done;
-  st.Report(c);
+  st.Advance(1.0, c);
 }
 
 // Each (consequent, κ) sweep is independent of the others (H̄ within one is sequential: a
@@ -115,28 +133,24 @@ void SweepFuzzyCandidates(const SelectionContext& ctx, SelectionState& st) {
   std::vector<Sweep> sweeps;
   for (const auto kind : ctx.kinds)
     for (const double kappa : ctx.kappas) sweeps.push_back({kind, kappa, {}, {}});
-  std::mutex report_mutex;  // on_candidate is called from one thread at a time
   ParallelFor(sweeps.size(), ResolveThreads(ctx.options.threads), [&](std::size_t s) {
     Sweep& sw = sweeps[s];
     bool capped = false;
-    for (const double h : ctx.thresholds) {
+    for (std::size_t i = 0; i < ctx.thresholds.size(); ++i) {
+      Candidate c;
       if (capped) {
-        const std::lock_guard<std::mutex> lock(report_mutex);
-        ++st.done;
+        st.Advance(SweepWeight(i), sw.candidates.back());
         continue;
       }
-      Candidate c;
       c.consequent = sw.kind;
-      c.threshold = h;
+      c.threshold = ctx.thresholds[i];
       c.kappa = sw.kappa;
       c.deviation_ridge = ctx.train_options.deviation_ridge;
       NarxModel model = TrainAndScore(ctx, c, ctx.options.max_epochs);
       capped = c.at_cap;
       sw.models.push_back(std::move(model));
       sw.candidates.push_back(c);
-      const std::lock_guard<std::mutex> lock(report_mutex);
-      ++st.done;
-      st.Report(c);
+      st.Advance(SweepWeight(i), c);
     }
   });
   for (auto& sw : sweeps) {
@@ -168,14 +182,16 @@ void AddRidgeVariants(const SelectionContext& ctx, SelectionState& st) {
       variants.push_back(c);
     }
   std::vector<std::optional<NarxModel>> trained(variants.size());
+  const double units =
+      (st.ridge_mark - st.done) / double(std::max<std::size_t>(1, variants.size()));
   ParallelFor(variants.size(), ResolveThreads(ctx.options.threads), [&](std::size_t i) {
     // No more epochs than its unshrunk setting kept: the ridge damps, it does not need longer.
     trained[i].emplace(TrainAndScore(ctx, variants[i], std::max(1, variants[i].epochs)));
+    st.Advance(units, variants[i]);
   });
   for (std::size_t i = 0; i < variants.size(); ++i) {
     st.result.candidates.push_back(variants[i]);
     st.models.push_back(std::move(*trained[i]));
-    st.Report(variants[i]);
   }
 }
 
@@ -254,11 +270,10 @@ void WarnOfChoice(const SelectionContext& ctx, SelectionResult& result) {
 
 }  // namespace
 
-SelectionResult SelectModel(
-    const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
-    const TrainOptions& train_options, const Series& train, const SelectionOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate,
-    const Series* selection) {
+SelectionResult SelectModel(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
+                            const TrainOptions& train_options, const Series& train,
+                            const SelectionOptions& options, const CandidateProgress& on_candidate,
+                            const Series* selection) {
   SelectionState st;
   SelectionContext ctx =
       MakeContext(spec, base, train_options, train, options, selection, st.result);
@@ -266,14 +281,16 @@ SelectionResult SelectModel(
   const bool with_linear =
       ctx.thresholds.size() > 1 && std::find(ctx.kinds.begin(), ctx.kinds.end(),
                                              fuzzy::ConsequentKind::kLinear) != ctx.kinds.end();
-  st.total = ctx.kinds.size() * ctx.thresholds.size() * ctx.kappas.size() + (with_linear ? 1 : 0);
+  // Without least squares (the online learner's pass) the ridge never enters a solve.
+  const bool ridge = !options.deviation_ridges.empty() && options.ridge_shortlist > 0 &&
+                     ctx.train_options.refine_least_squares;
+  const bool shortlist = !options.simulation.empty() && ctx.horizon != 1;
+  const bool folds = with_linear && selection == nullptr && options.linear_check_folds >= 2;
+  PlanProgress(ctx, with_linear, ridge, shortlist, folds, st);
   if (with_linear) AddLinearCandidate(ctx, st);
   SweepFuzzyCandidates(ctx, st);
-  // Without least squares (the online learner's pass) the ridge never enters a solve.
-  if (!options.deviation_ridges.empty() && options.ridge_shortlist > 0 &&
-      ctx.train_options.refine_least_squares)
-    AddRidgeVariants(ctx, st);
-  if (!options.simulation.empty() && ctx.horizon != 1) TrainShortListOnSimulation(ctx, st);
+  if (ridge) AddRidgeVariants(ctx, st);
+  if (shortlist) TrainShortListOnSimulation(ctx, st);
   if (st.result.free_run_criterion && st.linear_index) RuleOutRestless(ctx, st);
   ChooseSmallestWithinTolerance(ctx, st.result);
   if (st.linear_index && st.result.chosen != *st.linear_index && selection == nullptr &&
@@ -281,6 +298,7 @@ SelectionResult SelectModel(
       std::isfinite(st.result.candidates[st.result.chosen].score))
     CheckAgainstLinear(ctx, st);
   if (st.result.chosen < st.models.size()) st.result.chosen_model = st.models[st.result.chosen];
+  if (!st.result.candidates.empty()) st.ReachMark(st.total, st.result.candidates[st.result.chosen]);
   WarnOfChoice(ctx, st.result);
   return st.result;
 }

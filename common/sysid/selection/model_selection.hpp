@@ -121,6 +121,10 @@ struct LinearCheck {
   bool linear_chosen = false;  ///< the fuzzy model did not beat it
 };
 
+/// Called as candidates are trained: the candidate, and the fraction of the selection's work
+/// done (each step weighted by its share of a search's time, docs/reference/benchmarks.md).
+using CandidateProgress = std::function<void(const Candidate&, double fraction)>;
+
 struct SelectionResult {
   std::vector<Candidate> candidates;
   std::size_t best = 0;    ///< lowest score
@@ -195,10 +199,10 @@ fuzzy::FuzzyModelConfig CandidateConfig(const fuzzy::FuzzyModelConfig& base, con
 /// candidate reaches the rule cap the higher H̄ of that pair are skipped (they would reach it too).
 /// `train_options.epochs` is ignored (options.max_epochs rules); its hold-out fields are set here.
 /// @throws std::invalid_argument when the slices are too short for the lags.
-SelectionResult SelectModel(
-    const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
-    const TrainOptions& train_options, const Series& train, const SelectionOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate = {},
-    const Series* selection = nullptr);
+SelectionResult SelectModel(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& base,
+                            const TrainOptions& train_options, const Series& train,
+                            const SelectionOptions& options,
+                            const CandidateProgress& on_candidate = {},
+                            const Series* selection = nullptr);
 
 }  // namespace odonata::sysid

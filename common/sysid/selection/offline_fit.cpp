@@ -8,11 +8,10 @@
 
 namespace odonata::sysid {
 
-OfflineFit FitOffline(
-    const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& config, const TrainOptions& train,
-    const Series& series, const OfflineFitOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate,
-    const Series* selection_series) {
+OfflineFit FitOffline(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& config,
+                      const TrainOptions& train, const Series& series,
+                      const OfflineFitOptions& options, const CandidateProgress& on_candidate,
+                      const Series* selection_series) {
   fuzzy::FuzzyModelConfig cfg = config;
   TrainOptions topt = train;
   if (options.scaling) topt.fit_scaling = false;

@@ -46,10 +46,9 @@ struct OfflineFit {
 /// Selection (when options.search), then training on all of `train`. `selection_series`, when
 /// given, scores the candidates instead of a hold-out of `train`.
 /// @throws std::invalid_argument when the series is too short for the lags.
-OfflineFit FitOffline(
-    const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& config, const TrainOptions& train,
-    const Series& series, const OfflineFitOptions& options,
-    const std::function<void(const Candidate&, std::size_t, std::size_t)>& on_candidate = {},
-    const Series* selection_series = nullptr);
+OfflineFit FitOffline(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& config,
+                      const TrainOptions& train, const Series& series,
+                      const OfflineFitOptions& options, const CandidateProgress& on_candidate = {},
+                      const Series* selection_series = nullptr);
 
 }  // namespace odonata::sysid

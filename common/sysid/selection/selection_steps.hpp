@@ -7,8 +7,10 @@
 // their models, then the short list trained on the simulation error, then the choice and its
 // checks against the linear model.
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -45,12 +47,27 @@ struct SelectionState {
   std::vector<NarxModel> models;
   std::optional<std::size_t> linear_index;
   std::vector<double> linear_folds;
-  std::size_t done = 0;
-  std::size_t total = 0;
-  std::function<void(const Candidate&, std::size_t, std::size_t)> on_candidate;
+  /// Progress in work units (SelectionProgressPlan): `done` of `total`, reported as a fraction.
+  double done = 0.0;
+  double total = 0.0;
+  CandidateProgress on_candidate;
   void Report(const Candidate& c) const {
-    if (on_candidate) on_candidate(c, done, total);
+    if (on_candidate && total > 0.0) on_candidate(c, std::min(1.0, done / total));
   }
+  /// Advances to `mark` (a step's planned end) unless already past it, and reports.
+  void ReachMark(double mark, const Candidate& c) {
+    done = std::max(done, mark);
+    Report(c);
+  }
+  /// Each step's planned end in work units (set by SelectModel; 0: the step does not run).
+  double ridge_mark = 0.0, shortlist_mark = 0.0, folds_mark = 0.0;
+  /// Advances by `units` and reports, from a step's parallel jobs (one at a time).
+  void Advance(double units, const Candidate& c) {
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    done += units;
+    Report(c);
+  }
+  std::mutex progress_mutex;
 };
 
 /// The largest score within the candidates' tolerance of `score`: 5 % or 0.005 NDEI above it.

@@ -125,7 +125,8 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
     return s;
   };
   const std::size_t jobs = order.size() + restarted.candidates.size();
-  ParallelFor(jobs, ResolveThreads(ctx.options.threads), [&](std::size_t i) {
+  const double units = (st.shortlist_mark - st.done) / double(std::max<std::size_t>(1, jobs));
+  const auto train = [&](std::size_t i) {
     SimulationTrainOptions so;
     so.holdout = &ctx.holdout;
     so.holdout_horizon = ctx.horizon;
@@ -166,6 +167,10 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
     }
     cs[k].simulation = TrainOnSimulationError(st.models[k], ctx.fit, so).kept;
     ScoreCandidate(ctx, cs[k], st.models[k]);
+  };
+  ParallelFor(jobs, ResolveThreads(ctx.options.threads), [&](std::size_t i) {
+    train(i);
+    st.Advance(units, i < order.size() ? cs[order[i]] : restarted.candidates[i - order.size()]);
   });
   // A restart whose hold-out kept none of its steps is its candidate's one-step model again.
   for (std::size_t r = 0; r < restarted.candidates.size(); ++r) {
@@ -173,7 +178,6 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
     if (c.simulation.empty() || !c.simulation.front().from_linear) continue;
     cs.push_back(c);
     st.models.push_back(std::move(restarted.models[r]));
-    st.Report(c);
   }
   if (oe.model) DecideLinearFit(ctx, st, oe);
 }
