@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contract/precondition.hpp"
 #include "fuzzy/consequent_normal_equations.hpp"
 
 namespace odonata::fuzzy {
@@ -301,6 +302,18 @@ void FuzzyModel::AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorX
   AddPremiseGradient(x, yhat - y, yhat, gc, gs);
 }
 
+void FuzzyModel::AccumulatePremiseGradientAt(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                             const Eigen::Ref<const Eigen::ArrayXd>& phi, double y,
+                                             Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const {
+  const int r = rules_.rules();
+  if (r == 0) return;
+  ODONATA_EXPECTS(phi.size() == r);
+  scratch_.normalized = phi;
+  consequent_->RuleOutputs(x, r, &rule_outputs_);
+  const double yhat = (scratch_.normalized * rule_outputs_).sum();  // EvaluateInScratch's sum
+  AddPremiseGradient(x, yhat - y, yhat, gc, gs);
+}
+
 void FuzzyModel::AddPremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double weight,
                                     double yhat, Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const {
   const int r = rules_.rules();
@@ -394,7 +407,8 @@ void FuzzyModel::DesignRow(const Eigen::Ref<const Eigen::VectorXd>& x,
 
 bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                                    const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge,
-                                   double deviation_ridge, double* residual_squares) {
+                                   double deviation_ridge, double* residual_squares,
+                                   Eigen::ArrayXXd* firings) {
   const int r = rules_.rules();
   if (r == 0 || X.rows() == 0) return false;
   const int w = consequent_->LeastSquaresWidth();
@@ -406,12 +420,17 @@ bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
   // Rows in blocks: the firings and regressors of a block, not of the whole record, in memory.
   constexpr Eigen::Index kBlockRows = 2048;
   const Eigen::Index block = std::min(kBlockRows, X.rows());
-  Eigen::ArrayXXd phi(block, r);
+  Eigen::ArrayXXd phi_block;
+  if (firings)
+    firings->resize(X.rows(), r);
+  else
+    phi_block.resize(block, r);
   Eigen::MatrixXd zs(block, w);
   Eigen::VectorXd z(w);
   Inference inf;
   for (Eigen::Index start = 0; start < X.rows(); start += block) {
     const Eigen::Index rows = std::min(block, X.rows() - start);
+    auto phi = firings ? firings->middleRows(start, rows) : phi_block.topRows(rows);
     for (Eigen::Index k = 0; k < rows; ++k) {
       const auto x = X.row(start + k).transpose();
       rules_.Evaluate(x, &inf);
@@ -419,7 +438,7 @@ bool FuzzyModel::RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
       consequent_->LeastSquaresRow(x, z);
       zs.row(k) = z.transpose();
     }
-    normal.AddRows(phi.topRows(rows), zs.topRows(rows), Y.segment(start, rows));
+    normal.AddRows(phi, zs.topRows(rows), Y.segment(start, rows));
   }
   const Eigen::VectorXd theta =
       normal.Solve(ridge, shared == SharedPart::kGlobal ? deviation_ridge : 0.0, residual_squares);

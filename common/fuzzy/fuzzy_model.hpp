@@ -97,6 +97,11 @@ class FuzzyModel {
   /// Learn() steps with: the batch gradient of the offline premise step.
   void AccumulatePremiseGradient(const Eigen::Ref<const Eigen::VectorXd>& x, double y,
                                  Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
+  /// The same with x's normalised firings `phi` (rules) already known — a least-squares pass at
+  /// the same premises kept them (RefineConsequents' `firings`): bit for bit the same sums.
+  void AccumulatePremiseGradientAt(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                   const Eigen::Ref<const Eigen::ArrayXd>& phi, double y,
+                                   Eigen::ArrayXXd* gc, Eigen::ArrayXXd* gs) const;
   /// ŷ at x, and ∂ŷ/∂x in `dydx` (sized inputs()): the sensitivity a free run passes back
   /// through its own lagged predictions (simulation-error training, docs/identifier.md §12).
   double PredictWithInputGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -126,10 +131,12 @@ class FuzzyModel {
   /// data hardly supports stays near the global linear model instead of fitting noise, and the
   /// model becomes that global model (ARX) as the ridge grows (docs/identifier.md §6.1).
   /// `residual_squares`, if given, receives the training loss Σ (ŷ − y)² the solution leaves
-  /// (from the normal equations, so the caller needs no pass of its own).
+  /// (from the normal equations, so the caller needs no pass of its own); `firings`, if given,
+  /// every row's normalised firings (rows × rules) at these premises.
   bool RefineConsequents(const Eigen::Ref<const Eigen::MatrixXd>& X,
                          const Eigen::Ref<const Eigen::VectorXd>& Y, double ridge = 1e-10,
-                         double deviation_ridge = 0.0, double* residual_squares = nullptr);
+                         double deviation_ridge = 0.0, double* residual_squares = nullptr,
+                         Eigen::ArrayXXd* firings = nullptr);
 
   /// Removes every rule whose support — its normalised firing summed over the rows of X — is
   /// below `per_parameter` times its consequent's least-squares width (1 singleton, inputs + 1

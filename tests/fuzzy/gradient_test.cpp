@@ -146,5 +146,38 @@ TEST(GradientStep, ReducesTheLossOnTheSameSample) {
   EXPECT_LT(Loss(m, x, 0.8), before);
 }
 
+// The offline premise step takes its gradient at the firings the least-squares pass kept: the
+// same sums, bit for bit, as evaluating them again (sysid/estimation/narx_training.cpp).
+TEST(PremiseGradient, AtKeptFiringsEqualsEvaluatingThemBitForBit) {
+  for (const auto kind : {ConsequentKind::kLinear, ConsequentKind::kSingleton}) {
+    FuzzyModel m = RandomModel(kind, 3, 9, 21u);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::MatrixXd xs(300, 3);
+    Eigen::VectorXd ys(300);
+    for (int k = 0; k < 300; ++k) {
+      for (int i = 0; i < 3; ++i) xs(k, i) = u(rng);
+      ys(k) = std::sin(2 * xs(k, 0)) + xs(k, 1) * xs(k, 2);
+    }
+    Eigen::ArrayXXd firings;
+    double squares = 0.0;
+    ASSERT_TRUE(m.RefineConsequents(xs, ys, 1e-10, 0.0, &squares, &firings));
+    ASSERT_EQ(firings.rows(), 300);
+    ASSERT_EQ(firings.cols(), 9);
+    Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(9, 3), gs = gc, kc = gc, ks = gc;
+    double loss = 0.0;
+    for (int k = 0; k < 300; ++k) {
+      m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k), &gc, &gs);
+      m.AccumulatePremiseGradientAt(xs.row(k).transpose(), firings.row(k).transpose(), ys(k), &kc,
+                                    &ks);
+      loss += std::pow(m.Predict(xs.row(k).transpose()) - ys(k), 2);
+    }
+    EXPECT_TRUE((gc == kc).all());
+    EXPECT_TRUE((gs == ks).all());
+    // The solve's own residual is the loss its model leaves.
+    EXPECT_NEAR(squares, loss, 1e-9 * loss);
+  }
+}
+
 }  // namespace
 }  // namespace odonata::fuzzy

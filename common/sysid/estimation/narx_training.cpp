@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "metrics/accuracy.hpp"
 #include "sysid/estimation/narx_training.hpp"
@@ -32,6 +33,32 @@ struct RpropState {
 // What an epoch is judged by: the training loss (scaled units, summed over outputs) and the
 // one-step FIT (mean over outputs). From the least-squares solves' residuals when every solve gave
 // them; else by predicting every row.
+// One batch-gradient step of one output's premises (iRprop−), the gradient taken at the firings
+// a least-squares pass kept when they are these premises' (`phi` rows × rules), else evaluated.
+void StepPremises(fuzzy::FuzzyModel& m, const Eigen::MatrixXd& xs,
+                  const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::ArrayXXd* phi,
+                  RpropState& st, const std::function<void(long)>& progress) {
+  const int r = m.rules();
+  const int inputs = m.inputs();
+  if (!st.centres.Matches(r, inputs)) st.Reset(r, inputs);
+  Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, inputs);
+  Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, inputs);
+  const bool known = phi != nullptr && phi->rows() == xs.rows() && phi->cols() == r;
+  for (Eigen::Index k = 0; k < xs.rows(); ++k) {
+    if (known)
+      m.AccumulatePremiseGradientAt(xs.row(k).transpose(), phi->row(k).transpose(), y(k), &gc, &gs);
+    else
+      m.AccumulatePremiseGradient(xs.row(k).transpose(), y(k), &gc, &gs);
+    progress(k + 1);
+  }
+  m.StepPremises(st.centres.Step(gc), st.sigmas.Step(gs));
+}
+
+// Firings kept between epochs, at most (rows × rules over the outputs): 16 MB, enough for a
+// search's largest candidates (20 000 rows, 100 rules); a long record's final fit evaluates them
+// again rather than hold 80 MB (360 000 rows, 28 rules) and raise the fit's peak memory.
+constexpr Eigen::Index kKeptFirings = Eigen::Index{2} << 20;
+
 class TrainingLoss {
  public:
   TrainingLoss(const Eigen::MatrixXd& xs, const Eigen::MatrixXd& ys)
@@ -88,6 +115,10 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
   const Eigen::MatrixXd xs = model.scaling_.ScaleRegressorRows(d.x);
   const Eigen::MatrixXd ys = model.scaling_.ScaleOutputRows(d.y);
   const TrainingLoss training_loss(xs, ys);
+  // The least squares' firings at the premises it solved for: when the epoch is kept, the next
+  // epoch's premise gradient is taken at the same premises and need not evaluate them again.
+  std::vector<Eigen::ArrayXXd> firings(static_cast<std::size_t>(model.outputs()));
+  bool firings_known = false;
   TrainReport report;
   double rate_scale = 1.0;
   double best_loss = std::numeric_limits<double>::infinity();
@@ -110,18 +141,13 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
       // The hybrid rule's premise half, offline: one batch-gradient step per pass with a
       // per-parameter step size (iRprop−, Igel & Hüsken 2000), then the least-squares solve.
       for (int o = 0; o < model.outputs(); ++o) {
-        auto& m = model.models_[static_cast<std::size_t>(o)];
-        auto& st = rprop[static_cast<std::size_t>(o)];
-        const int r = m.rules();
-        if (!st.centres.Matches(r, model.spec_.size())) st.Reset(r, model.spec_.size());
-        Eigen::ArrayXXd gc = Eigen::ArrayXXd::Zero(r, model.spec_.size());
-        Eigen::ArrayXXd gs = Eigen::ArrayXXd::Zero(r, model.spec_.size());
-        for (Eigen::Index k = 0; k < rows; ++k) {
-          m.AccumulatePremiseGradient(xs.row(k).transpose(), ys(k, o), &gc, &gs);
-          if (options.progress && (k % 1024 == 0 || k + 1 == rows))
-            options.progress(epoch, k + 1, rows);
-        }
-        m.StepPremises(st.centres.Step(gc), st.sigmas.Step(gs));
+        const auto& phi = firings[static_cast<std::size_t>(o)];
+        StepPremises(model.models_[static_cast<std::size_t>(o)], xs, ys.col(o),
+                     firings_known ? &phi : nullptr, rprop[static_cast<std::size_t>(o)],
+                     [&](long k) {
+                       if (options.progress && ((k - 1) % 1024 == 0 || k == rows))
+                         options.progress(epoch, k, rows);
+                     });
       }
     } else {
       for (Eigen::Index r = 0; r < rows; ++r) {
@@ -143,10 +169,16 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
         for (auto& m : model.models_) m.PruneUnsupported(xs, options.min_rule_support);
       }
       loss_solved = true;
-      for (int o = 0; o < model.outputs(); ++o)
-        loss_solved &= model.models_[static_cast<std::size_t>(o)].RefineConsequents(
-            xs, ys.col(o), options.ridge, options.deviation_ridge, &residual_squares(o));
+      for (int o = 0; o < model.outputs(); ++o) {
+        auto& m = model.models_[static_cast<std::size_t>(o)];
+        const bool keep = rows * m.rules() <= kKeptFirings / model.outputs();
+        loss_solved &= m.RefineConsequents(xs, ys.col(o), options.ridge, options.deviation_ridge,
+                                           &residual_squares(o),
+                                           keep ? &firings[static_cast<std::size_t>(o)] : nullptr);
+        if (!keep) firings[static_cast<std::size_t>(o)].resize(0, 0);
+      }
     }
+    firings_known = loss_solved;
     EpochRecord rec;
     rec.epoch = epoch + 1;
     rec.rate_scale = rate_scale;
@@ -155,6 +187,7 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
     if (epoch > 0 && !(loss <= best_loss)) {
       // Backtracking: undo the pass and retry with half the premise step.
       model.models_ = std::move(before);
+      firings_known = false;  // they were the rejected premises'
       rec.accepted = false;
       rate_scale *= 0.5;
       for (auto& st : rprop) st.Backtrack();
