@@ -54,9 +54,9 @@ int main(int argc, char** argv) {
       "Exit status: 0 a model was fitted; 1 an error (a file, an option, a write); 2 a usage "
       "mistake; 3 nothing to identify: the data cannot give a meaningful model (a signal that "
       "never moves, too short for the lags, a window that keeps nothing), said with what to do. "
-      "Time with the defaults on two cores (2026-12-02): about 6 s for 5 000 rows, 10 s for "
-      "10 000, 20 s for 65 000, 23 s for 100 000; the search is most of it, and the progress "
-      "bar estimates each phase's rest (docs/reference/benchmarks.md).");
+      "Time with the defaults on two cores (2026-12-02): about 5 s for 5 000 rows, 9 s for "
+      "10 000, 16 s for 65 000, 20 s for 100 000, 26 s for 360 000; the search is most of it, "
+      "and the progress bar estimates each phase's rest (docs/reference/benchmarks.md).");
   odonata::fit::AddFitOptions(&app, c, &o);
   if (const auto code = odonata::cli::ParseCommandLine(app, argc, argv)) return *code;
   if (const auto format = c.csv_format.Format()) {
