@@ -59,8 +59,9 @@ struct SelectionState {
     done = std::max(done, mark);
     Report(c);
   }
-  /// Each step's planned end in work units (set by SelectModel; 0: the step does not run).
-  double ridge_mark = 0.0, shortlist_mark = 0.0, folds_mark = 0.0;
+  /// The ridge variants' and the short list's planned ends in work units (set by SelectModel);
+  /// the folds end at `total`.
+  double ridge_mark = 0.0, shortlist_mark = 0.0;
   /// Advances by `units` and reports, from a step's parallel jobs (one at a time).
   void Advance(double units, const Candidate& c) {
     const std::lock_guard<std::mutex> lock(progress_mutex);

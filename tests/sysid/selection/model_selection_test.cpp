@@ -32,6 +32,26 @@ TEST(ModelSelection, ThresholdGridMeansRadiiAndStaysInRange) {
   EXPECT_NEAR(ThresholdForRadius(0.0), fuzzy::kMaxRuleEntropy, 1e-12);
 }
 
+// The progress a fit's bar shows: one report per trained candidate at least, never going back,
+// ending at the whole (the ridge variants, the short list and the folds counted in).
+TEST(ModelSelection, ReportsProgressThatOnlyGrowsAndEndsWhole) {
+  SelectionOptions o;
+  o.thresholds = {ThresholdForRadius(2.0), ThresholdForRadius(1.1)};
+  o.kappas = {1.0};
+  o.max_epochs = 5;
+  o.simulation = {{20, 3}};
+  std::vector<double> fractions;
+  const SelectionResult r = SelectModel(
+      testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{},
+      testing::NarendraTrain(1200), o, [&](const Candidate&, double f) { fractions.push_back(f); });
+  ASSERT_GE(fractions.size(), 5u) << "the linear model and the 2 x 2 grid at least";
+  for (std::size_t k = 1; k < fractions.size(); ++k) EXPECT_GE(fractions[k], fractions[k - 1]);
+  EXPECT_GT(fractions.front(), 0.0);
+  EXPECT_EQ(fractions.back(), 1.0);
+  EXPECT_LT(fractions[fractions.size() - 2], 1.0) << "the later steps had their share";
+  EXPECT_GE(r.candidates.size(), 5u);
+}
+
 TEST(ModelSelection, PicksTheFewestRulesWithinTheRelativeTolerance) {
   fuzzy::FuzzyModelConfig cfg;
   SelectionOptions o;
