@@ -117,8 +117,9 @@ class FuzzyModel {
 
   /// The consequents' least-squares design row at x: [φ_1(x) z(x), …, φ_R(x) z(x)], z the
   /// consequent's regressor (Consequent::LeastSquaresRow), written into `row` (R · width).
-  /// The one home of the row that RefineConsequents, its global-plus-deviations form and the
-  /// consequent tracker (sysid/estimation) all solve for. `inference` and `z` are scratch.
+  /// The row the consequent tracker (sysid/estimation) solves for, one sample at a time;
+  /// RefineConsequents gathers the same rows tile by tile over the rules that fire
+  /// (ConsequentNormalEquations). `inference` and `z` are scratch.
   void DesignRow(const Eigen::Ref<const Eigen::VectorXd>& x,
                  Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row, Inference* inference,
                  Eigen::VectorXd* z) const;

@@ -6,6 +6,11 @@
 
 namespace odonata::metrics {
 
+double FitPercent(double error_norm, double spread) {
+  if (spread > 0.0) return 100.0 * (1.0 - error_norm / spread);
+  return error_norm == 0.0 ? 100.0 : -std::numeric_limits<double>::infinity();
+}
+
 Accuracy Score(const Eigen::Ref<const Eigen::VectorXd>& measured,
                const Eigen::Ref<const Eigen::VectorXd>& predicted) {
   ODONATA_EXPECTS(measured.size() == predicted.size() && measured.size() > 0);
@@ -21,13 +26,12 @@ Accuracy Score(const Eigen::Ref<const Eigen::VectorXd>& measured,
   a.samples = static_cast<long>(measured.size());
   a.rmse = err_norm / std::sqrt(n);
   const double inf = std::numeric_limits<double>::infinity();
+  a.fit_percent = FitPercent(err_norm, spread);
   if (spread > 0.0) {
-    a.fit_percent = 100.0 * (1.0 - err_norm / spread);
     a.vaf_percent = 100.0 * (1.0 - var_e / var_y);
     a.ndei = a.rmse / std::sqrt(var_y);
   } else {
     const bool exact = err_norm == 0.0;
-    a.fit_percent = exact ? 100.0 : -inf;
     a.vaf_percent = exact ? 100.0 : -inf;
     a.ndei = exact ? 0.0 : inf;
   }

@@ -27,6 +27,10 @@ inline bool FitDiverges(double fit_percent) {
          fit_percent > -std::numeric_limits<double>::infinity();
 }
 
+/// FIT % from the error's norm ‖y − ŷ‖ and the measured signal's spread ‖y − ȳ‖: a constant
+/// signal (spread 0) gives −inf unless the error is 0 (then 100).
+double FitPercent(double error_norm, double spread);
+
 /// Scores `predicted` against `measured`.
 /// @pre equal sizes, at least one sample. A constant measured signal gives FIT = VAF = −inf
 /// unless the prediction is exact (then 100), which is the honest answer.

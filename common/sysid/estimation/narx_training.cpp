@@ -30,9 +30,6 @@ struct RpropState {
   }
 };
 
-// What an epoch is judged by: the training loss (scaled units, summed over outputs) and the
-// one-step FIT (mean over outputs). From the least-squares solves' residuals when every solve gave
-// them; else by predicting every row.
 // One batch-gradient step of one output's premises (iRprop−), the gradient taken at the firings
 // a least-squares pass kept when they are these premises' (`phi` rows × rules), else evaluated.
 void StepPremises(fuzzy::FuzzyModel& m, const Eigen::MatrixXd& xs,
@@ -59,6 +56,9 @@ void StepPremises(fuzzy::FuzzyModel& m, const Eigen::MatrixXd& xs,
 // again rather than hold 80 MB (360 000 rows, 28 rules) and raise the fit's peak memory.
 constexpr Eigen::Index kKeptFirings = Eigen::Index{2} << 20;
 
+// What an epoch is judged by: the training loss (scaled units, summed over outputs) and the
+// one-step FIT (mean over outputs). From the least-squares solves' residuals when every solve gave
+// them; else by predicting every row.
 class TrainingLoss {
  public:
   TrainingLoss(const Eigen::MatrixXd& xs, const Eigen::MatrixXd& ys)
@@ -69,10 +69,8 @@ class TrainingLoss {
 
   double FromResiduals(const Eigen::VectorXd& squares, double* fit) const {
     double fit_sum = 0.0;
-    for (Eigen::Index o = 0; o < squares.size(); ++o)  // metrics::Score's FIT
-      fit_sum += spreads_(o) > 0.0   ? 100.0 * (1.0 - std::sqrt(squares(o)) / spreads_(o))
-                 : squares(o) == 0.0 ? 100.0
-                                     : -std::numeric_limits<double>::infinity();
+    for (Eigen::Index o = 0; o < squares.size(); ++o)
+      fit_sum += metrics::FitPercent(std::sqrt(squares(o)), spreads_(o));
     *fit = fit_sum / static_cast<double>(squares.size());
     return Finite(squares.sum());
   }
@@ -225,15 +223,16 @@ TrainReport NarxTrainer::Train(NarxModel& model, const Series& train, const Trai
   if (!options.simulation.empty() && model.spec_.output_lags > 0) {
     SimulationTrainOptions so;
     so.stages = options.simulation;
-    std::vector<long> before(so.stages.size() + 1, 0);  // steps of the stages before each
+    std::vector<long> steps_before(so.stages.size() + 1, 0);  // of the stages before each
     for (std::size_t k = 0; k < so.stages.size(); ++k)
-      before[k + 1] = before[k] + so.stages[k].steps;
+      steps_before[k + 1] = steps_before[k] + so.stages[k].steps;
     if (options.cancel || options.simulation_progress)
-      so.progress = [cancel = options.cancel, progress = options.simulation_progress, before](
+      so.progress = [cancel = options.cancel, progress = options.simulation_progress, steps_before](
                         int stage, long step, long) {
         if (cancel && cancel->load()) throw TrainingCancelled();
         if (progress)
-          progress(stage, before[static_cast<std::size_t>(stage)] + step, before.back());
+          progress(stage, steps_before[static_cast<std::size_t>(stage)] + step,
+                   steps_before.back());
       };
     if (options.holdout != nullptr && (options.holdout_free_run || options.holdout_horizon > 1)) {
       so.holdout = options.holdout;
