@@ -27,6 +27,7 @@ def main():
     ap.add_argument("--fit", default=os.path.join(root, "build", "bin", "odonata-fit"))
     ap.add_argument("--min-left", type=float, default=2.0,
                     help="judge only redraws with at least this many seconds still to go")
+    ap.add_argument("--all", action="store_true", help="print every judged estimate, not eight")
     ap.add_argument("args", nargs=argparse.REMAINDER, help="odonata-fit's arguments, after --")
     a = ap.parse_args()
     args = a.args[1:] if a.args[:1] == ["--"] else a.args
@@ -68,7 +69,8 @@ def main():
     if worst:
         r, t, left, actual, label = worst
         print(f"worst: x{r:.2f} at {t:.1f} s ('{label}'): said ~{left:.0f} s, took {actual:.1f} s")
-    for t, left, actual, label in judged[:: max(1, len(judged) // 8)]:
+    step = 1 if a.all else max(1, len(judged) // 8)
+    for t, left, actual, label in judged[::step]:
         print(f"  {t:6.1f} s  said {left:5.0f} s  took {actual:6.1f} s  {label}")
 
 

@@ -127,11 +127,14 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
   std::optional<sysid::Series> select_series;
   if (search && !o.select_csv.empty())
     select_series = LoadSeries(o.select_csv, o, spec, &d.files, &d.warnings);
-  int total_epochs = 1;
-  fo.on_training = [&total_epochs](int epochs) { total_epochs = epochs; };
-  topt.progress = [&bar, &total_epochs](int epoch, long sample, long total) {
-    bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(total_epochs),
-               (epoch + double(sample) / double(total)) / total_epochs);
+  // Each phase's time left is its own pace's, plus what the phases after it are expected to take.
+  sysid::FinalTrainingEstimate final_training;
+  fo.on_training = [&final_training](const sysid::FinalTrainingEstimate& e) { final_training = e; };
+  topt.progress = [&bar, &final_training](int epoch, long sample, long total) {
+    const int epochs = final_training.epochs;
+    bar.Update("epoch " + std::to_string(epoch + 1) + "/" + std::to_string(epochs),
+               (epoch + double(sample) / double(total)) / epochs,
+               final_training.simulation_seconds);
   };
   topt.simulation_progress = [&bar](int stage, long done, long all) {
     bar.Update("simulation stage " + std::to_string(stage + 1),
@@ -139,11 +142,11 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
   };
   sysid::OfflineFit fit = sysid::FitOffline(
       spec, cfg, topt, *d.train, fo,
-      [&bar](const sysid::Candidate& c, double fraction) {
+      [&bar](const sysid::Candidate& c, const sysid::SelectionProgress& p) {
         char label[96];
         std::snprintf(label, sizeof label, "selecting %s H=%.3g k=%.2g: %d rules",
                       fuzzy::ToString(c.consequent), c.threshold, c.kappa, c.rules);
-        bar.Update(label, fraction);
+        bar.Update(label, p.fraction, p.final_seconds);
       },
       select_series ? &*select_series : nullptr);
   if (fit.selection) {

@@ -21,9 +21,10 @@ ProgressBar::ProgressBar(ProgressStyle style)
   }
 }
 
-std::string ProgressBar::TimeLeft(double elapsed_s, double fraction) {
+std::string ProgressBar::TimeLeft(double elapsed_s, double fraction, double after_s) {
   if (!(fraction >= 0.02 && fraction < 1.0) || !(elapsed_s > 0.5)) return "";
-  const double left = elapsed_s / fraction * (1.0 - fraction);
+  const double left = elapsed_s / fraction * (1.0 - fraction) +
+                      (std::isfinite(after_s) ? std::max(0.0, after_s) : 0.0);
   char buf[32];
   if (left < 90)
     std::snprintf(buf, sizeof buf, "~%.0f s left", std::ceil(left));
@@ -32,7 +33,7 @@ std::string ProgressBar::TimeLeft(double elapsed_s, double fraction) {
   return buf;
 }
 
-void ProgressBar::Update(const std::string& label, double fraction) {
+void ProgressBar::Update(const std::string& label, double fraction, double after_s) {
   if (style_ == ProgressStyle::kOff) return;
   const auto now = Clock::now();
   fraction = std::clamp(fraction, 0.0, 1.0);
@@ -40,7 +41,7 @@ void ProgressBar::Update(const std::string& label, double fraction) {
   last_fraction_ = fraction;
   if (now - start_ < quiet_) return;  // a short fit stays quiet
   const double phase_s = std::chrono::duration<double>(now - phase_start_).count();
-  const std::string left = TimeLeft(phase_s, fraction);
+  const std::string left = TimeLeft(phase_s, fraction, after_s);
   const int percent = static_cast<int>(fraction * 100.0);
   if (style_ == ProgressStyle::kLines) {
     if (lined_ && now - last_line_ < std::chrono::seconds(10)) return;

@@ -22,11 +22,12 @@ class ProgressBar {
       : ProgressBar(enabled ? ProgressStyle::kBar : ProgressStyle::kOff) {}
   ~ProgressBar() { Finish(); }
   /// `fraction` of the current phase is done; a fraction below the last one starts a new phase
-  /// (the selection, then the epochs), whose time left is estimated from its own pace.
-  void Update(const std::string& label, double fraction);
+  /// (the selection, the epochs, the simulation stages), whose time left is estimated from its
+  /// own pace, plus `after_s`: what the phases after it are expected to take.
+  void Update(const std::string& label, double fraction, double after_s = 0.0);
   void Finish();
   /// "~12 s left", "~3 min left", or "" before the pace is known.
-  static std::string TimeLeft(double elapsed_s, double fraction);
+  static std::string TimeLeft(double elapsed_s, double fraction, double after_s = 0.0);
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -84,7 +84,9 @@ void PlanProgress(const SelectionContext& ctx, bool with_linear, bool ridge, boo
 // A fuzzy candidate trained for up to `epochs` on the fit slice, scored on the hold-out.
 NarxModel TrainAndScore(const SelectionContext& ctx, Candidate& c, int epochs) {
   TrainReport report;
+  const auto start = std::chrono::steady_clock::now();
   NarxModel model = TrainCandidate(ctx, c, ctx.fit, &ctx.holdout, epochs, &report);
+  c.cost = TrainingCost{static_cast<int>(report.epochs.size()), SecondsSince(start), 0, 0.0};
   c.epochs = report.kept_epoch;
   ScoreCandidate(ctx, c, model);
   // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
@@ -102,7 +104,9 @@ void AddLinearCandidate(SelectionContext& ctx, SelectionState& st) {
   c.kappa = ctx.kappas.front();
   c.deviation_ridge = ctx.train_options.deviation_ridge;
   TrainReport report;
+  const auto start = std::chrono::steady_clock::now();
   const NarxModel model = TrainCandidate(ctx, c, ctx.fit, &ctx.holdout, 1, &report);
+  c.cost = TrainingCost{static_cast<int>(report.epochs.size()), SecondsSince(start), 0, 0.0};
   c.epochs = report.kept_epoch;
   ScoreCandidate(ctx, c, model);
   if (ctx.horizon > 1 && std::isfinite(c.holdout_one_step_ndei)) {
@@ -221,17 +225,9 @@ void ChooseSmallestWithinTolerance(const SelectionContext& ctx, SelectionResult&
         c.one_step_lost = true;
         c.score = std::numeric_limits<double>::infinity();
       }
-  for (std::size_t k = 0; k < cs.size(); ++k)
-    if (cs[k].score < cs[result.best].score) result.best = k;
-  const double allowed = Tolerated(cs[result.best].score, ctx.options);
-  result.chosen = result.best;
-  for (std::size_t k = 0; k < cs.size(); ++k) {
-    const auto& c = cs[k];
-    const auto& now = cs[result.chosen];
-    if (c.score <= allowed &&
-        (c.rules < now.rules || (c.rules == now.rules && c.score < now.score)))
-      result.chosen = k;
-  }
+  const Choice choice = SmallestWithinTolerance(cs, ctx.options);
+  result.best = choice.best;
+  result.chosen = choice.chosen;
 }
 
 // What the user should know of the choice: a grid's edge, the rule cap, training cut short.
@@ -277,6 +273,8 @@ SelectionResult SelectModel(const RegressorSpec& spec, const fuzzy::FuzzyModelCo
   SelectionContext ctx =
       MakeContext(spec, base, train_options, train, options, selection, st.result);
   st.on_candidate = on_candidate;
+  st.options = &options;
+  st.fit_rows = ctx.fit.samples();
   const bool with_linear =
       ctx.thresholds.size() > 1 && std::find(ctx.kinds.begin(), ctx.kinds.end(),
                                              fuzzy::ConsequentKind::kLinear) != ctx.kinds.end();

@@ -81,6 +81,15 @@ struct SelectionOptions {
   std::optional<Scaling> scaling;
 };
 
+/// What a candidate's training took, on the fit slice and one thread: for a fit's time-left
+/// estimate only (EstimateFinalTraining) — wall time varies run to run and chooses nothing.
+struct TrainingCost {
+  int epochs_run = 0;            ///< the growing pass and the epochs, each scored on the hold-out
+  double epochs_seconds = 0.0;   ///< their wall time
+  int simulation_steps_run = 0;  ///< simulation-error steps, the ones the hold-out refused too
+  double simulation_seconds = 0.0;
+};
+
 struct Candidate {
   fuzzy::ConsequentKind consequent = fuzzy::ConsequentKind::kLinear;
   /// The one-rule linear model: trained with max_rules = 1 (threshold 0), it is ARX.
@@ -107,6 +116,7 @@ struct Candidate {
   /// K-step criterion: one step ahead on the hold-out it is worse than the linear model by more
   /// than the candidates' margin (SelectionResult::one_step_bound; score +∞).
   bool one_step_lost = false;
+  TrainingCost cost;  ///< not reported: it varies run to run
 };
 
 /// The blocked cross-validation between the chosen fuzzy setting and the linear model.
@@ -121,9 +131,23 @@ struct LinearCheck {
   bool linear_chosen = false;  ///< the fuzzy model did not beat it
 };
 
-/// Called as candidates are trained: the candidate, and the fraction of the selection's work
-/// done (each step weighted by its share of a search's time, docs/reference/benchmarks.md).
-using CandidateProgress = std::function<void(const Candidate&, double fraction)>;
+/// A selection's progress, reported as candidates are trained.
+struct SelectionProgress {
+  /// Of the selection's work done (each step weighted by its share of a search's time,
+  /// docs/reference/benchmarks.md).
+  double fraction = 0.0;
+  /// The candidate the selection would choose among those trained so far (the best score, then
+  /// the fewest rules within its tolerance), and the rows it trained on: the final training's
+  /// cost is estimated from its (EstimateFinalTraining).
+  Candidate leading;
+  Eigen::Index fit_rows = 0;
+  /// The seconds the final training is expected to take after the selection: set by FitOffline,
+  /// which knows the rows it trains on (0 from SelectModel alone).
+  double final_seconds = 0.0;
+};
+
+/// Called as candidates are trained: the candidate just trained and the selection's progress.
+using CandidateProgress = std::function<void(const Candidate&, const SelectionProgress&)>;
 
 struct SelectionResult {
   std::vector<Candidate> candidates;

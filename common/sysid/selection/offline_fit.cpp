@@ -8,6 +8,22 @@
 
 namespace odonata::sysid {
 
+FinalTrainingEstimate EstimateFinalTraining(const Candidate& c, Eigen::Index fit_rows,
+                                            Eigen::Index final_rows, int final_epochs) {
+  FinalTrainingEstimate e;
+  e.epochs = final_epochs;
+  if (fit_rows <= 0) return e;
+  const double rows = double(final_rows) / double(fit_rows);
+  if (c.cost.epochs_run > 0)
+    e.epochs_seconds = c.cost.epochs_seconds / c.cost.epochs_run * final_epochs * rows;
+  long steps = 0;
+  for (const SimulationStage& s : c.simulation) steps += s.steps;
+  if (c.cost.simulation_steps_run > 0)
+    e.simulation_seconds =
+        c.cost.simulation_seconds / c.cost.simulation_steps_run * double(steps) * rows;
+  return e;
+}
+
 OfflineFit FitOffline(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& config,
                       const TrainOptions& train, const Series& series,
                       const OfflineFitOptions& options, const CandidateProgress& on_candidate,
@@ -37,11 +53,27 @@ OfflineFit FitOffline(const RegressorSpec& spec, const fuzzy::FuzzyModelConfig& 
       searched_selection = SubsampleForSearch(*selection_series, options.search_budget);
     searched_rows = searched->samples();
     if (searched_selection) searched_selection_rows = searched_selection->samples();
-    sel = SelectModel(spec, cfg, topt, *searched, so, on_candidate,
+    // The progress carries the final training's expected time: the leading candidate's, scaled
+    // to every row of the record.
+    const Eigen::Index final_rows = series.samples();
+    const CandidateProgress progress =
+        on_candidate ? CandidateProgress([&](const Candidate& c, const SelectionProgress& p) {
+          SelectionProgress q = p;
+          const int epochs = options.epochs_given ? train.epochs : std::max(1, p.leading.epochs);
+          const FinalTrainingEstimate e =
+              EstimateFinalTraining(p.leading, p.fit_rows, final_rows, epochs);
+          q.final_seconds = e.epochs_seconds + e.simulation_seconds;
+          on_candidate(c, q);
+        })
+                     : CandidateProgress{};
+    sel = SelectModel(spec, cfg, topt, *searched, so, progress,
                       searched_selection ? &*searched_selection : nullptr);
     adopt(sel->candidates[sel->chosen]);
   }
-  if (options.on_training) options.on_training(topt.epochs);
+  if (options.on_training)
+    options.on_training(sel ? EstimateFinalTraining(sel->candidates[sel->chosen], sel->fit_samples,
+                                                    series.samples(), topt.epochs)
+                            : FinalTrainingEstimate{topt.epochs, 0.0, 0.0});
   // The final model knows where its data end (DataEnvelope). Not the online per-sample learner's
   // replay (no least squares): the identifier's learner grows a rule wherever the data go, and
   // odonata-fit replaying it must give its model bit for bit.

@@ -15,6 +15,18 @@
 
 namespace odonata::sysid {
 
+/// The final training's epochs and how long it is expected to take: the chosen candidate's
+/// measured cost per epoch and per simulation step, times the final epochs and steps, times the
+/// rows it trains on over the rows the candidate did (the hold-out's scoring, which the final
+/// training does not do, is a few percent of a candidate's time). Zero seconds when unknown.
+struct FinalTrainingEstimate {
+  int epochs = 1;
+  double epochs_seconds = 0.0;
+  double simulation_seconds = 0.0;
+};
+FinalTrainingEstimate EstimateFinalTraining(const Candidate& chosen, Eigen::Index fit_rows,
+                                            Eigen::Index final_rows, int final_epochs);
+
 struct OfflineFitOptions {
   /// Choose the settings on a hold-out (SelectModel with `selection`); false trains `config` and
   /// `train` as they are.
@@ -28,8 +40,8 @@ struct OfflineFitOptions {
   /// Declared scaling (the online identifier's ranges): every candidate and the final model use
   /// it. Empty: the scaling is fitted on the training series.
   std::optional<Scaling> scaling;
-  /// Called with the epoch count once it is known, before the final training (may be empty).
-  std::function<void(int)> on_training;
+  /// Called with the final training's plan once it is known, before it starts (may be empty).
+  std::function<void(const FinalTrainingEstimate&)> on_training;
 };
 
 struct OfflineFit {

@@ -8,6 +8,7 @@
 // checks against the linear model.
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <mutex>
@@ -47,13 +48,16 @@ struct SelectionState {
   std::vector<NarxModel> models;
   std::optional<std::size_t> linear_index;
   std::vector<double> linear_folds;
-  /// Progress in work units (SelectionProgressPlan): `done` of `total`, reported as a fraction.
+  /// Progress in work units (PlanProgress): `done` of `total`, reported as a fraction.
   double done = 0.0;
   double total = 0.0;
   CandidateProgress on_candidate;
-  void Report(const Candidate& c) const {
-    if (on_candidate && total > 0.0) on_candidate(c, std::min(1.0, done / total));
-  }
+  /// What the leading candidate is judged by (its tolerance) and trained on.
+  const SelectionOptions* options = nullptr;
+  Eigen::Index fit_rows = 0;
+  /// Reports `c` with the leading candidate among those trained so far (a retrained one replaces
+  /// its earlier self).
+  void Report(const Candidate& c);
   /// Advances to `mark` (a step's planned end) unless already past it, and reports.
   void ReachMark(double mark, const Candidate& c) {
     done = std::max(done, mark);
@@ -69,7 +73,23 @@ struct SelectionState {
     Report(c);
   }
   std::mutex progress_mutex;
+
+ private:
+  std::vector<Candidate> trained_;  // for the leading one; progress only
 };
+
+/// The best-scoring candidate (lowest score), and the one chosen: the fewest rules within the
+/// tolerance of the best (the better score among equals). {0, 0} when there are none.
+struct Choice {
+  std::size_t best = 0, chosen = 0;
+};
+Choice SmallestWithinTolerance(const std::vector<Candidate>& candidates,
+                               const SelectionOptions& options);
+
+/// Seconds of wall time since `start` (a candidate's TrainingCost).
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// The largest score within the candidates' tolerance of `score`: 5 % or 0.005 NDEI above it.
 double Tolerated(double score, const SelectionOptions& options);

@@ -138,8 +138,12 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
     if (i >= order.size()) {
       const std::size_t r = i - order.size();
       so.stages = fuzzy_stages(true);
-      restarted.candidates[r].simulation =
-          TrainOnSimulationError(restarted.models[r], ctx.fit, so).kept;
+      const auto start = std::chrono::steady_clock::now();
+      const SimulationTrainReport report = TrainOnSimulationError(restarted.models[r], ctx.fit, so);
+      Candidate& c = restarted.candidates[r];
+      c.simulation = report.kept;
+      c.cost.simulation_steps_run = static_cast<int>(report.holdout_ndei.size());
+      c.cost.simulation_seconds = SecondsSince(start);
       ScoreCandidate(ctx, restarted.candidates[r], restarted.models[r]);
       return;
     }
@@ -165,7 +169,11 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
       // linear model is the floor that every other candidate must beat.
       return;
     }
-    cs[k].simulation = TrainOnSimulationError(st.models[k], ctx.fit, so).kept;
+    const auto start = std::chrono::steady_clock::now();
+    const SimulationTrainReport report = TrainOnSimulationError(st.models[k], ctx.fit, so);
+    cs[k].simulation = report.kept;
+    cs[k].cost.simulation_steps_run = static_cast<int>(report.holdout_ndei.size());
+    cs[k].cost.simulation_seconds = SecondsSince(start);
     ScoreCandidate(ctx, cs[k], st.models[k]);
   };
   ParallelFor(jobs, ResolveThreads(ctx.options.threads), [&](std::size_t i) {

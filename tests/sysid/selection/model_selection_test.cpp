@@ -14,6 +14,7 @@
 #include "sysid/estimation/narx_training.hpp"
 #include "sysid/estimation/simulation_error_training.hpp"
 #include "sysid/selection/model_selection.hpp"
+#include "sysid/selection/offline_fit.hpp"
 
 namespace odonata::sysid {
 namespace {
@@ -43,13 +44,85 @@ TEST(ModelSelection, ReportsProgressThatOnlyGrowsAndEndsWhole) {
   std::vector<double> fractions;
   const SelectionResult r = SelectModel(
       testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{},
-      testing::NarendraTrain(1200), o, [&](const Candidate&, double f) { fractions.push_back(f); });
+      testing::NarendraTrain(1200), o,
+      [&](const Candidate&, const SelectionProgress& p) { fractions.push_back(p.fraction); });
   ASSERT_GE(fractions.size(), 5u) << "the linear model and the 2 x 2 grid at least";
   for (std::size_t k = 1; k < fractions.size(); ++k) EXPECT_GE(fractions[k], fractions[k - 1]);
   EXPECT_GT(fractions.front(), 0.0);
   EXPECT_EQ(fractions.back(), 1.0);
   EXPECT_LT(fractions[fractions.size() - 2], 1.0) << "the later steps had their share";
   EXPECT_GE(r.candidates.size(), 5u);
+}
+
+// The bar's whole-fit estimate is the leading candidate's cost: the last report leads with the
+// candidate the selection chose, its training measured.
+TEST(ModelSelection, ReportsTheLeadingCandidateItEndsOnWithItsCost) {
+  SelectionOptions o;
+  o.consequents = {fuzzy::ConsequentKind::kLinear};
+  o.thresholds = {ThresholdForRadius(2.0), ThresholdForRadius(1.1), ThresholdForRadius(0.7)};
+  o.kappas = {1.0};
+  o.max_epochs = 5;
+  o.criterion = SelectionCriterion::kOneStep;
+  o.deviation_ridges.clear();
+  o.linear_check_folds = 0;
+  std::vector<SelectionProgress> reports;
+  const SelectionResult r =
+      SelectModel(testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{},
+                  testing::NarendraTrain(1200), o,
+                  [&](const Candidate&, const SelectionProgress& p) { reports.push_back(p); });
+  ASSERT_FALSE(reports.empty());
+  const Candidate& chosen = r.candidates[r.chosen];
+  const Candidate& leading = reports.back().leading;
+  EXPECT_EQ(leading.linear, chosen.linear);
+  EXPECT_EQ(leading.threshold, chosen.threshold);
+  EXPECT_EQ(leading.rules, chosen.rules);
+  EXPECT_EQ(leading.score, chosen.score);
+  EXPECT_EQ(reports.back().fit_rows, r.fit_samples);
+  EXPECT_GT(leading.cost.epochs_run, 0);
+  EXPECT_GT(leading.cost.epochs_seconds, 0.0);
+  for (const Candidate& c : r.candidates) EXPECT_GT(c.cost.epochs_run, 0);
+}
+
+// FitOffline tells the bar what its final training will take, during the selection and before
+// the training starts, from the chosen candidate's cost on the rows it trains on.
+TEST(FinalTrainingEstimate, ReachesTheProgressAndTheTrainingsStart) {
+  OfflineFitOptions fo;
+  fo.selection.consequents = {fuzzy::ConsequentKind::kLinear};
+  fo.selection.thresholds = {ThresholdForRadius(2.0), ThresholdForRadius(1.1)};
+  fo.selection.kappas = {1.0};
+  fo.selection.max_epochs = 4;
+  fo.selection.simulation.clear();
+  fo.selection.deviation_ridges.clear();
+  fo.selection.linear_check_folds = 0;
+  std::vector<FinalTrainingEstimate> started;
+  fo.on_training = [&](const FinalTrainingEstimate& e) { started.push_back(e); };
+  double last_final_s = -1.0;
+  const Series train = testing::NarendraTrain(1200);
+  const OfflineFit fit = FitOffline(
+      testing::NarendraSpec(), fuzzy::FuzzyModelConfig{}, TrainOptions{}, train, fo,
+      [&](const Candidate&, const SelectionProgress& p) { last_final_s = p.final_seconds; });
+  ASSERT_TRUE(fit.selection);
+  ASSERT_EQ(started.size(), 1u);
+  EXPECT_EQ(started[0].epochs, fit.train.epochs);
+  EXPECT_GT(started[0].epochs_seconds, 0.0);
+  EXPECT_EQ(started[0].simulation_seconds, 0.0) << "no simulation stage was chosen";
+  EXPECT_GT(last_final_s, 0.0);
+}
+
+// The final training's time from its candidate's: per epoch and per simulation step, times the
+// final's epochs and steps, times the rows.
+TEST(FinalTrainingEstimate, ScalesTheCandidatesCostToTheFinalTraining) {
+  Candidate c;
+  c.cost = TrainingCost{10, 2.0, 20, 4.0};
+  c.simulation = {{10, 5}, {40, 5}};
+  const FinalTrainingEstimate e = EstimateFinalTraining(c, 1000, 3000, 5);
+  EXPECT_EQ(e.epochs, 5);
+  EXPECT_DOUBLE_EQ(e.epochs_seconds, 2.0 / 10 * 5 * 3);
+  EXPECT_DOUBLE_EQ(e.simulation_seconds, 4.0 / 20 * 10 * 3);
+  const FinalTrainingEstimate unknown = EstimateFinalTraining(Candidate{}, 1000, 3000, 5);
+  EXPECT_EQ(unknown.epochs_seconds, 0.0);
+  EXPECT_EQ(unknown.simulation_seconds, 0.0);
+  EXPECT_EQ(EstimateFinalTraining(c, 0, 3000, 5).epochs_seconds, 0.0);
 }
 
 TEST(ModelSelection, PicksTheFewestRulesWithinTheRelativeTolerance) {
