@@ -49,6 +49,7 @@ struct JobData {
   // prediction intervals are calibrated on (prediction_intervals.hpp).
   std::optional<sysid::NarxModel> calibration_model;
   std::optional<sysid::Series> calibration;
+  std::optional<sysid::Series> calibration_fit;     // the rows its model trained on: σ̂'s
   std::optional<IntervalWidths> widths;             // calibrated on them
   nlohmann::json files = nlohmann::json::object();  // per file: rate, bridged gaps, segments
   nlohmann::json warnings = nlohmann::json::array();
@@ -159,6 +160,7 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
     const Eigen::Index held = std::min(rows, fit.selection->holdout_samples);
     d.calibration =
         select_series ? *select_series : sysid::SliceSeries(*d.train, rows - held, held);
+    d.calibration_fit = select_series ? *d.train : sysid::SliceSeries(*d.train, 0, rows - held);
   }
   cfg = fit.config;
   topt.epochs = fit.train.epochs;
@@ -371,7 +373,10 @@ nlohmann::json RunFitJob(const FitJobOptions& o) {
     const sysid::Predictor candidate = [&d](const Eigen::VectorXd& x) {
       return d.calibration_model->Predict(x);
     };
-    d.widths = CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level);
+    // Widths where the candidate's rules fitted loosely or saw little (local_spread.hpp).
+    const LocalSpread spread = LocalSpread::Fit(*d.calibration_model, *d.calibration_fit);
+    d.widths =
+        CalibrateIntervals(spec, *d.calibration, candidate, o.horizon, o.interval_level, spread);
   }
   if (d.validate) {
     Put(per, Evaluate(spec, *d.validate, predict, o.horizon, d.widths ? &*d.widths : nullptr), "",

@@ -134,6 +134,7 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
   bool ahead_diverged = false;
   Eigen::MatrixXd k_step;
   if (ahead) k_step = sysid::PredictAhead(spec, s, predict, horizon, &ahead_diverged);
+  const Eigen::MatrixXd sigma = widths ? widths->spread.At(spec, s) : Eigen::MatrixXd();
   std::vector<nlohmann::json> out;
   for (Eigen::Index o = 0; o < y.cols(); ++o) {
     nlohmann::json j;
@@ -152,9 +153,9 @@ std::vector<nlohmann::json> Evaluate(const sysid::RegressorSpec& spec, const sys
            {std::pair<const char*, const Eigen::MatrixXd*>{"one_step", &one},
             {"free_run", &sim},
             {"k_step", &k_step}}) {
-        const auto half = widths->half_width.find(mode);
-        if (j.contains(mode) && half != widths->half_width.end())
-          j[mode]["interval"] = IntervalScore(y.col(o), yhat->col(o), half->second(o), *widths);
+        const Eigen::MatrixXd half = widths->HalfWidths(mode, sigma);
+        if (j.contains(mode) && half.size() > 0)
+          j[mode]["interval"] = IntervalScore(y.col(o), yhat->col(o), half.col(o), *widths);
       }
     }
     out.push_back(j);
@@ -212,14 +213,12 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
                       const IntervalWidths* widths) {
   const auto no = spec.outputs.size();
   const bool ahead = horizon > 1 && spec.output_lags > 0;
-  // The modes whose intervals are written, in column order, and each one's half widths.
-  std::vector<std::pair<std::string, const Eigen::VectorXd*>> bands;
+  // The modes whose intervals are written, in column order.
+  std::vector<std::string> bands;
   if (widths)
-    for (const char* mode : {"one_step", "free_run", "k_step"}) {
-      const auto it = widths->half_width.find(mode);
-      if (it != widths->half_width.end() && (std::string(mode) != "k_step" || ahead))
-        bands.emplace_back(mode, &it->second);
-    }
+    for (const char* mode : {"one_step", "free_run", "k_step"})
+      if (widths->half_width.count(mode) > 0 && (std::string(mode) != "k_step" || ahead))
+        bands.emplace_back(mode);
   std::vector<std::string> header{"set", "sample"};
   for (const auto& name : spec.outputs) {
     const std::string sfx = no > 1 ? "_" + name : "";
@@ -229,8 +228,8 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
     if (ahead)
       for (const char* c : {"fuzzy_k_step", "arx_k_step"}) header.push_back(c + sfx);
     for (const auto& band : bands) {
-      header.push_back("fuzzy_" + band.first + "_lower" + sfx);
-      header.push_back("fuzzy_" + band.first + "_upper" + sfx);
+      header.push_back("fuzzy_" + band + "_lower" + sfx);
+      header.push_back("fuzzy_" + band + "_upper" + sfx);
     }
   }
   io::CsvWriter out(path, header);
@@ -244,6 +243,11 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
     const Eigen::MatrixXd ar = lags ? sysid::SimulateFreeRun(spec, *s, arx) : a1;
     const Eigen::MatrixXd fk = ahead ? sysid::PredictAhead(spec, *s, fuzzy, horizon) : f1;
     const Eigen::MatrixXd ak = ahead ? sysid::PredictAhead(spec, *s, arx, horizon) : a1;
+    std::vector<Eigen::MatrixXd> half;  // per band: each target's half widths
+    if (widths) {
+      const Eigen::MatrixXd sigma = widths->spread.At(spec, *s);
+      for (const auto& band : bands) half.push_back(widths->HalfWidths(band, sigma));
+    }
     for (Eigen::Index r = 0; r < f1.rows(); ++r) {
       const Eigen::Index t = targets[static_cast<std::size_t>(r)];
       std::vector<double> row{set_index, double(t)};
@@ -254,12 +258,12 @@ void WritePredictions(const std::string& path, const sysid::RegressorSpec& spec,
           row.push_back(fk(r, o));
           row.push_back(ak(r, o));
         }
-        for (const auto& [mode, half] : bands) {
-          const double centre = mode == "one_step"   ? f1(r, o)
-                                : mode == "free_run" ? fr(r, o)
-                                                     : fk(r, o);
-          row.push_back(centre - (*half)(o));
-          row.push_back(centre + (*half)(o));
+        for (std::size_t b = 0; b < bands.size(); ++b) {
+          const double centre = bands[b] == "one_step"   ? f1(r, o)
+                                : bands[b] == "free_run" ? fr(r, o)
+                                                         : fk(r, o);
+          row.push_back(centre - half[b](r, o));
+          row.push_back(centre + half[b](r, o));
         }
       }
       out.WriteRow(row);
