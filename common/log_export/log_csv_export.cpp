@@ -322,6 +322,13 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
     return p.half_width.size() == p.names.size() &&
            (!ahead || p.ahead_half_width.size() == p.names.size());
   });
+  const bool free_widths = std::all_of(all.begin(), all.end(), [&](const auto& p) {
+    return p.free_run_half_width.size() == p.names.size();
+  });
+  // Has the model seen enough (0 short of excitation, 1 still learning, 2 settled), likewise.
+  const bool seen = std::all_of(all.begin(), all.end(), [&](const auto& p) {
+    return p.seen_enough.size() == p.names.size();
+  });
   std::vector<std::string> header{"run", "sample", "learning"};
   for (const auto& name : all.front().names) {
     for (const char* f : {"_measured", "_predicted", "_free_run", "_next", "_rules", "_max_entropy",
@@ -333,6 +340,8 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
     }
     if (widths) header.push_back(name + "_half_width");
     if (widths && ahead) header.push_back(name + "_ahead_half_width_" + std::to_string(horizon));
+    if (free_widths) header.push_back(name + "_free_run_half_width");
+    if (seen) header.push_back(name + "_seen_enough");
   }
   io::CsvWriter out(csv_path, header);
   int run = 0;
@@ -355,6 +364,8 @@ long ExportPredictionsToCsv(const std::vector<std::string>& log_paths, const std
       }
       if (widths) row.push_back(p.half_width[o]);
       if (widths && ahead) row.push_back(p.ahead_half_width[o]);
+      if (free_widths) row.push_back(p.free_run_half_width[o]);
+      if (seen) row.push_back(double(p.seen_enough[o]));
     }
     out.WriteRow(row);
     ++rows;

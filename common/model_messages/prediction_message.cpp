@@ -44,6 +44,13 @@ odonata::prediction_t ToPredictionMessage(const sysid::SampleReport& report,
     p.ahead_half_width.push_back(width(report.ahead_half_width, o));
   }
   p.num_ahead_intervals = static_cast<int32_t>(p.ahead_half_width.size());
+  for (Eigen::Index o = 0; o < report.measured.size(); ++o)
+    p.free_run_half_width.push_back(width(report.free_run_half_width, o));
+  p.num_free_run_intervals = static_cast<int32_t>(p.free_run_half_width.size());
+  if (static_cast<Eigen::Index>(report.seen_enough.size()) == report.measured.size())
+    for (const sysid::SettlingState s : report.seen_enough)
+      p.seen_enough.push_back(static_cast<int8_t>(s));
+  p.num_seen_enough = static_cast<int32_t>(p.seen_enough.size());
   return p;
 }
 

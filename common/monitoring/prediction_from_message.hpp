@@ -25,6 +25,8 @@ inline Prediction PredictionFromMessage(const odonata::prediction_t& m) {
   p.interval_level = m.interval_level;
   p.half_width = m.half_width;
   p.ahead_half_width = m.ahead_half_width;
+  p.free_run_half_width = m.free_run_half_width;
+  p.seen_enough.assign(m.seen_enough.begin(), m.seen_enough.end());
   return p;
 }
 

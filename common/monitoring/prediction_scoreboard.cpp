@@ -20,7 +20,10 @@ nlohmann::json PredictorScores::ToJson(int horizon) const {
   return s;
 }
 
-std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
+namespace {
+
+// A prediction whose arrays disagree with its outputs or carry NaN or Inf: refused whole.
+void RefuseMalformed(const Prediction& p) {
   const std::size_t n = p.names.size();
   if (p.measured.size() != n || p.predicted.size() != n || p.free_run.size() != n ||
       p.rules.size() != n || p.arx_predicted.size() != p.arx_free_run.size() ||
@@ -36,18 +39,16 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     throw std::invalid_argument("prediction's K-step arrays disagree with its horizon " +
                                 std::to_string(p.horizon));
   if ((!p.half_width.empty() && p.half_width.size() != n) ||
-      (!p.ahead_half_width.empty() && p.ahead_half_width.size() != (ahead ? n : 0)))
+      (!p.ahead_half_width.empty() && p.ahead_half_width.size() != (ahead ? n : 0)) ||
+      (!p.free_run_half_width.empty() && p.free_run_half_width.size() != n))
     throw std::invalid_argument("prediction's interval arrays disagree with num_outputs");
-  for (const auto* widths : {&p.half_width, &p.ahead_half_width})
+  if (!p.seen_enough.empty() && p.seen_enough.size() != n)
+    throw std::invalid_argument("prediction's seen_enough disagrees with num_outputs");
+  for (const int s : p.seen_enough)
+    if (s < 0 || s > 2) throw std::invalid_argument("prediction with an unknown seen_enough state");
+  for (const auto* widths : {&p.half_width, &p.ahead_half_width, &p.free_run_half_width})
     for (const double h : *widths)
       if (std::isnan(h)) throw std::invalid_argument("prediction with a NaN interval");
-  const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
-  if (!leap.empty()) throw std::invalid_argument(leap);
-  if (last_sample_ >= 0 && p.sample == last_sample_) {
-    throw std::invalid_argument("duplicate prediction for sample " + std::to_string(p.sample));
-  }
-  // Checked before anything changes: a rejected prediction must not move the sample counter
-  // (the genuine one for that sample would then be dropped as a duplicate).
   for (std::size_t o = 0; o < n; ++o) {
     if (!std::isfinite(p.measured[o]) || !std::isfinite(p.predicted[o]) ||
         !std::isfinite(p.free_run[o]) ||
@@ -55,6 +56,22 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
         (ahead && !std::isfinite(p.ahead[o])) || (ahead && arx && !std::isfinite(p.arx_ahead[o]))) {
       throw std::invalid_argument("prediction with NaN or Inf for " + p.names[o]);
     }
+  }
+}
+
+}  // namespace
+
+std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
+  // Checked before anything changes: a rejected prediction must not move the sample counter
+  // (the genuine one for that sample would then be dropped as a duplicate).
+  RefuseMalformed(p);
+  const std::size_t n = p.names.size();
+  const bool arx = !p.arx_predicted.empty();
+  const bool ahead = p.horizon > 0;
+  const std::string leap = leaps_.Problem("prediction sample", p.sample, last_sample_);
+  if (!leap.empty()) throw std::invalid_argument(leap);
+  if (last_sample_ >= 0 && p.sample == last_sample_) {
+    throw std::invalid_argument("duplicate prediction for sample " + std::to_string(p.sample));
   }
   // Bounded before anything changes: at most kMaxOutputs names in the run this joins.
   const bool new_run = last_sample_ >= 0 && p.sample < last_sample_;
@@ -103,12 +120,16 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
       if (out.interval_level != p.interval_level) {
         out.one_step_interval = {};
         out.ahead_interval = {};
+        out.free_run_interval = {};
         out.interval_level = p.interval_level;
       }
       out.one_step_interval.Add(y, p.predicted[o], p.half_width[o]);
       if (o < p.ahead_half_width.size())
         out.ahead_interval.Add(y, p.ahead[o], p.ahead_half_width[o]);
+      if (o < p.free_run_half_width.size())
+        out.free_run_interval.Add(y, p.free_run[o], p.free_run_half_width[o]);
     }
+    if (o < p.seen_enough.size()) out.seen_enough = p.seen_enough[o];
     if (o < p.linear_share.size() && p.linear_share[o] > 0.0) ++out.outside;
     if (ahead) {
       // A horizon changed within a run (a reconfigured identifier): its K-step scores start again.
@@ -204,7 +225,10 @@ nlohmann::json PredictionScoreboard::RunSummary() const {
     if (o.interval_level > 0.0) {
       out["interval"] = {{"level", o.interval_level}, {"one_step", o.one_step_interval.ToJson()}};
       if (o.ahead_interval.scored > 0) out["interval"]["k_step"] = o.ahead_interval.ToJson();
+      if (o.free_run_interval.scored > 0)
+        out["interval"]["free_run"] = o.free_run_interval.ToJson();
     }
+    if (o.seen_enough >= 0) out["seen_enough"] = o.seen_enough;
     if (o.has_arx()) {
       out["arx"] = o.arx.ToJson(o.horizon);
       out["behind_arx"] = o.behind_arx;

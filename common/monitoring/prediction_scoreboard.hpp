@@ -39,7 +39,10 @@ struct Prediction {
   /// output (and per output with a horizon for `ahead_half_width`), −1 where not known yet;
   /// empty when not carried.
   double interval_level = 0.0;
-  std::vector<double> half_width = {}, ahead_half_width = {};
+  std::vector<double> half_width = {}, ahead_half_width = {}, free_run_half_width = {};
+  /// Per output, has the model seen enough (prediction_t.seen_enough: 0 short of excitation, 1
+  /// still learning, 2 settled); empty when not carried.
+  std::vector<int> seen_enough = {};
 };
 
 struct ScoreboardOptions {
@@ -118,7 +121,8 @@ class PredictionScoreboard {
     int rules = 0;
     bool warned = false;
     double interval_level = 0.0;  ///< of the intervals tallied (0: none carried)
-    metrics::IntervalTally one_step_interval, ahead_interval;
+    metrics::IntervalTally one_step_interval, ahead_interval, free_run_interval;
+    int seen_enough = -1;  ///< the last prediction's (prediction_t.seen_enough), −1: none carried
     Output(std::size_t w, const metrics::AccuracyAlarmOptions& a) : fuzzy(w), arx(w), alarm(a) {}
     bool has_arx() const { return arx.one_step.scored(); }
     bool has_ahead() const { return fuzzy.ahead.scored(); }

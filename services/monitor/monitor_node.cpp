@@ -328,6 +328,7 @@ void MonitorNode::Print() {
       std::string s = tally("1 step", o.one_step_interval);
       if (o.ahead_interval.scored > 0)
         s += ", " + tally((std::to_string(o.horizon) + " steps").c_str(), o.ahead_interval);
+      if (o.free_run_interval.scored > 0) s += ", " + tally("free run", o.free_run_interval);
       std::snprintf(line, sizeof line, "%-9s %.0f%% interval: %s\n", "", 100.0 * o.interval_level,
                     s.c_str());
       text += line;

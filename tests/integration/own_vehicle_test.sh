@@ -56,12 +56,17 @@ for mine, col in ((out["ahead"], "ahead_" + k), (out["arx"]["ahead"], "arx_ahead
 # The live intervals (issue 60): the monitor's coverage is that of the logged widths.
 iv = out["interval"]
 for mode, pcol, wcol in (("one_step", "predicted", "half_width"),
-                         ("k_step", "ahead_" + k, "ahead_half_width_" + k)):
+                         ("k_step", "ahead_" + k, "ahead_half_width_" + k),
+                         ("free_run", "free_run", "free_run_half_width")):
     known = [r for r in rows if float(r["vz_mps_" + wcol]) >= 0]
     cov = sum(abs(float(r["vz_mps_" + pcol]) - float(r["vz_mps_measured"]))
               <= float(r["vz_mps_" + wcol]) for r in known) / len(known)
     assert iv[mode]["samples"] == len(known), (mode, iv[mode]["samples"], len(known))
     assert abs(iv[mode]["coverage"] - cov) <= 1.0 / len(known), (mode, iv[mode]["coverage"], cov)
+# "Seen enough" per sample (0 short, 1 learning, 2 settled): the monitor keeps the last one logged.
+seen = [int(float(r["vz_mps_seen_enough"])) for r in rows]
+assert set(seen) <= {0, 1, 2}, set(seen)
+assert out["seen_enough"] == seen[-1], (out["seen_enough"], seen[-1])
 print("%d steps ahead %.2f %% against the live ARX %.2f %%, 90 %% interval covers %.1f %%" % (
     int(k), out["ahead"]["fit"], out["arx"]["ahead"]["fit"], 100 * iv["k_step"]["coverage"]))
 PYEOF

@@ -43,16 +43,18 @@ print(f"free run on walt1: live {live:.2f} %, odonata-compare {offline:.2f} %")
 sys.exit(0 if abs(live - offline) <= 0.05 else 1)
 PY
 # The identifier's live 90 % intervals (issue 60), scored by the monitor on every sample of walt1
-# whose interval was known: carried one step and 20 steps ahead; the coverage is printed.
+# whose interval was known: carried one step, 20 steps ahead and around the free run; the
+# coverage is printed.
 interval=$("$PY" - "$F/monitor.json" <<'PY'
 import json, sys
 i = json.load(open(sys.argv[1]))["outputs"]["pitch_deg"]["interval"]
 assert i["level"] == 0.9, i
-for mode in ("one_step", "k_step"):
+for mode in ("one_step", "k_step", "free_run"):
     assert i[mode]["samples"] > 6000 and 0.0 < i[mode]["coverage"] <= 1.0, i
     assert i[mode]["mean_width"] > 0.0, i
-print("live 90 %% interval covers %.1f %% one step, %.1f %% 20 steps ahead" %
-      (100 * i["one_step"]["coverage"], 100 * i["k_step"]["coverage"]))
+print("live 90 %% interval covers %.1f %% one step, %.1f %% 20 steps ahead, %.1f %% free run" %
+      (100 * i["one_step"]["coverage"], 100 * i["k_step"]["coverage"],
+       100 * i["free_run"]["coverage"]))
 PY
 ) || { show; fail "the monitor scored no live interval"; }
 pass "the README's real-flight block ran as written: $n of $n samples sent, live model = odonata-fit's; live on walt1: $live; $interval; $compare"

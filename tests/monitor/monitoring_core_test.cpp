@@ -45,6 +45,8 @@ TEST(PredictionScoreboard, TalliesHowOftenTheMeasurementFellWithinTheInterval) {
   EXPECT_DOUBLE_EQ(o.one_step_interval.mean_width(), 0.2);
   EXPECT_EQ(o.ahead_interval.scored, 10);
   EXPECT_EQ(o.ahead_interval.covered, 5);
+  EXPECT_EQ(o.free_run_interval.scored, 0) << "none carried";
+  EXPECT_EQ(o.seen_enough, -1) << "none carried";
   const auto s = board.Summary()["outputs"]["y"]["interval"];
   EXPECT_EQ(s["level"], 0.9);
   EXPECT_DOUBLE_EQ(s["k_step"]["coverage"].get<double>(), 0.5);
@@ -53,6 +55,36 @@ TEST(PredictionScoreboard, TalliesHowOftenTheMeasurementFellWithinTheInterval) {
   Prediction bad = WithAhead(10, 1.0, 1.0, 1.0);
   bad.half_width = {std::nan("")};
   EXPECT_THROW(board.Add(bad), std::invalid_argument);
+}
+
+// The free-run interval and "seen enough" as the identifier sends them per sample: tallied and
+// summarised; a state that is none of the three, or arrays of another size, refused whole.
+TEST(PredictionScoreboard, TalliesTheFreeRunIntervalAndKeepsTheLatestSeenEnough) {
+  PredictionScoreboard board(ScoreboardOptions{});
+  for (int64_t k = 0; k < 10; ++k) {
+    Prediction p{k, {"y"}, {1.0}, {1.0}, {k < 5 ? 1.1 : 2.0}, {3}, {}, {}, 0, {}, {}, {}};
+    p.interval_level = 0.9;
+    p.half_width = {0.1};
+    p.free_run_half_width = {k == 0 ? -1.0 : 0.2};  // 1.1 within ±0.2 of 1, 2.0 not
+    p.seen_enough = {k < 8 ? 1 : 2};
+    board.Add(p);
+  }
+  const auto& o = board.output("y");
+  EXPECT_EQ(o.free_run_interval.scored, 9);
+  EXPECT_EQ(o.free_run_interval.covered, 4);
+  EXPECT_EQ(o.seen_enough, 2);
+  const auto s = board.Summary()["outputs"]["y"];
+  EXPECT_EQ(s["interval"]["free_run"]["samples"], 9);
+  EXPECT_EQ(s["seen_enough"], 2);
+  Prediction bad{10, {"y"}, {1.0}, {1.0}, {1.0}, {3}, {}, {}, 0, {}, {}, {}};
+  bad.seen_enough = {3};
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+  bad.seen_enough = {1, 1};
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+  bad.seen_enough = {};
+  bad.free_run_half_width = {std::nan("")};
+  EXPECT_THROW(board.Add(bad), std::invalid_argument);
+  EXPECT_EQ(board.last_sample(), 9) << "nothing of the refused ones counted";
 }
 
 // Over a full window the fuzzy model is scored against the live ARX on the same samples: the

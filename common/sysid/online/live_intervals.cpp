@@ -40,9 +40,10 @@ LiveIntervals::LiveIntervals(double level) : level_(level) {
 }
 
 void LiveIntervals::Add(const Eigen::VectorXd& measured, const Eigen::VectorXd& predicted,
-                        const Eigen::VectorXd& ahead) {
+                        const Eigen::VectorXd& ahead, const Eigen::VectorXd& free_run) {
   Keep(one_step_, measured, predicted);
   if (ahead.size() > 0) Keep(ahead_, measured, ahead);
+  if (free_run.size() > 0) Keep(free_run_, measured, free_run);
   // Until the first recomputation every output's width is unknown (+∞), sized to the outputs.
   if (one_step_width_.size() != measured.size()) Recompute();
   if (++added_ % kRecomputeEvery == 0) Recompute();
@@ -51,13 +52,16 @@ void LiveIntervals::Add(const Eigen::VectorXd& measured, const Eigen::VectorXd& 
 void LiveIntervals::Recompute() {
   one_step_width_ = Widths(one_step_, level_);
   ahead_width_ = Widths(ahead_, level_);
+  free_run_width_ = Widths(free_run_, level_);
 }
 
 void LiveIntervals::Clear() {
   one_step_.clear();
   ahead_.clear();
+  free_run_.clear();
   one_step_width_.resize(0);
   ahead_width_.resize(0);
+  free_run_width_.resize(0);
   added_ = 0;
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // The online identifier's prediction intervals (issue 60 point 1, the live side; docs/identifier.md
-// §7.6): per output, one step ahead and K steps ahead, ŷ ± h with h the conformal half width
-// (metrics/conformal.hpp) of the model's own residuals on the newest kWindow samples it learned.
-// Each residual is taken before its target was learned — ŷ(k | k−1) and ŷ(k | k−K) are made
-// before y(k) is — so none is in-sample, as odonata-fit's calibration rows are not. A sample's
+// §7.6): per output, one step ahead, K steps ahead and in free run, ŷ ± h with h the conformal
+// half width (metrics/conformal.hpp) of the model's own residuals on the newest kWindow samples it
+// learned. Each residual is taken before its target was learned — ŷ(k | k−1) and ŷ(k | k−K) are
+// made before y(k) is — so none is in-sample, as odonata-fit's calibration rows are not. A sample's
 // interval uses only residuals of earlier samples. A frozen model keeps the widths of the flight
 // it learned on, as odonata-fit keeps its calibration's; a replaced model starts with none. What
 // it does not promise: a flight unlike the one learned (another regime, another vehicle), and
@@ -28,22 +28,24 @@ class LiveIntervals {
   explicit LiveIntervals(double level = 0.9);
 
   /// A learned sample's measured outputs and the predictions made before it was learned: one
-  /// step ahead and, with a horizon, K steps ahead (`ahead` empty without). Non-finite residuals
-  /// are left out.
+  /// step ahead, with a horizon K steps ahead (`ahead` empty without), and the model's free run
+  /// (`free_run` empty without). Non-finite residuals are left out.
   void Add(const Eigen::VectorXd& measured, const Eigen::VectorXd& predicted,
-           const Eigen::VectorXd& ahead);
+           const Eigen::VectorXd& ahead, const Eigen::VectorXd& free_run = {});
   /// Per output, the half width now (+∞ while too few residuals for the level). Sized as the
   /// outputs of the last Add (empty before any).
   const Eigen::VectorXd& one_step() const { return one_step_width_; }
   const Eigen::VectorXd& ahead() const { return ahead_width_; }
+  const Eigen::VectorXd& free_run() const { return free_run_width_; }
   double level() const { return level_; }
   void Clear();
 
  private:
   void Recompute();
   double level_;
-  std::vector<std::deque<double>> one_step_, ahead_;  // |residual| per output, newest last
-  Eigen::VectorXd one_step_width_, ahead_width_;
+  std::vector<std::deque<double>> one_step_, ahead_,
+      free_run_;  // |residual| per output, newest last
+  Eigen::VectorXd one_step_width_, ahead_width_, free_run_width_;
   int64_t added_ = 0;
 };
 

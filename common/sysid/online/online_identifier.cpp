@@ -210,7 +210,9 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.interval_level = intervals_.level();
   rep.half_width = widths(intervals_.one_step());
   if (rep.ahead.size() > 0) rep.ahead_half_width = widths(intervals_.ahead());
-  if (learning_) intervals_.Add(s.outputs, rep.predicted, rep.ahead);
+  rep.free_run_half_width = widths(intervals_.free_run());
+  if (learning_) intervals_.Add(s.outputs, rep.predicted, rep.ahead, rep.free_run);
+  rep.seen_enough = settling_.States(model_);
   rep.rules.resize(no);
   rep.max_entropy.resize(no);
   // Once a scheduled refit has landed the refits own the model (scheduled_refitter.hpp).

@@ -45,7 +45,12 @@ struct SampleReport {
   /// (LiveIntervals, at `interval_level`): from the model's residuals on earlier samples it
   /// learned; +∞ while it has too few. `ahead_half_width` is empty without a horizon.
   Eigen::VectorXd half_width, ahead_half_width;
+  /// Per output, the half width around `free_run`, from the free run's residuals likewise.
+  Eigen::VectorXd free_run_half_width;
   double interval_level = 0.0;
+  /// Per output, has the model seen enough at this sample (SettlingWatch::States; the same
+  /// judgement as Settling()'s, without its sentences).
+  std::vector<SettlingState> seen_enough;
 };
 
 /// kBridged: a short gap before the sample was filled by interpolation (OnlineIdentifier::

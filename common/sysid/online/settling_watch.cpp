@@ -170,6 +170,38 @@ void SettlingWatch::Rebuild(const NarxModel& model, const Series& kept) {
       if (s.below_since >= 0) s.below_since = observed_ - data.x.rows();
 }
 
+SettlingState SettlingWatch::RuleState(const RuleStats& s) const {
+  if (s.samples < kSamplesPerParameter * s.parameters) return SettlingState::kShortOfExcitation;
+  if (s.below_since >= 0 && observed_ - s.below_since >= kSettledSamples)
+    return SettlingState::kSettled;
+  return SettlingState::kLearning;
+}
+
+SettlingState SettlingWatch::OutputState(int rules, bool short_of, bool learning) {
+  if (rules == 0 || short_of) return SettlingState::kShortOfExcitation;
+  return learning ? SettlingState::kLearning : SettlingState::kSettled;
+}
+
+std::vector<SettlingState> SettlingWatch::States(const NarxModel& model) const {
+  bool regime_short = false;
+  for (const int64_t n : band_counts_) regime_short |= n < kRegimeSamples;
+  std::vector<SettlingState> out;
+  for (int o = 0; o < model.outputs(); ++o) {
+    bool short_of = regime_short, learning = false;
+    const int rules = model.model(o).rules();
+    if (static_cast<std::size_t>(o) < outputs_.size()) {
+      const auto& stats = outputs_[static_cast<std::size_t>(o)].rules;
+      for (int j = 0; j < rules && static_cast<std::size_t>(j) < stats.size(); ++j) {
+        const SettlingState r = RuleState(stats[static_cast<std::size_t>(j)]);
+        short_of |= r == SettlingState::kShortOfExcitation;
+        learning |= r == SettlingState::kLearning;
+      }
+    }
+    out.push_back(OutputState(rules, short_of, learning));
+  }
+  return out;
+}
+
 std::vector<OutputSettling> SettlingWatch::Judge(const NarxModel& model) const {
   std::vector<OutputSettling> out(static_cast<std::size_t>(model.outputs()));
   const auto names = model.spec().RegressorNames();
@@ -201,17 +233,12 @@ std::vector<OutputSettling> SettlingWatch::Judge(const NarxModel& model) const {
       r.samples = s.samples;
       r.standard_error = s.standard_error;
       r.regime = RegimeOf(m.rule_base(), j, names);
-      const double p = s.parameters;
       const auto label = "rule " + std::to_string(j + 1) + " (" + r.regime + ")";
-      if (s.samples < kSamplesPerParameter * p) {
-        r.state = SettlingState::kShortOfExcitation;
+      r.state = RuleState(s);
+      if (r.state == SettlingState::kShortOfExcitation)
         short_of.push_back(label + ": " + Number(std::floor(s.samples)) + " samples");
-      } else if (s.below_since >= 0 && observed_ - s.below_since >= kSettledSamples) {
-        r.state = SettlingState::kSettled;
-      } else {
-        r.state = SettlingState::kLearning;
+      else if (r.state == SettlingState::kLearning)
         learning.push_back(label + " SE " + Number(s.standard_error));
-      }
       judged.rules.push_back(r);
     }
     // Neighbouring thirds of a signal short together are one place to fly: "u(k) low to medium
@@ -239,17 +266,15 @@ std::vector<OutputSettling> SettlingWatch::Judge(const NarxModel& model) const {
       if (items.size() > shown) s += "; " + std::to_string(items.size() - shown) + " more";
       return s;
     };
-    if (m.rules() == 0 || !short_of.empty()) {
-      judged.state = SettlingState::kShortOfExcitation;
+    judged.state = OutputState(m.rules(), !short_of.empty(), !learning.empty());
+    if (judged.state == SettlingState::kShortOfExcitation) {
       judged.sentence = m.rules() == 0
                             ? "short of excitation: no rule yet"
                             : "short of excitation: " + list(short_of) + ", fly more there";
-    } else if (!learning.empty()) {
-      judged.state = SettlingState::kLearning;
+    } else if (judged.state == SettlingState::kLearning) {
       judged.sentence = "still learning: " + list(learning) + " (settled at " +
                         Number(kSettledStandardError) + ")";
     } else {
-      judged.state = SettlingState::kSettled;
       judged.sentence = "settled";
     }
   }

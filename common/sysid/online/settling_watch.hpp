@@ -89,6 +89,8 @@ class SettlingWatch {
 
   /// The judgement now, per output of `model` (the model Observe saw).
   std::vector<OutputSettling> Judge(const NarxModel& model) const;
+  /// Judge's states alone, without its sentences: cheap enough for every sample.
+  std::vector<SettlingState> States(const NarxModel& model) const;
   int64_t observed() const { return observed_; }
 
  private:
@@ -107,6 +109,10 @@ class SettlingWatch {
                   const Eigen::VectorXd& measured, const Eigen::VectorXd& predicted,
                   bool count_regimes);
   void UpdateStandardErrors(const NarxModel& model);
+  // One home for the states Judge and States give: a rule's from its statistics; an output's
+  // from its rule count, whether a rule or a regime is short, and whether a rule still learns.
+  SettlingState RuleState(const RuleStats& s) const;
+  static SettlingState OutputState(int rules, bool short_of, bool learning);
 
   std::vector<OutputStats> outputs_;
   int regressor_size_ = -1;           // of the model the statistics are for
