@@ -10,21 +10,6 @@
 namespace odonata::fit {
 namespace {
 
-// The predictions of each mode odonata-fit scores, by name, and the targets.
-std::map<std::string, Eigen::MatrixXd> ModePredictions(const sysid::RegressorSpec& spec,
-                                                       const sysid::Series& s,
-                                                       const sysid::Predictor& predict,
-                                                       int horizon) {
-  std::map<std::string, Eigen::MatrixXd> modes;
-  modes["one_step"] = sysid::PredictOneStep(spec, s, predict);
-  if (spec.output_lags > 0) {
-    bool diverged = false;
-    modes["free_run"] = sysid::SimulateFreeRun(spec, s, predict, &diverged);
-    if (horizon > 1) modes["k_step"] = sysid::PredictAhead(spec, s, predict, horizon, &diverged);
-  }
-  return modes;
-}
-
 // The conformal half width of the finite residuals, each over its σ̂ (metrics/conformal.hpp).
 double ConformalHalfWidth(const Eigen::VectorXd& y, const Eigen::VectorXd& yhat,
                           const Eigen::VectorXd& sigma, double level) {
@@ -50,7 +35,7 @@ IntervalWidths CalibrateIntervals(const sysid::RegressorSpec& spec,
   const Eigen::MatrixXd y = sysid::Targets(spec, calibration);
   const Eigen::MatrixXd sigma = spread.At(spec, calibration);
   w.calibration_rows = y.rows();
-  for (const auto& [mode, yhat] : ModePredictions(spec, calibration, predict, horizon)) {
+  for (const auto& [mode, yhat] : sysid::ModePredictions(spec, calibration, predict, horizon)) {
     Eigen::VectorXd half(y.cols());
     for (Eigen::Index o = 0; o < y.cols(); ++o)
       half(o) = ConformalHalfWidth(y.col(o), yhat.col(o), sigma.col(o), level);

@@ -88,4 +88,17 @@ Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
   return out;
 }
 
+std::map<std::string, Eigen::MatrixXd> ModePredictions(const RegressorSpec& spec,
+                                                       const Series& series,
+                                                       const Predictor& predict, int horizon) {
+  std::map<std::string, Eigen::MatrixXd> modes;
+  modes["one_step"] = PredictOneStep(spec, series, predict);
+  if (spec.output_lags > 0) {
+    bool diverged = false;
+    modes["free_run"] = SimulateFreeRun(spec, series, predict, &diverged);
+    if (horizon > 1) modes["k_step"] = PredictAhead(spec, series, predict, horizon, &diverged);
+  }
+  return modes;
+}
+
 }  // namespace odonata::sysid

@@ -2,6 +2,8 @@
 // Parallel (free-run) simulation: the model fed its own past predictions (docs/identifier.md §7).
 
 #include <functional>
+#include <map>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -32,5 +34,12 @@ Eigen::MatrixXd SimulateFreeRun(const RegressorSpec& spec, const Series& series,
 Eigen::MatrixXd PredictAhead(const RegressorSpec& spec, const Series& series,
                              const Predictor& predict, int horizon, bool* diverged = nullptr,
                              int stride = 1);
+
+/// The predictions of each mode a model is scored and its intervals calibrated in, by name:
+/// "one_step"; with output lags "free_run", and with a horizon K > 1 "k_step" (PredictAhead).
+/// Rows as PredictOneStep's.
+std::map<std::string, Eigen::MatrixXd> ModePredictions(const RegressorSpec& spec,
+                                                       const Series& series,
+                                                       const Predictor& predict, int horizon);
 
 }  // namespace odonata::sysid

@@ -1,5 +1,6 @@
 #include "sysid/online/live_intervals.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -53,6 +54,21 @@ void LiveIntervals::Recompute() {
   one_step_width_ = Widths(one_step_, level_);
   ahead_width_ = Widths(ahead_, level_);
   free_run_width_ = Widths(free_run_, level_);
+}
+
+void LiveIntervals::Seed(const SeedResiduals& seed, int horizon) {
+  Clear();
+  const auto fill = [](std::vector<std::deque<double>>& kept, const Eigen::MatrixXd& e) {
+    kept.assign(static_cast<std::size_t>(e.cols()), {});
+    const Eigen::Index first = std::max<Eigen::Index>(0, e.rows() - Eigen::Index{kWindow});
+    for (Eigen::Index o = 0; o < e.cols(); ++o)
+      for (Eigen::Index r = first; r < e.rows(); ++r)
+        if (std::isfinite(e(r, o))) kept[static_cast<std::size_t>(o)].push_back(std::abs(e(r, o)));
+  };
+  fill(one_step_, seed.one_step);
+  if (seed.horizon == horizon && horizon > 1) fill(ahead_, seed.ahead);
+  fill(free_run_, seed.free_run);
+  Recompute();
 }
 
 void LiveIntervals::Clear() {

@@ -5,9 +5,10 @@
 // learned. Each residual is taken before its target was learned — ŷ(k | k−1) and ŷ(k | k−K) are
 // made before y(k) is — so none is in-sample, as odonata-fit's calibration rows are not. A sample's
 // interval uses only residuals of earlier samples. A frozen model keeps the widths of the flight
-// it learned on, as odonata-fit keeps its calibration's; a replaced model starts with none. What
-// it does not promise: a flight unlike the one learned (another regime, another vehicle), and
-// widths that track a refit's better model at once (older residuals leave over the window).
+// it learned on, as odonata-fit keeps its calibration's; a model from elsewhere (a RESET, a
+// snapshot) starts with none, and a landed refit's model with its own calibration residuals (the
+// chosen candidate on the selection's hold-out: odonata-fit's). What it does not promise: a
+// flight unlike the one learned (another regime, another vehicle).
 
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +18,15 @@
 #include <Eigen/Core>
 
 namespace odonata::sysid {
+
+/// Residuals y − ŷ (targets × outputs) to start a window from: a landed refit's chosen candidate
+/// on the hold-out it was judged on, as odonata-fit calibrates its intervals (RefitOutcome).
+/// One step ahead; K steps ahead with `horizon` K (empty without); in free run (empty without
+/// output lags).
+struct SeedResiduals {
+  Eigen::MatrixXd one_step, ahead, free_run;
+  int horizon = 0;
+};
 
 class LiveIntervals {
  public:
@@ -39,6 +49,10 @@ class LiveIntervals {
   const Eigen::VectorXd& free_run() const { return free_run_width_; }
   double level() const { return level_; }
   void Clear();
+  /// Forgets the window and starts it from `seed` (its newest kWindow rows): a new model is as
+  /// sure as its calibration says, not unknown, and the older models' residuals leave at once.
+  /// The K-step residuals only when their horizon is `horizon`, the one the reports carry.
+  void Seed(const SeedResiduals& seed, int horizon);
 
  private:
   void Recompute();

@@ -60,7 +60,12 @@ void OnlineIdentifier::SetEntropyThreshold(double h) {
 }
 
 void OnlineIdentifier::SettleRefit() {
-  if (refitter_.Settle(model_)) settling_.Rebuild(model_, refitter_.KeptSeries());
+  if (refitter_.Settle(model_)) Landed();
+}
+
+void OnlineIdentifier::Landed() {
+  settling_.Rebuild(model_, refitter_.KeptSeries());
+  if (auto seed = refitter_.TakeLandedCalibration()) intervals_.Seed(*seed, ahead_horizon_);
 }
 
 std::optional<SampleReport> OnlineIdentifier::Push(const Sample& s, PushResult* result) {
@@ -229,8 +234,7 @@ std::optional<SampleReport> OnlineIdentifier::Step(const Sample& s) {
   rep.learned = learning_;
   if (learning_) {
     ++samples_learned_;
-    if (refitter_.AfterLearn(model_, samples_learned_))
-      settling_.Rebuild(model_, refitter_.KeptSeries());
+    if (refitter_.AfterLearn(model_, samples_learned_)) Landed();
   }
 
   rep.next = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());

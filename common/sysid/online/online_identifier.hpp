@@ -172,6 +172,9 @@ class OnlineIdentifier {
   std::optional<SampleReport> Step(const Sample& s);
   /// Lands a closing refit if one is in flight; the settling watch judges its rules anew.
   void SettleRefit();
+  /// A refit landed: the settling watch judges its rules anew and the intervals start from its
+  /// calibration residuals (when it brought any).
+  void Landed();
 
   NarxModel model_;
   bool learning_ = true;

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "sysid/estimation/simulation_error_training.hpp"
+#include "sysid/model/free_run.hpp"
 #include "sysid/online/refit_judgements.hpp"
 #include "sysid/selection/offline_fit.hpp"
 
@@ -103,6 +104,27 @@ void TrainLinearBeside(const RefitJob& job, const OfflineFitOptions& o, const Re
   }
 }
 
+// The chosen candidate's residuals on the hold-out it was judged on (the samples' end), per mode,
+// as odonata-fit calibrates its intervals (fit/prediction_intervals.hpp); none without one.
+std::optional<SeedResiduals> HoldoutResiduals(const RefitJob& job, const SelectionResult& sel) {
+  if (!sel.chosen_model || sel.holdout_samples <= 0) return std::nullopt;
+  const Eigen::Index rows = job.series.samples();
+  const Eigen::Index held = std::min(rows, sel.holdout_samples);
+  const Series holdout = SliceSeries(job.series, rows - held, held);
+  const NarxModel& candidate = *sel.chosen_model;
+  const Predictor predict = [&candidate](const Eigen::VectorXd& x) { return candidate.Predict(x); };
+  const Eigen::MatrixXd y = Targets(job.spec, holdout);
+  auto modes = ModePredictions(job.spec, holdout, predict, job.horizon);
+  SeedResiduals seed;
+  seed.one_step = y - modes["one_step"];
+  if (modes.count("free_run") > 0) seed.free_run = y - modes["free_run"];
+  if (modes.count("k_step") > 0) {
+    seed.ahead = y - modes["k_step"];
+    seed.horizon = job.horizon;
+  }
+  return seed;
+}
+
 // The refit's steps in order; throws what FitOffline throws (TrainingCancelled included).
 RefitOutcome Refit(const RefitJob& job) {
   const RegressionData kept = BuildRegression(job.spec, job.series);
@@ -142,9 +164,13 @@ RefitOutcome Refit(const RefitJob& job) {
       fit.selection->holdout_samples <= job.unseen &&
       IncumbentHoldsItsOwn(*job.incumbent, *fit.selection, job.series, o.selection))
     return KeepIncumbent(job, kept, refused);
-  // 5. The choice lands, with the linear model beside it for the landing's judgement.
+  // 5. The choice lands, with the linear model beside it for the landing's judgement, and its
+  //    candidate's hold-out residuals for the intervals.
+  std::optional<SeedResiduals> calibration;
+  if (fit.selection) calibration = HoldoutResiduals(job, *fit.selection);
   ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
   RefitOutcome out(std::move(fit.model), std::move(tracker));
+  out.calibration = std::move(calibration);
   out.chosen = std::move(chosen);
   out.steady_state_refused = refused;
   out.expert_replaced = expert_replaced;

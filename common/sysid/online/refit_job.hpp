@@ -19,6 +19,7 @@
 #include "sysid/estimation/train_options.hpp"
 #include "sysid/model/narx_model.hpp"
 #include "sysid/model/sample.hpp"
+#include "sysid/online/live_intervals.hpp"
 #include "sysid/selection/model_selection.hpp"
 
 namespace odonata::sysid {
@@ -63,6 +64,9 @@ struct RefitOutcome {
   int criterion_horizon = 0;
   bool expert_kept = false;      ///< the expert's rules, refined, are this refit's model
   bool expert_replaced = false;  ///< this refit's choice beat the expert's rules
+  /// When `model` is a selection's choice: its candidate's residuals on the selection's hold-out,
+  /// the live intervals' start when it lands (LiveIntervals::Seed).
+  std::optional<SeedResiduals> calibration;
 };
 
 /// Everything one refit reads.

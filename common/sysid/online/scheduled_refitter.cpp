@@ -98,6 +98,7 @@ bool ScheduledRefitter::Land(NarxModel& model) {
   // tail-sitter's q (select → train flight) 0.5 s ahead that fell from 36.1 to -48.4 %, and the
   // Silverbox's live models lost 0.4 to 0.8 FIT points in 7 of 8 replays (docs/identifier.md §6.3).
   if (arx_landed) CatchUp(model, since);
+  calibration_ = arx_landed ? std::nullopt : std::move(refitted->calibration);
   if (refitted->chosen) {
     chosen_ = std::move(refitted->chosen);
     ++selections_;

@@ -109,6 +109,9 @@ class ScheduledRefitter {
   int64_t failed() const { return failed_; }  ///< refits that could not fit
   /// Why the last refit that failed did (its exception's message, "cancelled", or empty).
   const std::string& last_failure() const { return last_failure_; }
+  /// The last landed model's calibration residuals (RefitOutcome::calibration), once: empty when
+  /// it was not a selection's own choice (ARX, the incumbent, an expert's rules) or was taken.
+  std::optional<SeedResiduals> TakeLandedCalibration() { return std::exchange(calibration_, {}); }
   /// Refits landed that chose their settings (a model selection); the others trained with the
   /// settings the last selection chose (see Start).
   int64_t selections() const { return selections_; }
@@ -147,7 +150,8 @@ class ScheduledRefitter {
   /// Samples kept since the start (or Clear) when the refit in flight, and the one that landed
   /// last, began: the samples since the latter are ones its model never saw.
   int64_t pending_at_ = 0, landed_at_ = 0;
-  std::optional<RefitSetting> chosen_;  // the last selection's settings
+  std::optional<RefitSetting> chosen_;        // the last selection's settings
+  std::optional<SeedResiduals> calibration_;  // the last landing's, until taken
   std::future<std::optional<RefitOutcome>> pending_;
   ConsequentTracker tracker_;  // the landed refit's
   /// Raised to stop the refit in flight when it will never land (Clear, the destructor).

@@ -50,6 +50,35 @@ TEST(LiveIntervals, CoverAboutTheLevelOfResidualsLikeTheOnesTheyCameFrom) {
   EXPECT_THROW(LiveIntervals(1.0), std::invalid_argument);
 }
 
+// A seed replaces the window: its widths are the seed's conformal ranks, the K-step ones only for
+// the horizon the reports carry, and only its newest kWindow rows count.
+TEST(LiveIntervals, ASeedStartsTheWindowFromItsResiduals) {
+  LiveIntervals live(0.9);
+  const Eigen::VectorXd y = Eigen::VectorXd::Constant(1, 10.0), zero = Eigen::VectorXd::Zero(1);
+  for (int k = 0; k < 100; ++k) live.Add(y, zero, zero, zero);  // residuals of 10 everywhere
+  EXPECT_EQ(live.one_step()(0), 10.0);
+  SeedResiduals seed;
+  seed.one_step.resize(9, 1);
+  for (int r = 0; r < 9; ++r) seed.one_step(r, 0) = -(r + 1.0);  // |e| = 1 … 9: ⌈10·0.9⌉ = 9th
+  seed.ahead = 2.0 * seed.one_step;
+  seed.free_run = 3.0 * seed.one_step;
+  seed.horizon = 5;
+  live.Seed(seed, 5);
+  EXPECT_EQ(live.one_step()(0), 9.0);
+  EXPECT_EQ(live.ahead()(0), 18.0);
+  EXPECT_EQ(live.free_run()(0), 27.0);
+  live.Seed(seed, 20);  // another horizon: no K-step width from it
+  EXPECT_EQ(live.one_step()(0), 9.0);
+  EXPECT_EQ(live.ahead().size(), 0);
+  // Older rows beyond the window leave: 10 000 rows of 100, then kWindow rows of 1.
+  SeedResiduals long_seed;
+  long_seed.one_step = Eigen::MatrixXd::Constant(10000 + LiveIntervals::kWindow, 1, 1.0);
+  long_seed.one_step.topRows(10000).setConstant(100.0);
+  live.Seed(long_seed, 0);
+  EXPECT_EQ(live.one_step()(0), 1.0);
+  EXPECT_EQ(live.free_run().size(), 0);
+}
+
 TEST(LiveIntervals, TheIdentifierReportsThemAndKeepsThemWhenFrozen) {
   using testing::Empty;
   using testing::Row;

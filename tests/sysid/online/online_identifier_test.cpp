@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "metrics/conformal.hpp"
 #include "narendra_series.hpp"
 #include "online_fixtures.hpp"
 #include "sysid/estimation/narx_training.hpp"
@@ -120,6 +121,47 @@ TEST(OnlineIdentifier, RefitsWithAHorizonChooseAsOdonataFitDoesWithIt) {
   // On this record the two criteria train different models, so the comparison tells them apart.
   ASSERT_NE(ahead.model.ToJson().dump(), free_run.model.ToJson().dump());
   EXPECT_EQ(online.model().ToJson().dump(), ahead.model.ToJson().dump());
+}
+
+// A landed refit's model starts its live intervals from its own calibration, as odonata-fit
+// calibrates its (issue 60): the chosen candidate's residuals on the selection's hold-out. Frozen
+// after the closing refit, the widths are the conformal ranks of exactly those residuals, one step,
+// K steps ahead and in free run.
+TEST(OnlineIdentifier, ALandedRefitStartsItsIntervalsFromItsCalibrationResiduals) {
+  const Series all = testing::NarendraTrain(260);
+  const Series train = SliceSeries(all, 0, 250);
+  RefitSchedule refit;
+  refit.first = 1000;  // only the freeze's closing refit, on every sample
+  refit.buffer = 5000;
+  refit.horizon = 3;
+  const NarxModel empty = Empty(fuzzy::ConsequentKind::kLinear, train);
+  OnlineIdentifier online(empty, refit);
+  online.set_ahead_horizon(3);
+  for (Eigen::Index k = 0; k < train.samples(); ++k) online.Push(Row(all, k));
+  online.Freeze();
+  const auto report = online.Push(Row(all, 250));  // the closing refit lands before it
+  ASSERT_TRUE(report);
+  ASSERT_EQ(online.refits(), 1);
+  OfflineFitOptions fo = ClosingRefitFitOptions();
+  fo.selection.horizon = refit.horizon;
+  const OfflineFit offline =
+      FitOffline(empty.spec(), empty.model(0).config(), TrainOptions{}, train, fo);
+  ASSERT_TRUE(offline.selection && offline.selection->chosen_model);
+  const Eigen::Index held = offline.selection->holdout_samples;
+  const Series holdout = SliceSeries(train, train.samples() - held, held);
+  const NarxModel& candidate = *offline.selection->chosen_model;
+  auto modes = ModePredictions(
+      empty.spec(), holdout, [&](const Eigen::VectorXd& x) { return candidate.Predict(x); }, 3);
+  const Eigen::MatrixXd y = Targets(empty.spec(), holdout);
+  const auto rank = [&](const Eigen::MatrixXd& yhat) {
+    std::vector<double> e;
+    for (Eigen::Index r = 0; r < y.rows(); ++r) e.push_back(std::abs(y(r, 0) - yhat(r, 0)));
+    return metrics::ConformalHalfWidth(e, 0.9);
+  };
+  EXPECT_EQ(report->half_width(0), rank(modes["one_step"]));
+  EXPECT_EQ(report->ahead_half_width(0), rank(modes["k_step"]));
+  EXPECT_EQ(report->free_run_half_width(0), rank(modes["free_run"]));
+  EXPECT_TRUE(std::isfinite(report->ahead_half_width(0)));
 }
 
 // A service whose landing waits for a refit cannot beat its heartbeat meanwhile: the hook is
