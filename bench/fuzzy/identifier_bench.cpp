@@ -82,8 +82,9 @@ void BM_IdentifierStep(benchmark::State& state) {
 BENCHMARK_TEMPLATE(BM_IdentifierStep, ConsequentKind::kSingleton)->Apply(StepArgs);
 BENCHMARK_TEMPLATE(BM_IdentifierStep, ConsequentKind::kLinear)->Apply(StepArgs);
 
-// What "seen enough" (SettlingWatch::Observe) adds to each learned sample, beside the step above:
-// one output whose N = 6 regressor is 3 output and 3 input lags.
+// What "seen enough" adds to each learned sample, beside the step above: Observe, and the state
+// every prediction carries (States); one output whose N = 6 regressor is 3 output and 3 input
+// lags.
 void BM_SettlingWatchObserve(benchmark::State& state) {
   const int rules = static_cast<int>(state.range(0));
   odonata::sysid::RegressorSpec spec;
@@ -110,6 +111,7 @@ void BM_SettlingWatchObserve(benchmark::State& state) {
     y(0) = 0.3 * x(0) - 0.2;
     yhat(0) = 0.29 * x(0) - 0.2;
     watch.Observe(model, x, y, yhat);
+    benchmark::DoNotOptimize(watch.States(model));
   }
   state.SetItemsProcessed(state.iterations());
   state.counters["rules"] = rules;
