@@ -6,39 +6,31 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include "fit/prediction_intervals.hpp"
+#include "linear_plant.hpp"
 #include "sysid/estimation/narx_training.hpp"
 #include "sysid/selection/model_selection.hpp"
 
 namespace odonata::fit {
 namespace {
 
-sysid::RegressorSpec LocalSpec() {
-  sysid::RegressorSpec s;
-  s.output_lags = 1;
-  s.input_lags = 1;
-  s.delay = 1;
-  s.outputs = {"y"};
-  s.inputs = {"u"};
-  return s;
+sysid::RegressorSpec LocalSpec() { return testing::LinearPlantSpec(); }
+
+// The noise ten times larger for positive inputs: σ 0.02 below 0, 0.2 above.
+sysid::Series NoisyPlant(unsigned seed, int samples) {
+  return testing::LinearPlant(seed, samples, 0.02, 0.2);
 }
 
-// y(t) = 0.7 y(t−1) + 0.5 u(t−1) + e(t), e ~ N(0, 0.02²) for u(t−1) < 0, N(0, 0.2²) else.
-sysid::Series NoisyPlant(unsigned seed, int samples) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  sysid::Series s;
-  s.outputs = Eigen::MatrixXd::Zero(samples, 1);
-  s.inputs = Eigen::MatrixXd::Zero(samples, 1);
-  for (int t = 0; t < samples; ++t) s.inputs(t, 0) = level(rng);
-  for (int t = 1; t < samples; ++t) {
-    const double u = s.inputs(t - 1, 0);
-    s.outputs(t, 0) = 0.7 * s.outputs(t - 1, 0) + 0.5 * u + (u < 0 ? 0.02 : 0.2) * noise(rng);
-  }
-  return s;
+// A fuzzy model with linear consequents whose rules can tell the input's regimes apart.
+sysid::NarxModel FuzzyModelOf(const sysid::Series& train) {
+  fuzzy::FuzzyModelConfig cfg;
+  cfg.consequent = fuzzy::ConsequentKind::kLinear;
+  cfg.entropy.threshold = sysid::ThresholdForRadius(1.0);
+  sysid::NarxModel model(LocalSpec(), cfg);
+  sysid::TrainOptions t;
+  t.epochs = 5;
+  sysid::Train(model, train, t);
+  return model;
 }
 
 struct RegimeTally {
@@ -68,13 +60,7 @@ RegimeTally ByRegime(const sysid::NarxModel& m, const sysid::Series& s, const In
 TEST(LocalSpread, WidensWhereTheNoiseIsAndKeepsItsLevelOverall) {
   const sysid::Series train = NoisyPlant(1, 4000), calibration = NoisyPlant(2, 2000),
                       test = NoisyPlant(3, 4000);
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = fuzzy::ConsequentKind::kLinear;
-  cfg.entropy.threshold = sysid::ThresholdForRadius(1.0);
-  sysid::NarxModel model(LocalSpec(), cfg);
-  sysid::TrainOptions t;
-  t.epochs = 5;
-  sysid::Train(model, train, t);
+  const sysid::NarxModel model = FuzzyModelOf(train);
   ASSERT_GE(model.total_rules(), 2) << "rules to tell the regimes apart";
   const sysid::Predictor predict = [&](const Eigen::VectorXd& x) { return model.Predict(x); };
   const IntervalWidths uniform = CalibrateIntervals(LocalSpec(), calibration, predict, 0, 0.9);
@@ -98,13 +84,7 @@ TEST(LocalSpread, WidensWhereTheNoiseIsAndKeepsItsLevelOverall) {
 // A sample outside the data the rules were fitted on: the farther, the wider.
 TEST(LocalSpread, WidensOutsideTheData) {
   const sysid::Series train = NoisyPlant(1, 4000);
-  fuzzy::FuzzyModelConfig cfg;
-  cfg.consequent = fuzzy::ConsequentKind::kLinear;
-  cfg.entropy.threshold = sysid::ThresholdForRadius(1.0);
-  sysid::NarxModel model(LocalSpec(), cfg);
-  sysid::TrainOptions t;
-  t.epochs = 5;
-  sysid::Train(model, train, t);
+  const sysid::NarxModel model = FuzzyModelOf(train);
   const LocalSpread spread = LocalSpread::Fit(model, train);
   sysid::Series inside = NoisyPlant(5, 400), far = inside, farther = inside;
   far.inputs *= 3.0;

@@ -8,36 +8,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
 #include "fit/fit_scoring.hpp"
+#include "linear_plant.hpp"
 
 namespace odonata::fit {
 namespace {
 
-sysid::RegressorSpec Spec() {
-  sysid::RegressorSpec s;
-  s.output_lags = 1;
-  s.input_lags = 1;
-  s.delay = 1;
-  s.outputs = {"y"};
-  s.inputs = {"u"};
-  return s;
-}
+sysid::RegressorSpec Spec() { return testing::LinearPlantSpec(); }
 
 // y(t) = 0.7 y(t−1) + 0.5 u(t−1) + e(t), e ~ N(0, 0.1²).
 sysid::Series Plant(unsigned seed, int samples) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  std::normal_distribution<double> noise(0.0, 0.1);
-  sysid::Series s;
-  s.outputs = Eigen::MatrixXd::Zero(samples, 1);
-  s.inputs = Eigen::MatrixXd::Zero(samples, 1);
-  for (int t = 0; t < samples; ++t) s.inputs(t, 0) = level(rng);
-  for (int t = 1; t < samples; ++t)
-    s.outputs(t, 0) = 0.7 * s.outputs(t - 1, 0) + 0.5 * s.inputs(t - 1, 0) + noise(rng);
-  return s;
+  return testing::LinearPlant(seed, samples, 0.1, 0.1);
 }
 
 // The plant's own one-step map on the regressor [y(t−1), u(t−1)].
