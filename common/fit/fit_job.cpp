@@ -167,6 +167,9 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
   report["epoch_history"] = EpochHistoryToJson(fit.report);
   report["simulation"] = StagesToJson(fit.report.simulation);
   topt.deviation_ridge = fit.train.deviation_ridge;
+  // The callbacks hold this function's locals; the options outlive it.
+  topt.progress = nullptr;
+  topt.simulation_progress = nullptr;
   return std::move(fit.model);
 }
 

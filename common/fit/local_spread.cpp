@@ -15,23 +15,24 @@ LocalSpread LocalSpread::Fit(const sysid::NarxModel& model, const sysid::Series&
   LocalSpread s;
   const sysid::RegressionData d = sysid::BuildRegression(model.spec(), train);
   const int outputs = model.outputs();
-  const double p = static_cast<double>(d.x.cols() + 1);
   s.floor_ = Eigen::VectorXd::Zero(outputs);
   s.reach_ = Eigen::VectorXd::Zero(outputs);
   fuzzy::Inference inf;
   for (int o = 0; o < outputs; ++o) {
     const auto& fm = model.model(o);
     const int r = fm.rules();
+    const double p = fm.consequent().LeastSquaresWidth();  // a rule's parameters
     Eigen::VectorXd n = Eigen::VectorXd::Zero(r), b = n;
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(r, r);
     std::vector<double> distances;
-    double e2_sum = 0.0;
+    double e2_sum = 0.0, e2_max = 0.0;
     Eigen::Index finite = 0;
     for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
       const Eigen::VectorXd x = d.x.row(k).transpose();
       const double e = d.y(k, o) - model.Predict(x)(o);
       if (!std::isfinite(e)) continue;
       e2_sum += e * e;
+      e2_max = std::max(e2_max, e * e);
       ++finite;
       if (r == 0) continue;
       fm.rule_base().Evaluate(model.scaling().ScaleRegressor(x), &inf);
@@ -51,9 +52,11 @@ LocalSpread LocalSpread::Fit(const sysid::NarxModel& model, const sysid::Series&
     }
     Eigen::VectorXd v(r);
     for (int j = 0; j < r; ++j)
-      // A rule that stood for no row has no spread of its own: the output's, as wide as it goes.
-      v(j) = n(j) > 0.0 && std::isfinite(c(j)) ? std::max(0.0, c(j)) * (1.0 + p / n(j))
-                                               : mean_e2 * (1.0 + p);
+      // A rule that stood for less than a row has no spread of its own: the output's, as wide as
+      // one row allows. Its least-squares value is held within the squared residuals seen: a
+      // rule that barely fires is barely determined.
+      v(j) = n(j) >= 1.0 && std::isfinite(c(j)) ? std::clamp(c(j), 0.0, e2_max) * (1.0 + p / n(j))
+                                                : mean_e2 * (1.0 + p);
     s.rule_variance_.push_back(v);
     s.floor_(o) = kFloorShare * mean_e2;
     if (!distances.empty()) {

@@ -8,13 +8,15 @@
 // firings w_kj (c = argmin Σ_k (e_k² − Σ_j w_kj c_j)², then clamped at 0) — unblended where the
 // firings overlap, as a weighted mean per rule is not — and at a regressor x
 //   σ̂²(x) = Σ_j w_j(x) c_j (1 + p / n_j) + kFloorShare · s̄² + s̄² · max(0, d / d₉₅ − 1)
-// with n_j = Σ_k w_kj the rows rule j stood for and p = regressors + 1 (1 + p/n_j, the mean
-// leverage of a least-squares prediction on n_j rows: a rule that saw little is wider); s̄² the
-// output's mean squared residual, a floor so that a rule which fitted its rows exactly promises
-// no zero width; d the weighted distance of x to its nearest rule and d₉₅ the distance 95 % of
-// the training rows lie within (beyond it the rules know nothing of the error, which grows by s̄²
-// per d₉₅ farther). Conformal intervals normalised by σ̂ (prediction_intervals.hpp) keep their
-// coverage guarantee for any σ̂; σ̂ only decides where the width goes.
+// with n_j = Σ_k w_kj the rows rule j stood for and p its consequent's parameters (1 + p/n_j, the
+// mean leverage of a least-squares prediction on n_j rows: a rule that saw little is wider; below
+// one row, s̄² (1 + p)); c_j is held within the largest squared residual; s̄² the output's mean
+// squared residual, a floor so that a rule which fitted its rows exactly promises no zero width; d
+// the squared weighted distance of x to its nearest rule, Σ_i (x_i − c_i)² / σ_i², and d₉₅ the
+// one 95 % of the training rows lie within: beyond it the rules know nothing of the error, whose
+// variance grows by s̄² per d₉₅ (its spread with the distance itself, as a linear model's
+// extrapolation error does). Conformal intervals normalised by σ̂ (prediction_intervals.hpp) keep
+// their coverage guarantee for any σ̂; σ̂ only decides where the width goes.
 
 #include <memory>
 #include <vector>

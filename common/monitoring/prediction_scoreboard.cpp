@@ -115,7 +115,8 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
     out.fuzzy.one_step.Add(y, p.predicted[o]);
     out.fuzzy.free_run.Add(y, p.free_run[o]);
     out.rules = p.rules[o];
-    if (o < p.half_width.size()) {
+    if (o < p.half_width.size() || o < p.ahead_half_width.size() ||
+        o < p.free_run_half_width.size()) {
       // A level changed within a run (a reconfigured identifier): its tallies start again.
       if (out.interval_level != p.interval_level) {
         out.one_step_interval = {};
@@ -123,7 +124,7 @@ std::vector<ScoreEvent> PredictionScoreboard::Add(const Prediction& p) {
         out.free_run_interval = {};
         out.interval_level = p.interval_level;
       }
-      out.one_step_interval.Add(y, p.predicted[o], p.half_width[o]);
+      if (o < p.half_width.size()) out.one_step_interval.Add(y, p.predicted[o], p.half_width[o]);
       if (o < p.ahead_half_width.size())
         out.ahead_interval.Add(y, p.ahead[o], p.ahead_half_width[o]);
       if (o < p.free_run_half_width.size())

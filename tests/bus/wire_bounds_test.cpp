@@ -180,6 +180,14 @@ odonata::prediction_t Prediction(int outputs) {
   p.learning = 1;
   p.horizon = 50;
   p.num_ahead = outputs;
+  // The intervals and "seen enough": every count of the type walked, an int8 array among them.
+  p.interval_level = 0.9;
+  for (int i = 0; i < outputs; ++i) {
+    for (auto* v : {&p.half_width, &p.ahead_half_width, &p.free_run_half_width})
+      v->push_back(0.25 * (i + 1));
+    p.seen_enough.push_back(static_cast<int8_t>(i % 3));
+  }
+  p.num_intervals = p.num_ahead_intervals = p.num_free_run_intervals = p.num_seen_enough = outputs;
   return p;
 }
 

@@ -1,6 +1,7 @@
 #include "sysid/online/refit_job.hpp"
 
 #include <exception>
+#include <stdexcept>
 #include <utility>
 
 #include "sysid/estimation/simulation_error_training.hpp"
@@ -167,7 +168,14 @@ RefitOutcome Refit(const RefitJob& job) {
   // 5. The choice lands, with the linear model beside it for the landing's judgement, and its
   //    candidate's hold-out residuals for the intervals.
   std::optional<SeedResiduals> calibration;
-  if (fit.selection) calibration = HoldoutResiduals(job, *fit.selection);
+  if (fit.selection) {
+    try {
+      calibration = HoldoutResiduals(job, *fit.selection);
+    } catch (const std::invalid_argument&) {
+      // A hold-out with no complete regressor (breaks every few samples): the model still lands,
+      // its intervals go on from the window they have.
+    }
+  }
   ConsequentTracker tracker = ConsequentTracker::Build(fit.model, kept);
   RefitOutcome out(std::move(fit.model), std::move(tracker));
   out.calibration = std::move(calibration);

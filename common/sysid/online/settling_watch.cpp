@@ -170,6 +170,20 @@ void SettlingWatch::Rebuild(const NarxModel& model, const Series& kept) {
       if (s.below_since >= 0) s.below_since = observed_ - data.x.rows();
 }
 
+const SettlingWatch::RuleStats& SettlingWatch::StatsOf(int output, int rule) const {
+  // A rule the watch has seen nothing of (a model resumed frozen, never observed) has no
+  // evidence: short of excitation, never settled by default.
+  static const RuleStats kUnobserved = [] {
+    RuleStats s;
+    s.standard_error = std::numeric_limits<double>::infinity();
+    return s;
+  }();
+  if (static_cast<std::size_t>(output) >= outputs_.size()) return kUnobserved;
+  const auto& rules = outputs_[static_cast<std::size_t>(output)].rules;
+  return static_cast<std::size_t>(rule) < rules.size() ? rules[static_cast<std::size_t>(rule)]
+                                                       : kUnobserved;
+}
+
 SettlingState SettlingWatch::RuleState(const RuleStats& s) const {
   if (s.samples < kSamplesPerParameter * s.parameters) return SettlingState::kShortOfExcitation;
   if (s.below_since >= 0 && observed_ - s.below_since >= kSettledSamples)
@@ -189,13 +203,10 @@ std::vector<SettlingState> SettlingWatch::States(const NarxModel& model) const {
   for (int o = 0; o < model.outputs(); ++o) {
     bool short_of = regime_short, learning = false;
     const int rules = model.model(o).rules();
-    if (static_cast<std::size_t>(o) < outputs_.size()) {
-      const auto& stats = outputs_[static_cast<std::size_t>(o)].rules;
-      for (int j = 0; j < rules && static_cast<std::size_t>(j) < stats.size(); ++j) {
-        const SettlingState r = RuleState(stats[static_cast<std::size_t>(j)]);
-        short_of |= r == SettlingState::kShortOfExcitation;
-        learning |= r == SettlingState::kLearning;
-      }
+    for (int j = 0; j < rules; ++j) {
+      const SettlingState r = RuleState(StatsOf(o, j));
+      short_of |= r == SettlingState::kShortOfExcitation;
+      learning |= r == SettlingState::kLearning;
     }
     out.push_back(OutputState(rules, short_of, learning));
   }
@@ -218,17 +229,13 @@ std::vector<OutputSettling> SettlingWatch::Judge(const NarxModel& model) const {
       regimes.push_back(g);
     }
   }
-  const std::vector<RuleStats> none;
   for (int o = 0; o < model.outputs(); ++o) {
     auto& judged = out[static_cast<std::size_t>(o)];
     judged.regimes = regimes;
     const auto& m = model.model(o);
-    const auto& stats = static_cast<std::size_t>(o) < outputs_.size()
-                            ? outputs_[static_cast<std::size_t>(o)].rules
-                            : none;
     std::vector<std::string> short_of, learning;
-    for (int j = 0; j < m.rules() && static_cast<std::size_t>(j) < stats.size(); ++j) {
-      const auto& s = stats[static_cast<std::size_t>(j)];
+    for (int j = 0; j < m.rules(); ++j) {
+      const auto& s = StatsOf(o, j);
       RuleSettling r;
       r.samples = s.samples;
       r.standard_error = s.standard_error;

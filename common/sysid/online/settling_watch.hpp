@@ -112,6 +112,7 @@ class SettlingWatch {
   // One home for the states Judge and States give: a rule's from its statistics; an output's
   // from its rule count, whether a rule or a regime is short, and whether a rule still learns.
   SettlingState RuleState(const RuleStats& s) const;
+  const RuleStats& StatsOf(int output, int rule) const;  // of a rule never observed: none
   static SettlingState OutputState(int rules, bool short_of, bool learning);
 
   std::vector<OutputStats> outputs_;

@@ -295,7 +295,7 @@ SelectionResult SelectModel(const RegressorSpec& spec, const fuzzy::FuzzyModelCo
       std::isfinite(st.result.candidates[st.result.chosen].score))
     CheckAgainstLinear(ctx, st);
   if (st.result.chosen < st.models.size()) st.result.chosen_model = st.models[st.result.chosen];
-  if (!st.result.candidates.empty()) st.ReachMark(st.total, st.result.candidates[st.result.chosen]);
+  if (!st.result.candidates.empty()) st.Finish(st.result.candidates[st.result.chosen]);
   WarnOfChoice(ctx, st.result);
   return st.result;
 }

@@ -38,7 +38,7 @@ bool SameSetting(const Candidate& a, const Candidate& b) {
 
 }  // namespace
 
-void SelectionState::Report(const Candidate& c) {
+void SelectionState::Report(const Candidate& c, const Candidate* chosen) {
   if (!on_candidate || total <= 0.0) return;
   const auto same = std::find_if(trained_.begin(), trained_.end(),
                                  [&](const Candidate& t) { return SameSetting(t, c); });
@@ -49,7 +49,9 @@ void SelectionState::Report(const Candidate& c) {
   SelectionProgress p;
   p.fraction = std::min(1.0, done / total);
   p.fit_rows = fit_rows;
-  if (options != nullptr) {
+  if (chosen != nullptr) {
+    p.leading = *chosen;  // after the checks that may have changed the scores the rule reads
+  } else if (options != nullptr) {
     // As the final choice will judge them: a K-step candidate that gave away the one-step bound
     // cannot be chosen.
     std::vector<Candidate> eligible;

@@ -56,8 +56,13 @@ struct SelectionState {
   const SelectionOptions* options = nullptr;
   Eigen::Index fit_rows = 0;
   /// Reports `c` with the leading candidate among those trained so far (a retrained one replaces
-  /// its earlier self).
-  void Report(const Candidate& c);
+  /// its earlier self), or with `chosen` when the choice is made.
+  void Report(const Candidate& c, const Candidate* chosen = nullptr);
+  /// The whole done, the choice made: the last report, `chosen` leading.
+  void Finish(const Candidate& chosen) {
+    done = total;
+    Report(chosen, &chosen);
+  }
   /// Advances to `mark` (a step's planned end) unless already past it, and reports.
   void ReachMark(double mark, const Candidate& c) {
     done = std::max(done, mark);

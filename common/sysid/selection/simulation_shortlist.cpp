@@ -159,8 +159,12 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
       // chose between two half-fits (docs/identifier.md §12).
       lm.holdout = nullptr;
       oe.candidate = cs[k];
+      const auto start = std::chrono::steady_clock::now();
       TrainOnSimulationError(m, ctx.fit, lm);
       oe.candidate.simulation = lm.stages;  // replayed: to convergence, at most 50
+      // Counted as the final training replays them: to convergence, at most this many.
+      oe.candidate.cost.simulation_steps_run = kOutputErrorIterations;
+      oe.candidate.cost.simulation_seconds = SecondsSince(start);
       ScoreCandidate(ctx, oe.candidate, m);
       oe.model.emplace(std::move(m));
       // Its other fit stays least squares, ARX exactly: iRprop− steps that a short hold-out

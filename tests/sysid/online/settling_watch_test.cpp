@@ -69,6 +69,24 @@ TEST(SettlingWatch, GoesFromShortThroughLearningToSettledOnAWellExcitedPlant) {
   ASSERT_EQ(j.regimes.size(), 6u);  // pitch(k) and servo(k), three thirds each
 }
 
+// A watch that has seen nothing of a model's rules (a model resumed frozen) says so: short of
+// excitation, never "settled" for want of evidence against it; States says what Judge says, and
+// follows it once the samples come.
+TEST(SettlingWatch, WithoutEvidenceARuleIsShortNotSettled) {
+  const NarxModel model = OneRule();
+  const SettlingWatch none;
+  EXPECT_EQ(none.States(model).at(0), SettlingState::kShortOfExcitation);
+  const OutputSettling j = none.Judge(model).at(0);
+  EXPECT_EQ(j.state, SettlingState::kShortOfExcitation);
+  ASSERT_EQ(j.rules.size(), 1u);
+  EXPECT_EQ(j.rules[0].samples, 0.0);
+  EXPECT_NE(j.sentence.find("rule 1"), std::string::npos) << j.sentence;
+  SettlingWatch w;
+  Watch(w, model, Plant(2, 1500, -1.0, 1.0));
+  EXPECT_EQ(w.States(model).at(0), w.Judge(model).at(0).state);
+  EXPECT_EQ(w.States(model).at(0), SettlingState::kSettled);
+}
+
 TEST(SettlingWatch, ARegimeNeverVisitedIsNamedWithWhereToFly) {
   const NarxModel model = OneRule();
   SettlingWatch w;
