@@ -156,11 +156,14 @@ sysid::NarxModel TrainOffline(const FitJobOptions& o, const sysid::RegressorSpec
   }
   if (fit.selection && fit.selection->chosen_model && fit.selection->holdout_samples > 0) {
     d.calibration_model = fit.selection->chosen_model;
-    const Eigen::Index rows = d.train->samples();
-    const Eigen::Index held = std::min(rows, fit.selection->holdout_samples);
-    d.calibration =
-        select_series ? *select_series : sysid::SliceSeries(*d.train, rows - held, held);
-    d.calibration_fit = select_series ? *d.train : sysid::SliceSeries(*d.train, 0, rows - held);
+    if (select_series) {
+      d.calibration = *select_series;
+      d.calibration_fit = *d.train;
+    } else {
+      auto [fit_rows, held_rows] = sysid::SplitAtHoldout(*d.train, fit.selection->holdout_samples);
+      d.calibration = std::move(held_rows);
+      d.calibration_fit = std::move(fit_rows);
+    }
   }
   cfg = fit.config;
   topt.epochs = fit.train.epochs;

@@ -8,12 +8,17 @@
 #include <Eigen/Cholesky>
 
 #include "fuzzy/gaussian_rule_base.hpp"
+#include "sysid/model/free_run.hpp"
 
 namespace odonata::fit {
 
 LocalSpread LocalSpread::Fit(const sysid::NarxModel& model, const sysid::Series& train) {
   LocalSpread s;
   const sysid::RegressionData d = sysid::BuildRegression(model.spec(), train);
+  // One-step residuals, every output at once (PredictOneStep's rows are BuildRegression's).
+  const Eigen::MatrixXd residuals =
+      d.y - sysid::PredictOneStep(model.spec(), train,
+                                  [&model](const Eigen::VectorXd& x) { return model.Predict(x); });
   const int outputs = model.outputs();
   s.floor_ = Eigen::VectorXd::Zero(outputs);
   s.reach_ = Eigen::VectorXd::Zero(outputs);
@@ -28,14 +33,13 @@ LocalSpread LocalSpread::Fit(const sysid::NarxModel& model, const sysid::Series&
     double e2_sum = 0.0, e2_max = 0.0;
     Eigen::Index finite = 0;
     for (Eigen::Index k = 0; k < d.x.rows(); ++k) {
-      const Eigen::VectorXd x = d.x.row(k).transpose();
-      const double e = d.y(k, o) - model.Predict(x)(o);
+      const double e = residuals(k, o);
       if (!std::isfinite(e)) continue;
       e2_sum += e * e;
       e2_max = std::max(e2_max, e * e);
       ++finite;
       if (r == 0) continue;
-      fm.rule_base().Evaluate(model.scaling().ScaleRegressor(x), &inf);
+      fm.rule_base().Evaluate(model.scaling().ScaleRegressor(d.x.row(k).transpose()), &inf);
       const Eigen::VectorXd phi = inf.normalized.matrix().head(r);
       n += phi;
       g.selfadjointView<Eigen::Lower>().rankUpdate(phi);

@@ -109,9 +109,7 @@ void TrainLinearBeside(const RefitJob& job, const OfflineFitOptions& o, const Re
 // as odonata-fit calibrates its intervals (fit/prediction_intervals.hpp); none without one.
 std::optional<SeedResiduals> HoldoutResiduals(const RefitJob& job, const SelectionResult& sel) {
   if (!sel.chosen_model || sel.holdout_samples <= 0) return std::nullopt;
-  const Eigen::Index rows = job.series.samples();
-  const Eigen::Index held = std::min(rows, sel.holdout_samples);
-  const Series holdout = SliceSeries(job.series, rows - held, held);
+  const Series holdout = SplitAtHoldout(job.series, sel.holdout_samples).holdout;
   const NarxModel& candidate = *sel.chosen_model;
   const Predictor predict = [&candidate](const Eigen::VectorXd& x) { return candidate.Predict(x); };
   const Eigen::MatrixXd y = Targets(job.spec, holdout);

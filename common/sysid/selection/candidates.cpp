@@ -32,6 +32,12 @@ Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count) {
   return out;
 }
 
+HoldoutSplit SplitAtHoldout(const Series& train, Eigen::Index holdout_samples) {
+  const Eigen::Index rows = train.samples();
+  const Eigen::Index held = std::clamp<Eigen::Index>(holdout_samples, 0, rows);
+  return {SliceSeries(train, 0, rows - held), SliceSeries(train, rows - held, held)};
+}
+
 Series ConcatSeries(const Series& a, const Series& b) {
   Series out;
   out.outputs.resize(a.samples() + b.samples(), a.outputs.cols());

@@ -46,10 +46,14 @@ SelectionContext MakeContext(const RegressorSpec& spec, const fuzzy::FuzzyModelC
     throw std::invalid_argument("the training data (" + std::to_string(train.samples()) +
                                 " samples) is too short to hold out " +
                                 std::to_string(result.holdout_samples) + " for model selection");
-  ctx.fit = selection != nullptr ? train : SliceSeries(train, 0, result.fit_samples);
-  ctx.holdout = selection != nullptr
-                    ? *selection
-                    : SliceSeries(train, result.fit_samples, result.holdout_samples);
+  if (selection != nullptr) {
+    ctx.fit = train;
+    ctx.holdout = *selection;
+  } else {
+    auto [fit, holdout] = SplitAtHoldout(train, result.holdout_samples);
+    ctx.fit = std::move(fit);
+    ctx.holdout = std::move(holdout);
+  }
   const bool ahead = options.horizon > 1 && (options.criterion == SelectionCriterion::kAhead ||
                                              options.criterion == SelectionCriterion::kAuto);
   if (options.criterion == SelectionCriterion::kAhead && options.horizon < 2)
@@ -81,13 +85,21 @@ void PlanProgress(const SelectionContext& ctx, bool with_linear, bool ridge, boo
   st.total = st.shortlist_mark + (folds ? kFoldsShare * sweep : 0.0);
 }
 
-// A fuzzy candidate trained for up to `epochs` on the fit slice, scored on the hold-out.
-NarxModel TrainAndScore(const SelectionContext& ctx, Candidate& c, int epochs) {
-  TrainReport report;
+// `c`'s setting trained for up to `epochs` on the fit slice, the hold-out keeping its best epoch:
+// that epoch and what the training cost are recorded in `c`.
+NarxModel TrainOnFitSlice(const SelectionContext& ctx, Candidate& c, int epochs,
+                          TrainReport& report) {
   const auto start = std::chrono::steady_clock::now();
   NarxModel model = TrainCandidate(ctx, c, ctx.fit, &ctx.holdout, epochs, &report);
   c.cost = TrainingCost{static_cast<int>(report.epochs.size()), SecondsSince(start), 0, 0.0};
   c.epochs = report.kept_epoch;
+  return model;
+}
+
+// A fuzzy candidate trained for up to `epochs` on the fit slice, scored on the hold-out.
+NarxModel TrainAndScore(const SelectionContext& ctx, Candidate& c, int epochs) {
+  TrainReport report;
+  NarxModel model = TrainOnFitSlice(ctx, c, epochs, report);
   ScoreCandidate(ctx, c, model);
   // Grown to the cap, pruned or not: a higher H̄ would grow to it too.
   c.at_cap = std::max(c.rules, report.rules_grown) >= ctx.base.entropy.max_rules * model.outputs();
@@ -104,10 +116,7 @@ void AddLinearCandidate(SelectionContext& ctx, SelectionState& st) {
   c.kappa = ctx.kappas.front();
   c.deviation_ridge = ctx.train_options.deviation_ridge;
   TrainReport report;
-  const auto start = std::chrono::steady_clock::now();
-  const NarxModel model = TrainCandidate(ctx, c, ctx.fit, &ctx.holdout, 1, &report);
-  c.cost = TrainingCost{static_cast<int>(report.epochs.size()), SecondsSince(start), 0, 0.0};
-  c.epochs = report.kept_epoch;
+  const NarxModel model = TrainOnFitSlice(ctx, c, 1, report);
   ScoreCandidate(ctx, c, model);
   if (ctx.horizon > 1 && std::isfinite(c.holdout_one_step_ndei)) {
     // A loop scored K steps ahead is reported one step ahead too (an attitude rate, a

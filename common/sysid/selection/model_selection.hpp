@@ -211,6 +211,12 @@ double PairedStandardError(const std::vector<double>& a, const std::vector<doubl
 
 /// Rows [begin, begin + count) of a series.
 Series SliceSeries(const Series& s, Eigen::Index begin, Eigen::Index count);
+/// A training series cut where a selection's hold-out begins: its last `holdout_samples` rows (at
+/// most all of them), where the candidates are judged, and the rows before, where they train.
+struct HoldoutSplit {
+  Series fit, holdout;
+};
+HoldoutSplit SplitAtHoldout(const Series& train, Eigen::Index holdout_samples);
 /// `a` then `b`, with a break between them (no regressor or free run crosses the seam).
 Series ConcatSeries(const Series& a, const Series& b);
 /// The model configuration a candidate stands for (`base` with its consequent, H̄, κ and, for

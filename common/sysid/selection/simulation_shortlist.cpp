@@ -102,6 +102,17 @@ void DecideLinearFit(const SelectionContext& ctx, SelectionState& st, OutputErro
   }
 }
 
+// `model` trained on the simulation error; the schedule its hold-out kept and what the training
+// cost (the steps the hold-out refused included) are recorded in `c`.
+void TrainOnSimulation(NarxModel& model, const Series& fit, const SimulationTrainOptions& so,
+                       Candidate& c) {
+  const auto start = std::chrono::steady_clock::now();
+  const SimulationTrainReport report = TrainOnSimulationError(model, fit, so);
+  c.simulation = report.kept;
+  c.cost.simulation_steps_run = static_cast<int>(report.holdout_ndei.size());
+  c.cost.simulation_seconds = SecondsSince(start);
+}
+
 }  // namespace
 
 void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st) {
@@ -138,12 +149,7 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
     if (i >= order.size()) {
       const std::size_t r = i - order.size();
       so.stages = fuzzy_stages(true);
-      const auto start = std::chrono::steady_clock::now();
-      const SimulationTrainReport report = TrainOnSimulationError(restarted.models[r], ctx.fit, so);
-      Candidate& c = restarted.candidates[r];
-      c.simulation = report.kept;
-      c.cost.simulation_steps_run = static_cast<int>(report.holdout_ndei.size());
-      c.cost.simulation_seconds = SecondsSince(start);
+      TrainOnSimulation(restarted.models[r], ctx.fit, so, restarted.candidates[r]);
       ScoreCandidate(ctx, restarted.candidates[r], restarted.models[r]);
       return;
     }
@@ -173,11 +179,7 @@ void TrainShortListOnSimulation(const SelectionContext& ctx, SelectionState& st)
       // linear model is the floor that every other candidate must beat.
       return;
     }
-    const auto start = std::chrono::steady_clock::now();
-    const SimulationTrainReport report = TrainOnSimulationError(st.models[k], ctx.fit, so);
-    cs[k].simulation = report.kept;
-    cs[k].cost.simulation_steps_run = static_cast<int>(report.holdout_ndei.size());
-    cs[k].cost.simulation_seconds = SecondsSince(start);
+    TrainOnSimulation(st.models[k], ctx.fit, so, cs[k]);
     ScoreCandidate(ctx, cs[k], st.models[k]);
   };
   ParallelFor(jobs, ResolveThreads(ctx.options.threads), [&](std::size_t i) {
